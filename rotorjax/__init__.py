@@ -1,0 +1,15 @@
+"""rotorjax: differentiable rotordynamics in JAX.
+
+Importing rotorjax enables float64 (`jax_enable_x64`); see `rotorjax._config`.
+"""
+
+from . import _config  # noqa: F401
+from . import models as models
+from . import presets as presets
+from . import solve as solve
+from .models import Scene as Scene
+from .solve import SimulationResult as SimulationResult
+from .solve import simulate as simulate
+# from .sweep import sweep as sweep
+
+__version__ = "0.1.0"

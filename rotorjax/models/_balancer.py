@@ -1,0 +1,141 @@
+"""Passive auto-balancer: N correction weights running in a race on the rotor."""
+
+import jax
+import jax.numpy as jnp
+import equinox as eqx
+import numpy as np
+
+from ._base import AbstractComponent, Kinematics
+from ._validate import as_param
+
+#: Inertia factor `K` by weight type (a ball rolling in its race carries 7/5 of its
+#: translational inertia along the race, a roller 3/2, a pendulum bob 1).
+INERTIA_FACTORS = {"pendulum": 1.0, "ball": 7.0 / 5.0, "roller": 3.0 / 2.0}
+
+
+class Race(eqx.Module):
+    """The weights' track in the rotor frame: an ellipse with semi-axes
+    `r1` (along the rotor-frame x axis) and `r2`, centred at `center`.
+
+    A weight's position is parametrised by ONE angle `psi`,
+    `p(psi) = center + (r1 cos psi, r2 sin psi)`, so there is no constraint to drift.
+    `psi` is the ellipse's parametric angle; on a circle it is the polar angle.
+    """
+
+    r1: jax.Array
+    r2: jax.Array
+    center: jax.Array
+
+    def __init__(self, r1, r2, center=(0.0, 0.0)):
+        self.r1 = as_param("r1 (race semi-axis)", r1, sign="positive", shape=())
+        self.r2 = as_param("r2 (race semi-axis)", r2, sign="positive", shape=())
+        self.center = as_param("race center", center, shape=(2,))
+
+    @classmethod
+    def circular(cls, radius) -> "Race":
+        radius = as_param("race radius", radius, sign="positive", shape=())
+        return cls(radius, radius)
+
+    @classmethod
+    def eccentric(cls, radius, offset, offset_angle=0.0) -> "Race":
+        """A circle whose centre is `offset` from the rotor centre at `offset_angle`."""
+        radius = as_param("race radius", radius, sign="positive", shape=())
+        offset = as_param("race offset", offset, sign="nonnegative", shape=())
+        angle = as_param("race offset_angle", offset_angle, shape=())
+        return cls(radius, radius, offset * jnp.stack([jnp.cos(angle), jnp.sin(angle)]))
+
+    @classmethod
+    def elliptic(cls, r1, r2) -> "Race":
+        return cls(r1, r2)
+
+    def position(self, psi):
+        return self.center + jnp.stack([self.r1 * jnp.cos(psi), self.r2 * jnp.sin(psi)])
+
+    def tangent(self, psi):
+        """`dp/dpsi`."""
+        return jnp.stack([-self.r1 * jnp.sin(psi), self.r2 * jnp.cos(psi)])
+
+
+class AutoBalancer(AbstractComponent):
+    """Passive auto-balancer with `N` correction weights of mass `mass` (shape
+    `(N,)`) in a `race`, with viscous drag `drag` on their motion relative to the rotor.
+
+    Weight j has one coordinate `psi_j` (the race parameter, relative to the rotor).
+    With `p_j = race.position(psi_j)` and relative velocity `v_j = race.tangent(psi_j) psid_j`,
+
+        T = sum_j m_j/2 |d/dt (C + R(theta) p_j)|^2 + (K - 1) m_j/2 |v_j|^2,
+        D = sum_j drag/2 |v_j|^2,
+
+    where the second kinetic term is the weight's own rotation (rolling in the race,
+    valid for a weight much smaller than the race): `K = 1` pendulum, `7/5` ball,
+    `3/2` roller. On a circular race at constant speed this gives model 001's
+    `K m R^2 phi'' + b_w R^2 (phi' - w) + m R (-x'' sin phi + y'' cos phi) = 0`.
+    """
+
+    mass: jax.Array
+    inertia_factor: jax.Array
+    drag: jax.Array
+    race: Race
+
+    def __init__(self, mass, race: Race, drag=0.0, kind="ball", inertia_factor=None):
+        mass = as_param("weight mass", mass, sign="positive")
+        if mass.ndim != 1 or mass.shape[0] < 1:
+            raise ValueError(
+                f"weight mass must be a 1-D array with one entry per weight, got shape {mass.shape}"
+            )
+        self.mass = mass
+        if inertia_factor is None:
+            if kind not in INERTIA_FACTORS:
+                raise ValueError(
+                    f"weight kind must be one of {sorted(INERTIA_FACTORS)}, got {kind!r}"
+                )
+            inertia_factor = INERTIA_FACTORS[kind]
+        self.inertia_factor = as_param("inertia_factor", inertia_factor, shape=())
+        if not isinstance(self.inertia_factor, jax.core.Tracer) and float(self.inertia_factor) < 1.0:
+            raise ValueError(f"inertia_factor must be >= 1, got {float(self.inertia_factor)}")
+        self.drag = as_param("weight drag", drag, sign="nonnegative", shape=())
+        if not isinstance(race, Race):
+            raise ValueError(f"race must be a rotorjax.models.Race, got {type(race).__name__}")
+        self.race = race
+
+    @property
+    def n_weights(self) -> int:
+        return self.mass.shape[0]
+
+    @property
+    def n_coords(self) -> int:
+        return self.n_weights
+
+    def kinetic(self, kin: Kinematics, q, qd):
+        def one(m, psi, psid):
+            p = self.race.position(psi)
+            v_rel = self.race.tangent(psi) * psid
+            v = kin.velocity_of(p, v_rel)
+            return 0.5 * m * (v @ v) + 0.5 * (self.inertia_factor - 1.0) * m * (v_rel @ v_rel)
+
+        return jnp.sum(jax.vmap(one)(self.mass, q, qd))
+
+    def dissipation(self, kin, q, qd):
+        v_rel = jax.vmap(self.race.tangent)(q) * qd[:, None]
+        return 0.5 * self.drag * jnp.sum(v_rel**2)
+
+    def mass_moment(self, kin, q):
+        return self.mass @ jax.vmap(self.race.position)(q)
+
+    def outputs(self, kin, q, qd):
+        p = jax.vmap(self.race.position)(q)
+        return {"weight_angles": jnp.arctan2(p[:, 1], p[:, 0])}
+
+    def describe(self):
+        return f"auto-balancer ({self.n_weights} weights)"
+
+
+def weights_at(angles, race: Race) -> np.ndarray:
+    """Race parameters `psi` of weights at the given polar angles (rotor frame,
+    about the rotor centre); exact for a centred race, used for initial states."""
+    angles = np.asarray(angles, dtype=np.float64)
+    r1, r2 = float(race.r1), float(race.r2)
+    cx, cy = np.asarray(race.center)
+    if cx == 0 and cy == 0:
+        return np.arctan2(r1 * np.sin(angles), r2 * np.cos(angles))
+    return angles

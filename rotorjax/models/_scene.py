@@ -1,0 +1,161 @@
+"""A scene: the rotor, its prescribed spin, and only the components present."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._base import AbstractComponent, Kinematics
+from ._lagrange import lagrange_accelerations
+from ._rotor import RigidRotor
+from ._speed import AbstractSpeedProfile
+
+
+class Scene(eqx.Module):
+    """A planar rotor scene.
+
+    Generalised coordinates `q = (x, y, <each component's own coordinates>)`, in
+    the order the components are given; the state is `y = (q, qd)`. The equations
+    of motion are Lagrange's equations of the summed energies (`vector_field`),
+    derived by autodiff: a new component only states its energies.
+
+    Components absent from `components` are absent from the equations: there is
+    no zero-mass balancer. Each topology (which components, how many weights)
+    compiles once; parameter values are array leaves and may be batched with vmap.
+
+    **Arguments:**
+    - `rotor`: the `RigidRotor`.
+    - `speed`: an `AbstractSpeedProfile` (the prescribed spin).
+    - `components`: further components (`Supports`, `AutoBalancer`, ...).
+    """
+
+    rotor: RigidRotor
+    speed: AbstractSpeedProfile
+    components: tuple
+
+    def __init__(self, rotor, speed, components=()):
+        if not isinstance(rotor, RigidRotor):
+            raise ValueError(f"rotor must be a RigidRotor, got {type(rotor).__name__}")
+        if not isinstance(speed, AbstractSpeedProfile):
+            raise ValueError(f"speed must be a speed profile, got {type(speed).__name__}")
+        components = tuple(components)
+        for c in components:
+            if not isinstance(c, AbstractComponent):
+                raise ValueError(f"components must be rotorjax components, got {type(c).__name__}")
+        self.rotor = rotor
+        self.speed = speed
+        self.components = components
+
+    # --- layout -----------------------------------------------------------------
+    @property
+    def n_dof(self) -> int:
+        return 2 + sum(c.n_coords for c in self.components)
+
+    @property
+    def state_size(self) -> int:
+        return 2 * self.n_dof
+
+    def _slices(self):
+        start, out = 2, []
+        for c in self.components:
+            out.append(slice(start, start + c.n_coords))
+            start += c.n_coords
+        return out
+
+    def find(self, cls):
+        """The first component of type `cls`, or `None` if the scene has none."""
+        for c in self.components:
+            if isinstance(c, cls):
+                return c
+        return None
+
+    def coords_of(self, component, y):
+        """`(q, qd)` of one component's own coordinates in state `y`."""
+        for c, sl in zip(self.components, self._slices()):
+            if c is component:
+                n = self.n_dof
+                return y[sl], y[n:][sl]
+        raise ValueError(f"{component.describe()} is not part of this scene")
+
+    # --- energies -----------------------------------------------------------------
+    def kinematics(self, q, qd, t) -> Kinematics:
+        t = jnp.asarray(t, dtype=jnp.float64)
+        return Kinematics(
+            t=t,
+            theta=self.speed.angle(t),
+            theta_dot=self.speed.speed(t),
+            x=q[0], y=q[1], xd=qd[0], yd=qd[1],
+        )
+
+    def _parts(self):
+        return ((self.rotor, slice(0, 0)),) + tuple(zip(self.components, self._slices()))
+
+    def kinetic_energy(self, q, qd, t):
+        kin = self.kinematics(q, qd, t)
+        return sum(c.kinetic(kin, q[sl], qd[sl]) for c, sl in self._parts())
+
+    def potential_energy(self, q, t=0.0):
+        kin = self.kinematics(q, jnp.zeros_like(q), t)
+        return sum(c.potential(kin, q[sl]) for c, sl in self._parts())
+
+    def lagrangian(self, q, qd, t):
+        return self.kinetic_energy(q, qd, t) - self.potential_energy(q, t)
+
+    def dissipation(self, q, qd, t):
+        kin = self.kinematics(q, qd, t)
+        return sum(c.dissipation(kin, q[sl], qd[sl]) for c, sl in self._parts())
+
+    # --- dynamics -----------------------------------------------------------------
+    def accelerations(self, t, q, qd):
+        return lagrange_accelerations(self.lagrangian, self.dissipation, q, qd, t)
+
+    def vector_field(self, t, y, args=None):
+        """`dy/dt` for one state and this scene's parameters (pure, unbatched)."""
+        n = self.n_dof
+        q, qd = y[:n], y[n:]
+        return jnp.concatenate([qd, self.accelerations(t, q, qd)])
+
+    def mass_matrix(self, q, t=0.0):
+        qd = jnp.zeros_like(q)
+        return jax.hessian(self.kinetic_energy, argnums=1)(q, qd, t)
+
+    # --- outputs -------------------------------------------------------------------
+    def imbalance(self, t, y):
+        """Residual imbalance of rotor + weights about C, in the rotor frame (kg m)."""
+        n = self.n_dof
+        q, qd = y[:n], y[n:]
+        kin = self.kinematics(q, qd, t)
+        return sum(c.mass_moment(kin, q[sl]) for c, sl in self._parts())
+
+    def outputs(self, t, y) -> dict:
+        """Named outputs at one instant: `whirl_amplitude`, `residual_imbalance`,
+        and each component's own (e.g. `weight_angles`, rotor frame, radians)."""
+        n = self.n_dof
+        q, qd = y[:n], y[n:]
+        kin = self.kinematics(q, qd, t)
+        out = {}
+        for c, sl in self._parts():
+            out.update(c.outputs(kin, q[sl], qd[sl]))
+        out["residual_imbalance"] = jnp.linalg.norm(self.imbalance(t, y))
+        return out
+
+    def rest_state(self, angles=None) -> jax.Array:
+        """A state with the rotor centred and at rest, weights at `angles` (race
+        parameters, relative to the rotor) and at rest relative to the rotor."""
+        q = [jnp.zeros(2)]
+        for c, sl in zip(self.components, self._slices()):
+            if c.n_coords:
+                if angles is None:
+                    q.append(jnp.linspace(0.0, 2 * np.pi, c.n_coords, endpoint=False))
+                else:
+                    a = jnp.asarray(angles, dtype=jnp.float64)
+                    if a.shape != (c.n_coords,):
+                        raise ValueError(
+                            f"angles must have shape ({c.n_coords},), got {a.shape}"
+                        )
+                    q.append(a)
+        q = jnp.concatenate(q)
+        return jnp.concatenate([q, jnp.zeros_like(q)])
+
+    def describe(self) -> str:
+        return ", ".join([self.rotor.describe()] + [c.describe() for c in self.components])

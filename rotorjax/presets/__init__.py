@@ -1,0 +1,14 @@
+"""The published scenes, by CLI name."""
+
+from . import _anisotropic_abb as anisotropic_abb
+from . import _jeffcott_abb as jeffcott_abb
+from ._base import Preset as Preset
+
+PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET)}
+
+
+def get(name: str) -> Preset:
+    """The preset called `name`; an unknown name raises, listing the known ones."""
+    if name not in PRESETS:
+        raise ValueError(f"unknown preset {name!r}; known: {', '.join(sorted(PRESETS))}")
+    return PRESETS[name]

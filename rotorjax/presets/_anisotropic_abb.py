@@ -1,0 +1,157 @@
+"""Model 001: planar rotor on anisotropic visco-elastic supports with a passive
+auto-balancer.
+
+Filimonikhina, Gutsul, Dumenko, Nevdakha, EEJET 2017 (seed 001).
+
+Rotor mass `M`, point imbalance `m0` at radius `R`, `N` weights of mass `m` (inertia
+factor `K`) on a circle of radius `R` about the rotor axis, drag `b_w` on their
+relative motion, supports `kx < ky`, `bx, by`. With `Ms = M + N m + m0`,
+`wx = sqrt(kx/Ms)`, `L = N m R / Ms`, `tau = wx t`, `xi = x/L`, `eta = y/L`:
+
+    n = w/wx, n_eta = wy/wx, mu_xi = bx/(2 Ms wx), mu_eta = by/(2 Ms wx),
+    sigma = 1/N, c = m0/(N m), eps = N m/(K Ms), mu_w = b_w/(K m wx),
+
+    xi'' + 2 mu_xi xi' + xi - sigma sum(phi'' sin phi + phi'^2 cos phi) - c n^2 cos n tau = 0
+    eta'' + 2 mu_eta eta' + n_eta^2 eta + sigma sum(phi'' cos phi - phi'^2 sin phi) - c n^2 sin n tau = 0
+    phi'' + mu_w (phi' - n) + eps(-xi'' sin phi + eta'' cos phi) = 0.
+
+The SI scene with `Ms = 1, wx = 1, L = 1` is exactly these equations:
+`m = K eps/N`, `R = 1/(K eps)`, `m0 = c K eps`, `kx = 1`, `ky = n_eta^2`,
+`bx = 2 mu_xi`, `by = 2 mu_eta`, `b_w = mu_w K m`. The imbalance `m0` at `R` is the
+rotor body's eccentricity: mass `M + m0`, eccentricity `m0 R/(M + m0)`. The weights'
+coordinates are their angles relative to the rotor, `psi_j = phi_j - n tau`.
+"""
+
+import numpy as np
+
+from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
+from ._base import Preset
+
+GROUPS = ("n_eta", "mu_xi", "mu_eta", "sigma", "c", "eps", "mu_w")
+
+
+def scene_si(rotor_mass, imbalance_mass, radius, n_weights, weight_mass, kx, ky, bx, by,
+             weight_drag, speed, inertia_factor=1.0) -> Scene:
+    """Model 001 in SI units (`radius` is both the imbalance's and the race's)."""
+    body = rotor_mass + imbalance_mass
+    return Scene(
+        RigidRotor(body, imbalance_mass * radius / body, 0.0),
+        speed,
+        (
+            Supports(kx, ky, bx, by),
+            AutoBalancer(np.full(int(n_weights), float(weight_mass)), Race.circular(radius),
+                         weight_drag, inertia_factor=inertia_factor),
+        ),
+    )
+
+
+def groups_from_si(rotor_mass, imbalance_mass, radius, n_weights, weight_mass, kx, ky, bx, by,
+                   weight_drag, inertia_factor=1.0) -> dict:
+    """The paper's groups (eq. 7), plus the scales `wx` (rad/s) and `L` (m)."""
+    K, N, m = inertia_factor, n_weights, weight_mass
+    ms = rotor_mass + N * m + imbalance_mass
+    wx = np.sqrt(kx / ms)
+    return {
+        "n_eta": np.sqrt(ky / ms) / wx, "mu_xi": bx / (2 * ms * wx), "mu_eta": by / (2 * ms * wx),
+        "sigma": 1.0 / N, "c": imbalance_mass / (N * m), "eps": N * m / (K * ms),
+        "mu_w": weight_drag / (K * m * wx), "wx": wx, "L": N * m * radius / ms,
+    }
+
+
+def n_weights_from_sigma(sigma) -> int:
+    n = int(round(1.0 / sigma)) if sigma > 0 else 0
+    if n < 1 or abs(1.0 / sigma - n) > 1e-9:
+        raise ValueError(f"sigma must be 1/N for an integer number of weights N, got {sigma!r}")
+    return n
+
+
+def si_from_groups(groups, K=1.0, Ms=1.0, wx=1.0, L=1.0) -> dict:
+    """SI parameters realising `groups` for chosen `Ms` (kg), `wx` (rad/s), `L` (m)."""
+    g = groups
+    N = n_weights_from_sigma(g["sigma"])
+    nm = K * g["eps"] * Ms
+    m = nm / N
+    m0 = g["c"] * nm
+    M = Ms - nm - m0
+    if M <= 0:
+        raise ValueError(
+            f"eps={g['eps']}, c={g['c']}, K={K} leave no rotor mass: need K eps (1 + c) < 1"
+        )
+    return {
+        "rotor_mass": M, "imbalance_mass": m0, "radius": L * Ms / nm, "n_weights": N,
+        "weight_mass": m, "kx": Ms * wx**2, "ky": Ms * (g["n_eta"] * wx) ** 2,
+        "bx": 2 * g["mu_xi"] * Ms * wx, "by": 2 * g["mu_eta"] * Ms * wx,
+        "weight_drag": g["mu_w"] * K * m * wx, "inertia_factor": K,
+    }
+
+
+def scene_from_groups(n_eta, mu_xi, mu_eta, sigma, c, eps, mu_w, n=3.0, n_dot=0.0, n0=0.0,
+                      K=1.0) -> Scene:
+    """Model 001 in the paper's dimensionless units; `n_dot != 0` is a run-up
+    `n(tau) = n0 + n_dot tau` (the paper studies constant speed)."""
+    groups = dict(n_eta=n_eta, mu_xi=mu_xi, mu_eta=mu_eta, sigma=sigma, c=c, eps=eps, mu_w=mu_w)
+    si = si_from_groups(groups, K=K)
+    speed = RunUp(n0, n_dot) if n_dot != 0 else ConstantSpeed(n)
+    si.pop("inertia_factor")
+    return scene_si(**si, speed=speed, inertia_factor=K)
+
+
+def main_motion_angles(N: int, c: float) -> np.ndarray:
+    """Weight angles (relative to the rotor) of a main motion: weights placed
+    symmetrically about the direction opposite the imbalance so that they cancel
+    it (`sigma sum e^{i psi} + c = 0`, needs `c <= 1`)."""
+    if N == 1:
+        if c != 1:
+            raise ValueError("one weight balances only c = 1")
+        return np.array([np.pi])
+    if not 0 <= c <= 1:
+        raise ValueError(f"the weights cannot cancel an imbalance c = {c} > 1")
+    if N == 2:
+        half = np.arccos(-c)  # cos(half) = -c: the pair's resultant is -c
+        return np.array([half, 2 * np.pi - half])
+    # N >= 3: a symmetric fan about pi with the spread solved by bisection.
+    offsets = np.arange(N) - (N - 1) / 2
+    lo, hi = 0.0, 2 * np.pi / N
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        resultant = np.mean(np.cos(np.pi + offsets * mid))  # in [-1, ...]
+        lo, hi = (mid, hi) if resultant < -c else (lo, mid)
+    return np.pi + offsets * 0.5 * (lo + hi)
+
+
+def _build(p):
+    N = n_weights_from_sigma(p["sigma"])
+    scene = scene_from_groups(
+        p["n_eta"], p["mu_xi"], p["mu_eta"], p["sigma"], p["c"], p["eps"], p["mu_w"],
+        n=p["n"], n_dot=p["n_dot"], n0=p["n0"], K=p["K"],
+    )
+    angles = main_motion_angles(N, p["c"]) + p["perturbation"] * np.cos(np.arange(N) + 1.0)
+    y0 = scene.rest_state(angles)
+    if p["n_dot"] != 0:
+        t_end = (p["n_end"] - p["n0"]) / p["n_dot"]
+        if t_end <= 0:
+            raise ValueError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
+    else:
+        t_end = 200.0
+    return scene, y0, t_end
+
+
+PRESET = Preset(
+    name="anisotropic-abb",
+    source="model 001: Filimonikhina, Gutsul, Dumenko, Nevdakha, EEJET 2017",
+    defaults={
+        "n_eta": 7.0, "mu_xi": 0.25, "mu_eta": 0.5, "sigma": 0.5, "c": 0.5, "eps": 0.01,
+        "mu_w": 0.5, "n": 3.0, "n_dot": 0.0, "n0": 0.0, "n_end": 10.0, "K": 1.0,
+        "perturbation": 0.1,
+    },
+    build=_build,
+    describe_params={
+        "n_eta": "wy/wx (support anisotropy)", "mu_xi": "bx/(2 Ms wx)", "mu_eta": "by/(2 Ms wx)",
+        "sigma": "1/N (N weights)", "c": "m0/(N m) imbalance ratio", "eps": "N m/(K Ms)",
+        "mu_w": "b_w/(K m wx) weight drag", "n": "speed / wx", "n_dot": "run-up rate (0: constant)",
+        "n0": "run-up start speed", "n_end": "run-up end speed (sets t_end)",
+        "K": "inertia factor (1 pendulum, 1.4 ball, 1.5 roller)",
+        "perturbation": "initial deviation of the weights from the main motion (rad)",
+    },
+    time_unit="1/wx", length_unit="L = N m R / Ms",
+)

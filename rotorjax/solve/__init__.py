@@ -1,0 +1,8 @@
+"""Time integration (diffrax) and results."""
+
+from ._results import RESULT_MESSAGES as RESULT_MESSAGES
+from ._results import SimulationResult as SimulationResult
+from ._simulate import simulate as simulate
+from ._stiffness import STIFFNESS_THRESHOLD as STIFFNESS_THRESHOLD
+from ._stiffness import choose_solver as choose_solver
+from ._stiffness import stiffness_ratio as stiffness_ratio
