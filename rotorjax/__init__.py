@@ -10,6 +10,7 @@ from . import solve as solve
 from .models import Scene as Scene
 from .solve import SimulationResult as SimulationResult
 from .solve import simulate as simulate
-# from .sweep import sweep as sweep
+from .sweep import SweepResult as SweepResult
+from .sweep import sweep as sweep
 
 __version__ = "0.1.0"

@@ -119,6 +119,16 @@ def main_motion_angles(N: int, c: float) -> np.ndarray:
     return np.pi + offsets * 0.5 * (lo + hi)
 
 
+def criterion_polynomial(n, n_eta, mu_xi, mu_eta):
+    """The paper's empirical auto-balancing criterion, eq. (18): balancing where
+    `p(n) < 0`. Fast and approximate: it ignores `eps` and `mu_w`."""
+    n2 = np.asarray(n, dtype=np.float64) ** 2
+    e2 = n_eta**2
+    return (1 - n2) * (e2 - n2) * (1 + e2 - 2 * n2) + 4 * n2 * (
+        (1 - n2) * mu_eta**2 + (e2 - n2) * mu_xi**2
+    )
+
+
 def _build(p):
     N = n_weights_from_sigma(p["sigma"])
     scene = scene_from_groups(

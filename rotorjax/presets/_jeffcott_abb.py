@@ -21,7 +21,7 @@ each has one coordinate, the race's parametric angle (no constraint to drift).
 
 import numpy as np
 
-from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
+from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports, weights_at
 from ._base import Preset
 
 GROUPS = ("chi", "eps", "alpha", "rho1", "rho2", "delta_n", "delta_b")
@@ -72,20 +72,19 @@ def si_from_groups(groups, n_balls=2, disk_mass=1.0, Omega=1.0, r=None) -> dict:
 
 
 def scene_from_groups(chi, eps, alpha, rho1, rho2, delta_n, delta_b, nu=1.5, nu_dot=0.0,
-                      nu0=0.0, n_balls=2, K=1.0) -> Scene:
+                      nu0=0.0, n_balls=2, K=1.0, with_balancer=True) -> Scene:
     """Model 000 in the paper's dimensionless units (eq. 7). `nu_dot != 0` means a
-    run-up `nu(tau) = nu0 + nu_dot tau`; otherwise constant speed `nu`."""
+    run-up `nu(tau) = nu0 + nu_dot tau`; otherwise constant speed `nu`.
+    `with_balancer=False` is the same rotor (same shaft, damping, imbalance) with the
+    balancer absent: the plain resonance of the paper's Fig. 3, curve 3."""
     n_balls = _n_balls(n_balls)
     speed = RunUp(nu0, nu_dot) if nu_dot != 0 else ConstantSpeed(nu)
-    return Scene(
-        RigidRotor(1.0, eps, alpha),
-        speed,
-        (
-            Supports.isotropic(1.0 + n_balls * chi, delta_n * (1.0 + n_balls * chi)),
-            AutoBalancer(np.full(n_balls, chi), Race(rho1, rho2), delta_b * chi,
-                         inertia_factor=K),
-        ),
-    )
+    supports = Supports.isotropic(1.0 + n_balls * chi, delta_n * (1.0 + n_balls * chi))
+    if not with_balancer:
+        return Scene(RigidRotor(1.0, eps, alpha), speed, (supports,))
+    balancer = AutoBalancer(np.full(n_balls, chi), Race(rho1, rho2), delta_b * chi,
+                            inertia_factor=K)
+    return Scene(RigidRotor(1.0, eps, alpha), speed, (supports, balancer))
 
 
 def _n_balls(n):
@@ -100,9 +99,10 @@ def _build(p):
         nu=p["nu"], nu_dot=p["nu_dot"], nu0=p["nu0"], n_balls=p["n_balls"], K=p["K"],
     )
     n = p["n_balls"]
-    # Balls start at rest relative to the rotor, spread over the race from `psi1`.
-    angles = p["psi1"] + np.arange(n) * p["psi_spacing"]
-    y0 = scene.rest_state(angles)
+    # Balls start at rest relative to the rotor at polar angles `psi1 + j psi_spacing`
+    # measured from the imbalance direction `alpha` (default: near the opposite side).
+    polar = p["alpha"] + p["psi1"] + np.arange(n) * p["psi_spacing"]
+    y0 = scene.rest_state(weights_at(polar, scene.find(AutoBalancer).race))
     if p["nu_dot"] != 0:
         t_end = (p["nu_end"] - p["nu0"]) / p["nu_dot"]
         if t_end <= 0:
@@ -120,7 +120,7 @@ PRESET = Preset(
     defaults={
         "chi": 0.02, "eps": 0.04, "alpha": 0.6, "rho1": 1.28, "rho2": 1.2,
         "delta_n": 0.18, "delta_b": 40.0, "nu": 1.5, "nu_dot": 0.0, "nu0": 0.0,
-        "nu_end": 2.5, "n_balls": 2, "K": 1.0, "psi1": 0.5, "psi_spacing": 2.0,
+        "nu_end": 4.0, "n_balls": 2, "K": 1.0, "psi1": np.pi - 0.1, "psi_spacing": 0.2,
     },
     build=_build,
     describe_params={
@@ -130,7 +130,8 @@ PRESET = Preset(
         "nu": "speed / Omega (constant speed)", "nu_dot": "run-up rate (0: constant speed)",
         "nu0": "run-up start speed", "nu_end": "run-up end speed (sets t_end)",
         "n_balls": "number of balls", "K": "inertia factor (1: point masses, as the paper)",
-        "psi1": "initial race angle of ball 1 (rad)", "psi_spacing": "initial spacing of balls (rad)",
+        "psi1": "initial polar angle of ball 1 from the imbalance direction (rad)",
+        "psi_spacing": "initial angular spacing of the balls (rad)",
     },
     time_unit="1/Omega", length_unit="r = (r1+r2)/2",
     integer_keys=("n_balls",),

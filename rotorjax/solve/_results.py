@@ -62,4 +62,5 @@ def result_code(diffrax_result, ys) -> jax.Array:
     finite = jnp.all(jnp.isfinite(ys))
     ok = diffrax_result == diffrax.RESULTS.successful
     max_steps = diffrax_result == diffrax.RESULTS.max_steps_reached
-    return jnp.where(ok, jnp.where(finite, 0, 2), jnp.where(max_steps, 1, 3)).astype(jnp.int32)
+    code = jnp.where(ok, 0, jnp.where(max_steps, 1, 3))
+    return jnp.where(finite, code, 2).astype(jnp.int32)

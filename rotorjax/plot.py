@@ -1,0 +1,77 @@
+"""Figures built from result objects (matplotlib is imported on first use)."""
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _amplitude_axis(ax, values):
+    ax.set_ylabel("whirl amplitude")
+    v = np.asarray(values)
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size and v.max() / max(v.min(), 1e-300) > 1e3:
+        ax.set_yscale("log")
+
+
+def plot_simulation(result, path, title="", speed=None, x_label="time"):
+    """Whirl amplitude and weight angles against time (or against `speed`, for a
+    run-up: pass the speed at the saved times). Writes a PNG to `path`."""
+    plt = _plt()
+    out = result.outputs
+    x = np.asarray(result.ts) if speed is None else np.asarray(speed)
+    has_weights = "weight_angles" in out
+    fig, axes = plt.subplots(2 if has_weights else 1, 1, figsize=(8, 6 if has_weights else 3.5),
+                             sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    amp = np.asarray(out["whirl_amplitude"])
+    ax.plot(x, amp, lw=0.8)
+    _amplitude_axis(ax, amp)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    if has_weights:
+        ax2 = axes[1, 0]
+        ang = np.asarray(out["weight_angles"])
+        for j in range(ang.shape[1]):
+            ax2.plot(x, ang[:, j], ".", ms=1.5, label=f"weight {j + 1}")
+        ax2.set_ylabel("weight angle rel. rotor (rad)")
+        ax2.set_ylim(-np.pi, np.pi)
+        ax2.legend(loc="upper right", fontsize=8)
+        ax2.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel(x_label)
+    if not bool(np.all(np.asarray(result.success))):
+        fig.text(0.5, 0.5, f"FAILED: {result.message}", color="red", ha="center")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, shade=None):
+    """Several named curves on one axis; `shade` is an optional boolean mask over `x`
+    drawn as a background band (e.g. where a criterion predicts balancing)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4))
+    if shade is not None:
+        shade = np.asarray(shade)
+        ax.fill_between(x, 0, 1, where=shade, color="tab:green", alpha=0.12,
+                        transform=ax.get_xaxis_transform(), label="criterion: balancing")
+    for label, y in curves.items():
+        ax.plot(x, y, lw=1.0, label=label)
+    if log:
+        ax.set_yscale("log")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
