@@ -8,7 +8,7 @@ import numpy as np
 #: Result codes of `SimulationResult.code` (an int array, batched under vmap).
 RESULT_MESSAGES = {
     0: "success",
-    1: "max_steps reached before the end of the time span",
+    1: "max_steps reached before the end of the time span (later saved states are inf)",
     2: "non-finite values in the solution",
     3: "solver failure (step size collapsed or implicit solve did not converge)",
 }
@@ -62,5 +62,6 @@ def result_code(diffrax_result, ys) -> jax.Array:
     finite = jnp.all(jnp.isfinite(ys))
     ok = diffrax_result == diffrax.RESULTS.successful
     max_steps = diffrax_result == diffrax.RESULTS.max_steps_reached
-    code = jnp.where(ok, 0, jnp.where(max_steps, 1, 3))
-    return jnp.where(finite, code, 2).astype(jnp.int32)
+    # After a failed step diffrax fills the remaining saved states with inf, so
+    # non-finite values mean a blow-up only when diffrax itself reports success.
+    return jnp.where(ok, jnp.where(finite, 0, 2), jnp.where(max_steps, 1, 3)).astype(jnp.int32)

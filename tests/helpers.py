@@ -1,0 +1,14 @@
+import jax
+import numpy as np
+
+
+def tree_allclose(a, b, rtol=1e-10, atol=1e-12) -> bool:
+    la, lb = jax.tree_util.tree_leaves(a), jax.tree_util.tree_leaves(b)
+    if len(la) != len(lb):
+        return False
+    return all(np.allclose(np.asarray(x), np.asarray(y), rtol=rtol, atol=atol) for x, y in zip(la, lb))
+
+
+def central_difference(f, x, h):
+    """Central finite difference of scalar `f` at scalar `x` (error O(h^2))."""
+    return (f(x + h) - f(x - h)) / (2 * h)
