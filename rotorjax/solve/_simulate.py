@@ -28,7 +28,7 @@ def _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps):
             raise ValueError(f"{name} must be finite, got {v}")
     if is_concrete(t0) and is_concrete(t1) and not float(t1) > float(t0):
         raise ValueError(f"t_span must be increasing, got ({t0}, {t1})")
-    if not (rtol > 0 and atol > 0):
+    if is_concrete(rtol) and is_concrete(atol) and not (rtol > 0 and atol > 0):
         raise ValueError(f"rtol and atol must be > 0, got rtol={rtol}, atol={atol}")
     if int(max_steps) < 1:
         raise ValueError(f"max_steps must be >= 1, got {max_steps}")
@@ -79,7 +79,11 @@ def simulate(
         if ts.ndim != 1:
             raise ValueError(f"saveat times must be 1-D, got shape {ts.shape}")
         save = diffrax.SaveAt(ts=ts)
-    return _solve(scene, y0, t0, t1, save, solver, rtol, atol, int(max_steps), dt0, adjoint)
+    # Times and tolerances as arrays, so that new values do not recompile.
+    f64 = lambda v: jnp.asarray(v, dtype=jnp.float64)  # noqa: E731
+    dt0 = None if dt0 is None else f64(dt0)
+    return _solve(scene, y0, f64(t0), f64(t1), save, solver, f64(rtol), f64(atol),
+                  int(max_steps), dt0, adjoint)
 
 
 @eqx.filter_jit
