@@ -30,12 +30,10 @@ def _speed_at(scene, ts):
 
 
 def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
-    """The JSON summary of one simulation."""
+    """The JSON summary of one simulation. After a failure, the values describe the
+    last valid saved state (`last_valid_time`), and `success` is false."""
     ts = np.asarray(result.ts)
-    amp = np.asarray(result.outputs["whirl_amplitude"])
-    speed_end = abs(float(_speed_at(scene, ts[-1:])[0]))
-    window = revolutions * 2 * np.pi / speed_end if speed_end > 0 else ts[-1] - ts[0]
-    last = ts >= ts[-1] - window
+    valid = np.isfinite(ts) & np.all(np.isfinite(np.asarray(result.ys)), axis=-1)
     summary = {
         "preset": preset_name,
         "params": params,
@@ -45,15 +43,26 @@ def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
         "message": result.message,
         "solver": result.solver,
         "stats": {k: int(v) for k, v in result.stats.items()},
+        "revolutions_in_window": revolutions,
+    }
+    if not valid.any():
+        summary["last_valid_time"] = None
+        return summary
+    ts = ts[valid]
+    amp = np.asarray(result.outputs["whirl_amplitude"])[valid]
+    speed_end = abs(float(_speed_at(scene, ts[-1:])[0]))
+    window = revolutions * 2 * np.pi / speed_end if speed_end > 0 else ts[-1] - ts[0]
+    last = ts >= ts[-1] - window
+    summary.update({
+        "last_valid_time": float(ts[-1]),
         "final_whirl_amplitude": float(amp[-1]),
         "max_whirl_amplitude_last_revolutions": float(np.max(amp[last])),
-        "revolutions_in_window": revolutions,
         "final_speed": speed_end,
-        "residual_imbalance_final": float(np.asarray(result.outputs["residual_imbalance"])[-1]),
-    }
+        "residual_imbalance_final": float(np.asarray(result.outputs["residual_imbalance"])[valid][-1]),
+    })
     if "weight_angles" in result.outputs:
         summary["weight_angles_final"] = [
-            float(a) for a in np.asarray(result.outputs["weight_angles"])[-1]
+            float(a) for a in np.asarray(result.outputs["weight_angles"])[valid][-1]
         ]
     return summary
 
@@ -89,6 +98,9 @@ def cmd_simulate(args) -> int:
     else:
         print(f"{preset.name}: {summary['message']} ({summary['solver']}, "
               f"{summary['stats']['num_steps']} steps)")
+        if summary["last_valid_time"] is None:
+            print("  no valid saved state")
+            return 3
         print(f"  final whirl amplitude {summary['final_whirl_amplitude']:.6g}, max over last "
               f"{summary['revolutions_in_window']} revolutions "
               f"{summary['max_whirl_amplitude_last_revolutions']:.6g}")
