@@ -131,11 +131,29 @@ class AutoBalancer(AbstractComponent):
 
 
 def weights_at(angles, race: Race) -> np.ndarray:
-    """Race parameters `psi` of weights at the given polar angles (rotor frame,
-    about the rotor centre); exact for a centred race, used for initial states."""
-    angles = np.asarray(angles, dtype=np.float64)
+    """Race parameters `psi` of weights at the given polar angles about the rotor
+    centre (rotor frame); used to set initial states. The rotor centre must lie
+    inside the race (then each polar angle meets the race once)."""
+    angles = np.atleast_1d(np.asarray(angles, dtype=np.float64))
     r1, r2 = float(race.r1), float(race.r2)
-    cx, cy = np.asarray(race.center)
-    if cx == 0 and cy == 0:
-        return np.arctan2(r1 * np.sin(angles), r2 * np.cos(angles))
-    return angles
+    cx, cy = (float(v) for v in np.asarray(race.center))
+    if (cx / r1) ** 2 + (cy / r2) ** 2 >= 1:
+        raise ValueError("the rotor centre must lie inside the race to place weights by angle")
+    grid = np.linspace(-np.pi, np.pi, 4097)
+
+    def polar(psi):
+        return np.arctan2(cy + r2 * np.sin(psi), cx + r1 * np.cos(psi))
+
+    out = []
+    for a in angles:
+        diff = lambda psi: np.angle(np.exp(1j * (polar(psi) - a)))  # noqa: E731
+        psi = grid[np.argmin(np.abs(diff(grid)))]
+        for _ in range(50):  # secant refinement; polar(psi) is monotone in psi
+            h = 1e-7
+            slope = (diff(psi + h) - diff(psi - h)) / (2 * h)
+            step = diff(psi) / slope
+            psi -= step
+            if abs(step) < 1e-15:
+                break
+        out.append(psi)
+    return np.asarray(out)

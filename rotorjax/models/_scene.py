@@ -5,10 +5,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._balancer import AutoBalancer
 from ._base import AbstractComponent, Kinematics
+from ._fastpath import planar_balancer_field
 from ._lagrange import lagrange_accelerations
 from ._rotor import RigidRotor
 from ._speed import AbstractSpeedProfile
+from ._supports import Supports
 
 
 class Scene(eqx.Module):
@@ -27,13 +30,18 @@ class Scene(eqx.Module):
     - `rotor`: the `RigidRotor`.
     - `speed`: an `AbstractSpeedProfile` (the prescribed spin).
     - `components`: further components (`Supports`, `AutoBalancer`, ...).
+    - `equations`: "auto" uses the hand-derived fast path of `_fastpath.py` for the
+      planar balancer rotor (rotor + supports + one balancer, tested equal to the
+      Lagrangian path) and the Lagrangian path otherwise; "lagrange" always derives
+      the equations from the energies by autodiff.
     """
 
     rotor: RigidRotor
     speed: AbstractSpeedProfile
     components: tuple
+    equations: str = eqx.field(static=True)
 
-    def __init__(self, rotor, speed, components=()):
+    def __init__(self, rotor, speed, components=(), equations="auto"):
         if not isinstance(rotor, RigidRotor):
             raise ValueError(f"rotor must be a RigidRotor, got {type(rotor).__name__}")
         if not isinstance(speed, AbstractSpeedProfile):
@@ -42,9 +50,12 @@ class Scene(eqx.Module):
         for c in components:
             if not isinstance(c, AbstractComponent):
                 raise ValueError(f"components must be rotorjax components, got {type(c).__name__}")
+        if equations not in ("auto", "lagrange"):
+            raise ValueError(f"equations must be 'auto' or 'lagrange', got {equations!r}")
         self.rotor = rotor
         self.speed = speed
         self.components = components
+        self.equations = equations
 
     # --- layout -----------------------------------------------------------------
     @property
@@ -109,8 +120,28 @@ class Scene(eqx.Module):
     def accelerations(self, t, q, qd):
         return lagrange_accelerations(self.lagrangian, self.dissipation, q, qd, t)
 
+    def _fast_path_parts(self):
+        kinds = [type(c) for c in self.components]
+        if self.equations != "auto" or len(kinds) != 2:
+            return None
+        sup = self.find(Supports)
+        bal = self.find(AutoBalancer)
+        if sup is None or bal is None or type(sup) is not Supports or type(bal) is not AutoBalancer:
+            return None
+        if self.components[1] is not bal:  # the fast path assumes (x, y, psi...) layout
+            return None
+        return sup, bal
+
     def vector_field(self, t, y, args=None):
         """`dy/dt` for one state and this scene's parameters (pure, unbatched)."""
+        parts = self._fast_path_parts()
+        if parts is not None:
+            t = jnp.asarray(t, dtype=jnp.float64)
+            return planar_balancer_field(self.rotor, parts[0], parts[1], self.speed, t, y)
+        return self.lagrange_vector_field(t, y)
+
+    def lagrange_vector_field(self, t, y, args=None):
+        """`dy/dt` from Lagrange's equations of the components' energies (autodiff)."""
         n = self.n_dof
         q, qd = y[:n], y[n:]
         return jnp.concatenate([qd, self.accelerations(t, q, qd)])

@@ -127,3 +127,36 @@ def test_absent_components_are_absent():
     s = jeffcott_abb.scene_from_groups(0.02, 0.04, 0.6, 1.28, 1.2, 0.18, 40.0, with_balancer=False)
     assert s.n_dof == 2 and s.find(AutoBalancer) is None
     assert "weight_angles" not in s.outputs(0.0, jnp.zeros(4))
+
+
+@pytest.mark.parametrize("race", [Race.circular(1.0), Race.elliptic(1.28, 1.2),
+                                  Race.eccentric(1.0, 0.05, 0.7)])
+def test_weights_at_places_weights_at_polar_angles(race):
+    from rotorjax.models import weights_at
+
+    angles = np.array([-3.0, -1.0, 0.0, 0.5, 2.9])
+    p = np.stack([np.asarray(race.position(psi)) for psi in weights_at(angles, race)])
+    np.testing.assert_allclose(np.arctan2(p[:, 1], p[:, 0]), angles, atol=1e-12)
+
+
+def test_eccentric_race_leaves_a_residual_imbalance():
+    """A race offset by e from the rotor axis: two balls that would cancel the
+    imbalance on a centred race leave a mass moment of 2 m_b e (model of the
+    paper's reference [10]); the scene's residual_imbalance reports it."""
+    m_b, e = 0.02, 0.01
+    scene = Scene(RigidRotor(1.0, 0.03, 0.0), ConstantSpeed(1.5),
+                  (Supports.isotropic(1.04, 0.1),
+                   AutoBalancer(np.full(2, m_b), Race.eccentric(1.0, e, np.pi / 2), drag=1.0)))
+    spread = np.arccos(0.03 / (2 * m_b))
+    psi = np.pi + np.array([-spread, spread])  # on the centred circle these cancel
+    y = scene.rest_state(psi)
+    np.testing.assert_allclose(np.asarray(scene.imbalance(0.0, y)), [0.0, 2 * m_b * e], atol=1e-15)
+    assert float(scene.outputs(0.0, y)["residual_imbalance"]) == pytest.approx(2 * m_b * e)
+
+
+def test_custom_speed_equals_run_up():
+    a = _scene(None, RunUp(0.4, 0.16))
+    b = _scene(None, CustomSpeed(lambda t: 0.4 * t + 0.08 * t**2))
+    y = np.random.default_rng(5).normal(size=a.state_size)
+    np.testing.assert_allclose(np.asarray(a.vector_field(3.0, y)), np.asarray(b.vector_field(3.0, y)),
+                               rtol=1e-13, atol=1e-13)

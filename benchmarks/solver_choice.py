@@ -1,0 +1,66 @@
+"""Explicit vs implicit on model 000 as the balls' drag delta_b grows: where does
+Kvaerno5 start to pay? Sets rotorjax.solve.STIFFNESS_THRESHOLD.
+
+Run: python benchmarks/solver_choice.py; writes benchmarks/results/solver_choice.json.
+"""
+
+import json
+import os
+import platform
+import time
+
+import jax
+import numpy as np
+
+import rotorjax as rj
+from rotorjax import presets
+
+T_END = 300.0
+
+
+def main():
+    preset = presets.get("elliptic-abb")
+    rows = []
+    for delta_b in (40.0, 400.0, 4000.0, 40000.0):
+        p = preset.params({"rho1": 1.0, "rho2": 1.0, "eps": 0.03, "psi1": 1.0,
+                           "psi_spacing": 2.5, "delta_b": delta_b})
+        scene, y0, _ = preset.build(p)
+        ratio = rj.solve.stiffness_ratio(scene, y0)
+        ref = rj.simulate(scene, y0, (0.0, T_END), solver="kvaerno5", rtol=1e-11, atol=1e-13,
+                          max_steps=2_000_000)
+        for solver in ("dopri8", "kvaerno5"):
+            for rtol in (1e-6, 1e-8):
+                run = lambda: rj.simulate(scene, y0, (0.0, T_END), solver=solver, rtol=rtol,  # noqa
+                                          atol=rtol * 1e-2, max_steps=200_000)
+                t0 = time.perf_counter()
+                r = run()
+                r.ys.block_until_ready()
+                first = time.perf_counter() - t0
+                times = []
+                for _ in range(3):
+                    t0 = time.perf_counter()
+                    r = run()
+                    r.ys.block_until_ready()
+                    times.append(time.perf_counter() - t0)
+                err = float(np.max(np.abs(np.asarray(r.ys[-1]) - np.asarray(ref.ys[-1]))))
+                rows.append({"delta_b": delta_b, "stiffness_ratio": ratio, "solver": solver,
+                             "rtol": rtol, "success": bool(r.success), "message": r.message,
+                             "steps": int(r.stats["num_steps"]), "error": err,
+                             "run_s": float(np.median(times)), "first_call_s": first,
+                             "auto_picks": rj.solve.choose_solver(scene, y0).__class__.__name__})
+                print(f"delta_b {delta_b:>7.0f} ratio {ratio:>8.1f} {solver:>8} rtol {rtol:.0e}: "
+                      f"{r.message[:30]:30s} steps {rows[-1]['steps']:>7} err {err:.1e} "
+                      f"{rows[-1]['run_s']:.2f} s (auto: {rows[-1]['auto_picks']})")
+    out = {"benchmark": "solver_choice (model 000, circular race, nu = 1.5, t = 300)",
+           "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+           "versions": {"jax": jax.__version__}, "threshold": rj.solve.STIFFNESS_THRESHOLD,
+           "rows": rows}
+    path = os.path.join(os.path.dirname(__file__), "results", "solver_choice.json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(out, f, indent=2)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
