@@ -120,7 +120,9 @@ def main():
             print(f"  scipy {method} rtol {rtol:.0e}: err {ladder[-1]['error']:.2e}, "
                   f"{ladder[-1]['s_per_speed'] * 1e3:.1f} ms/speed")
         results["scipy"][method] = ladder
-    # numba ladder (all speeds, 1 and 2 threads)
+    # numba ladder (all speeds, 1 and 2 threads); one untimed call first warms the
+    # thread pool, whose start-up otherwise lands in the first timing.
+    peers_001.numba_rk4(speeds, y0, T_END, p, 1000, threads=2)
     for threads in (1, 2):
         ladder = []
         for n_steps in (20_000, 40_000, 80_000, 160_000):

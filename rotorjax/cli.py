@@ -111,6 +111,115 @@ def cmd_simulate(args) -> int:
     return 0 if summary["success"] else 3
 
 
+def _regime_dict(r, scene):
+    return {
+        "whirl_amplitude": float(r.whirl_amplitude),
+        "weight_angles": [float(a) for a in np.asarray(r.weight_angles)],
+        "max_eigenvalue_real_part": float(r.margin),
+        "verdict": r.verdict,
+        "kind": r.kind,
+        "residual": float(r.residual),
+        "state_rotating_frame": [float(v) for v in np.asarray(r.z)],
+    }
+
+
+def cmd_steady(args) -> int:
+    from rotorjax import presets
+    from rotorjax.analysis import steady_states
+
+    preset = presets.get(args.preset)
+    overrides = _parse_sets(args.set)
+    overrides[preset.speed_key] = args.speed
+    params = preset.params(overrides)
+    if preset.speed_key == "n":
+        params["n_dot"] = 0.0
+    else:
+        params["nu_dot"] = 0.0
+    scene, _, _ = preset.build(params)
+    regimes = steady_states(scene, n_angles=args.n_angles)
+    out = {"preset": preset.name, "speed": args.speed, "params": params,
+           "n_regimes": len(regimes), "regimes": [_regime_dict(r, scene) for r in regimes]}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name} at {preset.speed_key} = {args.speed}: {len(regimes)} stationary regimes")
+        for r in out["regimes"]:
+            print(f"  amplitude {r['whirl_amplitude']:.6f}  weights at "
+                  + ", ".join(f"{a:+.4f}" for a in r["weight_angles"])
+                  + f" rad  max Re(lambda) {r['max_eigenvalue_real_part']:+.3e}  {r['verdict']}"
+                  f"  ({r['kind']})")
+    return 0
+
+
+def cmd_critical_speeds(args) -> int:
+    from rotorjax import presets
+    from rotorjax.analysis import critical_speeds
+
+    preset = presets.get(args.preset)
+    params = preset.params(_parse_sets(args.set))
+    lo, hi = args.range
+    key = preset.speed_key
+    preset.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
+    found = critical_speeds(lambda v: preset.margin(dict(params, **{key: v})), lo, hi,
+                            n_scan=args.n_scan)
+    out = {"preset": preset.name, "regime": preset.regime, "range": [lo, hi], "params": params,
+           "critical_speeds": [c.as_dict() for c in found]}
+    if preset.name == "anisotropic-abb":
+        from rotorjax.presets import anisotropic_abb
+
+        out["criterion_roots"] = anisotropic_abb.criterion_roots(params["n_eta"], params["mu_xi"],
+                                                 params["mu_eta"], lo, hi)
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: critical speeds of {preset.regime} in [{lo}, {hi}]:")
+        if not found:
+            print("  none (the margin keeps its sign over the range)")
+        for c in found:
+            print(f"  {key} = {c.speed:.6f}   stable {c.stable_side}")
+        if "criterion_roots" in out:
+            print("  empirical criterion p(n) = 0 (paper eq. 18): "
+                  + ", ".join(f"{r:.4f}" for r in out["criterion_roots"]))
+    return 0
+
+
+def cmd_stability_map(args) -> int:
+    from rotorjax import presets
+    from rotorjax.plot import plot_stability_map
+    from rotorjax.sweep import sweep
+
+    preset = presets.get(args.preset)
+    params = preset.params(_parse_sets(args.set))
+    (xk, xlo, xhi, nx), (yk, ylo, yhi, ny) = args.x, args.y
+    for k in (xk, yk):
+        if k not in params:
+            raise UsageError(f"unknown parameter {k!r} for preset {preset.name!r}")
+        if k in preset.topology_keys:
+            raise UsageError(f"{k!r} changes the scene's structure and cannot be mapped")
+    nx, ny = int(nx), int(ny)
+    if nx < 2 or ny < 2:
+        raise UsageError("NX and NY must be >= 2")
+    grid = {xk: np.linspace(float(xlo), float(xhi), nx), yk: np.linspace(float(ylo), float(yhi), ny)}
+    preset.margin(dict(params, **{xk: grid[xk][0], yk: grid[yk][0]}))  # validates
+    res = sweep(lambda pt: preset.margin(dict(params, **pt)), grid, chunk_size=args.chunk,
+                progress=not args.json)
+    margin = np.asarray(res.values)
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, f"stability_map_{preset.name}")
+    plot_stability_map(grid[xk], grid[yk], margin, stem + ".png", xk, yk,
+                       title=f"{preset.name}: stability of {preset.regime}")
+    np.savez(stem + ".npz", **{xk: grid[xk], yk: grid[yk]}, margin=margin)
+    out = {"preset": preset.name, "regime": preset.regime, "x": xk, "y": yk,
+           "shape": [nx, ny], "stable_fraction": float(np.mean(margin < 0)),
+           "failed_points": int(np.sum(~np.isfinite(margin))),
+           "files": {"plot": stem + ".png", "data": stem + ".npz"}}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"stable at {100 * out['stable_fraction']:.1f}% of {nx}x{ny} points; wrote {stem}.png")
+    return 0
+
+
 def cmd_presets(args) -> int:
     from rotorjax import presets
 
@@ -149,6 +258,32 @@ def build_parser():
     demo = sub.add_parser("demo", help="a short representative study with plots")
     demo.add_argument("--out", default="rotorjax-out")
     demo.set_defaults(fn=cmd_demo)
+
+    st = sub.add_parser("steady", help="all stationary regimes at a speed (rotating frame)")
+    st.add_argument("preset")
+    st.add_argument("--set", action="append", metavar="KEY=VALUE")
+    st.add_argument("--speed", type=float, required=True)
+    st.add_argument("--n-angles", type=int, default=16, help="starts per weight angle")
+    st.add_argument("--json", action="store_true")
+    st.set_defaults(fn=cmd_steady)
+
+    cs = sub.add_parser("critical-speeds", help="speeds where the reference regime's stability changes")
+    cs.add_argument("preset")
+    cs.add_argument("--set", action="append", metavar="KEY=VALUE")
+    cs.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
+    cs.add_argument("--n-scan", type=int, default=200)
+    cs.add_argument("--json", action="store_true")
+    cs.set_defaults(fn=cmd_critical_speeds)
+
+    sm = sub.add_parser("stability-map", help="stability margin over a 2-D parameter grid")
+    sm.add_argument("preset")
+    sm.add_argument("--set", action="append", metavar="KEY=VALUE")
+    sm.add_argument("--x", nargs=4, metavar=("KEY", "LO", "HI", "NX"), required=True)
+    sm.add_argument("--y", nargs=4, metavar=("KEY", "LO", "HI", "NY"), required=True)
+    sm.add_argument("--chunk", type=int, default=256)
+    sm.add_argument("--out", default="rotorjax-out")
+    sm.add_argument("--json", action="store_true")
+    sm.set_defaults(fn=cmd_stability_map)
 
     pre = sub.add_parser("presets", help="list presets and their parameters")
     pre.set_defaults(fn=cmd_presets)

@@ -75,3 +75,23 @@ def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, sh
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
+    """Stability margin over a grid (`margin[i, j]` at `x[i], y[j]`), with the zero
+    contour (the stability boundary at the grid's resolution)."""
+    plt = _plt()
+    m = np.asarray(margin, dtype=float)
+    fig, ax = plt.subplots(figsize=(8, 5))
+    lim = np.nanmax(np.abs(m)) if np.isfinite(m).any() else 1.0
+    im = ax.pcolormesh(x, y, m.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto")
+    if np.nanmin(m) < 0 < np.nanmax(m):
+        ax.contour(x, y, m.T, levels=[0.0], colors="k", linewidths=1.0)
+    fig.colorbar(im, ax=ax, label="stability margin (< 0 stable)")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -48,7 +48,8 @@ def planar_balancer_field(rotor, supports, balancer, speed, t, y):
          + m * thd**2 * jnp.sum(tg * p, axis=0) - balancer.drag * tt * psid)
     e = rotor.eccentricity * jnp.stack([jnp.cos(rotor.phase), jnp.sin(rotor.phase)])
     je = jnp.stack([-e[1], e[0]])
-    inner = (kv * psid**2 + 2 * thd * jt * psid + thdd * jp - thd**2 * p) @ m     # rotor frame
+    pr = psid[None, :]
+    inner = (kv * pr**2 + 2 * thd * jt * pr + thdd * jp - thd**2 * p) @ m     # rotor frame
     f_rot = -rotor.mass * (thdd * je - thd**2 * e) - inner
     f = _rot(th, f_rot) - jnp.stack([supports.kx * c[0], supports.ky * c[1]]) \
         - jnp.stack([supports.cx * cd[0], supports.cy * cd[1]])
@@ -57,7 +58,7 @@ def planar_balancer_field(rotor, supports, balancer, speed, t, y):
     rt = _rot(th, tg)                                                            # (2, N)
     w = m / (K * tt)
     mtot = rotor.mass + jnp.sum(m)
-    a = mtot * jnp.eye(2) - (rt * w) @ rt.T
+    a = mtot * jnp.eye(2) - (rt * w[None, :]) @ rt.T
     rhs = f - rt @ (b / (K * tt))
     det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
     cdd = jnp.stack([a[1, 1] * rhs[0] - a[0, 1] * rhs[1], a[0, 0] * rhs[1] - a[1, 0] * rhs[0]]) / det

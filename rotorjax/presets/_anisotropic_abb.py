@@ -22,6 +22,8 @@ rotor body's eccentricity: mass `M + m0`, eccentricity `m0 R/(M + m0)`. The weig
 coordinates are their angles relative to the rotor, `psi_j = phi_j - n tau`.
 """
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
@@ -59,6 +61,9 @@ def groups_from_si(rotor_mass, imbalance_mass, radius, n_weights, weight_mass, k
 
 
 def n_weights_from_sigma(sigma) -> int:
+    if isinstance(sigma, jax.core.Tracer):
+        raise ValueError("sigma = 1/N sets the number of weights (the topology): it cannot be "
+                         "swept or differentiated; build one scene per N")
     n = int(round(1.0 / sigma)) if sigma > 0 else 0
     if n < 1 or abs(1.0 / sigma - n) > 1e-9:
         raise ValueError(f"sigma must be 1/N for an integer number of weights N, got {sigma!r}")
@@ -73,7 +78,7 @@ def si_from_groups(groups, K=1.0, Ms=1.0, wx=1.0, L=1.0) -> dict:
     m = nm / N
     m0 = g["c"] * nm
     M = Ms - nm - m0
-    if M <= 0:
+    if not isinstance(M, jax.core.Tracer) and M <= 0:
         raise ValueError(
             f"eps={g['eps']}, c={g['c']}, K={K} leave no rotor mass: need K eps (1 + c) < 1"
         )
@@ -100,15 +105,16 @@ def main_motion_angles(N: int, c: float) -> np.ndarray:
     """Weight angles (relative to the rotor) of a main motion: weights placed
     symmetrically about the direction opposite the imbalance so that they cancel
     it (`sigma sum e^{i psi} + c = 0`, needs `c <= 1`)."""
+    if isinstance(c, jax.core.Tracer):
+        if N != 2:
+            raise ValueError("sweeping c is supported for N = 2 weights")
+    elif not 0 <= c <= 1 or (N == 1 and c != 1):
+        raise ValueError(f"{N} weight(s) cannot cancel an imbalance c = {c}")
     if N == 1:
-        if c != 1:
-            raise ValueError("one weight balances only c = 1")
-        return np.array([np.pi])
-    if not 0 <= c <= 1:
-        raise ValueError(f"the weights cannot cancel an imbalance c = {c} > 1")
+        return jnp.array([np.pi])
     if N == 2:
-        half = np.arccos(-c)  # cos(half) = -c: the pair's resultant is -c
-        return np.array([half, 2 * np.pi - half])
+        half = jnp.arccos(-c)  # cos(half) = -c: the pair's resultant is -c
+        return jnp.stack([half, 2 * np.pi - half])
     # N >= 3: a symmetric fan about pi with the spread solved by bisection.
     offsets = np.arange(N) - (N - 1) / 2
     lo, hi = 0.0, 2 * np.pi / N
@@ -127,6 +133,33 @@ def criterion_polynomial(n, n_eta, mu_xi, mu_eta):
     return (1 - n2) * (e2 - n2) * (1 + e2 - 2 * n2) + 4 * n2 * (
         (1 - n2) * mu_eta**2 + (e2 - n2) * mu_xi**2
     )
+
+
+def main_motion_floquet(groups, n, K=1.0, rtol=1e-10, atol=1e-12):
+    """Floquet analysis of the main motion at speed `n` (pure, traceable in `n` and
+    in the groups). In the fixed frame with the weights' angles relative to the
+    rotor, the main motion is a constant state of a system with period `2 pi / n`."""
+    from ..analysis import floquet
+
+    scene = scene_from_groups(**groups, n=n, K=K)
+    N = n_weights_from_sigma(groups["sigma"])
+    y0 = scene.rest_state(main_motion_angles(N, groups["c"]))
+    return floquet(scene, y0, 2 * np.pi / n, rtol=rtol, atol=atol)
+
+
+def criterion_roots(n_eta, mu_xi, mu_eta, lo=0.0, hi=None):
+    """Positive roots of the criterion polynomial in `n` (a cubic in `n^2`)."""
+    e2 = n_eta**2
+    # p as a polynomial in s = n^2: (1-s)(e2-s)(1+e2-2s) + 4s[(1-s) me^2 + (e2-s) mx^2]
+    one_minus = np.poly1d([-1.0, 1.0])
+    e2_minus = np.poly1d([-1.0, e2])
+    poly = one_minus * e2_minus * np.poly1d([-2.0, 1 + e2]) + np.poly1d([4.0, 0.0]) * (
+        one_minus * mu_eta**2 + e2_minus * mu_xi**2)
+    s = poly.roots
+    s = np.real(s[(np.abs(np.imag(s)) < 1e-12) & (np.real(s) > 0)])
+    n = np.sort(np.sqrt(s))
+    hi = np.inf if hi is None else hi
+    return [float(x) for x in n if lo <= x <= hi]
 
 
 def _build(p):
@@ -164,4 +197,8 @@ PRESET = Preset(
         "perturbation": "initial deviation of the weights from the main motion (rad)",
     },
     time_unit="1/wx", length_unit="L = N m R / Ms",
+    speed_key="n",
+    margin=lambda p: main_motion_floquet({k: p[k] for k in GROUPS}, p["n"], p["K"]).margin,
+    regime="the main motion (largest Floquet exponent)",
+    topology_keys=("sigma",),
 )

@@ -16,6 +16,11 @@ class Preset:
     - `build(params) -> (scene, y0, t_end)`: the scene in the paper's
       dimensionless units, its initial state and default end time.
     - `time_unit`, `length_unit`: what one dimensionless unit is.
+    - `speed_key`: the parameter that is the (dimensionless) speed.
+    - `margin(params) -> scalar`: stability margin of the preset's reference regime
+      (`regime` says which), traceable in the parameters (for maps and critical
+      speeds); < 0 is stable.
+    - `topology_keys`: parameters that change the scene's structure (not sweepable).
     """
 
     name: str
@@ -26,6 +31,10 @@ class Preset:
     time_unit: str
     length_unit: str
     integer_keys: tuple = ()
+    speed_key: str = "n"
+    margin: Callable = None
+    regime: str = ""
+    topology_keys: tuple = ()
 
     def params(self, overrides=None) -> dict:
         """Defaults with `overrides` applied; unknown keys and non-numbers raise."""

@@ -19,6 +19,8 @@ The paper's eq. (7) divided by `m r Omega^2` is exactly the SI scene with `m = 1
 each has one coordinate, the race's parametric angle (no constraint to drift).
 """
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports, weights_at
@@ -82,7 +84,7 @@ def scene_from_groups(chi, eps, alpha, rho1, rho2, delta_n, delta_b, nu=1.5, nu_
     supports = Supports.isotropic(1.0 + n_balls * chi, delta_n * (1.0 + n_balls * chi))
     if not with_balancer:
         return Scene(RigidRotor(1.0, eps, alpha), speed, (supports,))
-    balancer = AutoBalancer(np.full(n_balls, chi), Race(rho1, rho2), delta_b * chi,
+    balancer = AutoBalancer(jnp.full(n_balls, chi), Race(rho1, rho2), delta_b * chi,
                             inertia_factor=K)
     return Scene(RigidRotor(1.0, eps, alpha), speed, (supports, balancer))
 
@@ -91,6 +93,34 @@ def _n_balls(n):
     if int(n) != n or n < 1:
         raise ValueError(f"n_balls must be a positive integer, got {n!r}")
     return int(n)
+
+
+def balanced_regime(p):
+    """Newton from the balanced configuration of a circular race (eq. 14: the balls
+    at `alpha + pi -+ arccos(eps / (n chi))` for two balls) at speed `nu`. Returns the
+    `Regime` (traceable in the parameters). Needs `rho1 == rho2` and `eps <= n chi rho`."""
+    from ..analysis import steady_state
+    from ._anisotropic_abb import main_motion_angles
+
+    rho1, rho2 = p["rho1"], p["rho2"]
+    if not isinstance(rho1 - rho2, jax.core.Tracer) and rho1 != rho2:
+        raise ValueError("an elliptic race (rho1 != rho2) has no balanced regime (paper eqs. "
+                         "15-17); use `rotorjax steady` to list its regimes")
+    n = int(p["n_balls"])
+    c = p["eps"] / (n * p["chi"] * rho1)
+    if not isinstance(c, jax.core.Tracer) and c > 1:
+        raise ValueError(f"eps = {p['eps']} exceeds the balls' capacity n chi rho = "
+                         f"{n * p['chi'] * rho1}: there is no balanced regime")
+    scene = scene_from_groups(p["chi"], p["eps"], p["alpha"], rho1, rho2, p["delta_n"],
+                              p["delta_b"], nu=p["nu"], n_balls=n, K=p["K"])
+    psi = p["alpha"] + main_motion_angles(n, c)
+    return steady_state(scene, jnp.concatenate([jnp.zeros(2), psi]))
+
+
+def _balanced_margin(p):
+    r = balanced_regime(p)
+    ok = r.converged & (r.whirl_amplitude < 1e-8)
+    return jnp.where(ok, r.margin, jnp.nan)
 
 
 def _build(p):
@@ -135,4 +165,8 @@ PRESET = Preset(
     },
     time_unit="1/Omega", length_unit="r = (r1+r2)/2",
     integer_keys=("n_balls",),
+    speed_key="nu",
+    margin=_balanced_margin,
+    regime="the balanced regime of a circular race (rotor on the axis)",
+    topology_keys=("n_balls",),
 )

@@ -1,0 +1,101 @@
+"""Floquet analysis of time-periodic scenes from the variational equations.
+
+For `y' = f(t, y)` with `f` periodic of period `T` and a periodic solution `y*(t)`,
+the monodromy matrix `M = Phi(T)` solves `Phi' = df/dy(t, y*(t)) Phi`, `Phi(0) = I`,
+integrated alongside the state (so the step-size controller sees both). The
+multipliers are the eigenvalues of `M`; the exponents `log|mu| / T`. Forward-mode
+differentiation straight through an adaptive controller gives wrong monodromy
+matrices on model 001 (shared/PERFORMANCE.md): this is why the variational
+equations are integrated instead.
+
+Self-checks returned with every result: `det M` against Liouville's formula
+`exp(int_0^T tr df/dy dt)` (integrated alongside too), and the orbit's closure
+`|y(T) - y(0)|`.
+"""
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+
+class FloquetResult(eqx.Module):
+    """Monodromy matrix, multipliers, exponents, verdict and self-checks.
+
+    - `margin`: the largest Floquet exponent `max log|mu| / T` (< 0: stable).
+    - `liouville_error`: `|log|det M| - int tr J| ` (should be ~ the tolerance).
+    - `closure`: max-norm of `y(T) - y(0)` (0 for a true periodic solution).
+    - `code`: the integration's diffrax result (0 success).
+    """
+
+    monodromy: jax.Array
+    multipliers: jax.Array
+    exponents: jax.Array
+    margin: jax.Array
+    period: jax.Array
+    liouville_error: jax.Array
+    closure: jax.Array
+    code: jax.Array
+
+    @property
+    def stable(self):
+        return self.margin < 0
+
+    @property
+    def max_modulus(self):
+        return jnp.max(jnp.abs(self.multipliers))
+
+
+def _augmented(t, state, scene):
+    y, phi, _ = state
+    f = lambda yy: scene.vector_field(t, yy)  # noqa: E731
+    dy, jvp_cols = jax.vmap(lambda col: jax.jvp(f, (y,), (col,)), in_axes=1, out_axes=(None, 1))(phi)
+    jac_trace = jnp.trace(jax.jacfwd(f)(y))
+    return dy, jvp_cols, jac_trace
+
+
+def monodromy(scene, y0, period, t0=0.0, rtol=1e-10, atol=1e-12, max_steps=100_000):
+    """Integrate the state and its variational equations over one period."""
+    y0 = jnp.asarray(y0, dtype=jnp.float64)
+    n = y0.shape[0]
+    state0 = (y0, jnp.eye(n), jnp.zeros(()))
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_augmented), diffrax.Dopri8(), t0=t0, t1=t0 + period, dt0=None,
+        y0=state0, args=scene, stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+        max_steps=max_steps, throw=False,
+    )
+    y1, m, trace_integral = (x[-1] for x in sol.ys)
+    return y1, m, trace_integral, sol.result
+
+
+def floquet(scene, y0, period, t0=0.0, rtol=1e-10, atol=1e-12, max_steps=100_000) -> FloquetResult:
+    """Floquet multipliers of the periodic solution through `y0` (at `t0`) of a
+    scene whose equations have period `period`. Pure; vmap over scenes."""
+    period = jnp.asarray(period, dtype=jnp.float64)
+    y1, m, trace_integral, result = monodromy(scene, y0, period, t0, rtol, atol, max_steps)
+    mult = jnp.linalg.eigvals(m)
+    exps = jnp.log(jnp.abs(mult)) / period
+    _, logdet = jnp.linalg.slogdet(m)
+    ok = result == diffrax.RESULTS.successful
+    return FloquetResult(
+        monodromy=m, multipliers=mult, exponents=exps, margin=jnp.max(exps), period=period,
+        liouville_error=jnp.abs(logdet - trace_integral), closure=jnp.max(jnp.abs(y1 - y0)),
+        code=jnp.where(ok & jnp.all(jnp.isfinite(m)), 0, 1).astype(jnp.int32),
+    )
+
+
+def periodic_orbit(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e-11, atol=1e-13):
+    """Shooting: Newton on `y(T) - y(0) = 0` with the monodromy as the Jacobian.
+    Returns `(y0, closure, converged)`; for an equilibrium-like motion (such as
+    model 001's main motion) one iteration confirms it."""
+    y = jnp.asarray(y_guess, dtype=jnp.float64)
+    n = y.shape[0]
+    closure = jnp.inf
+    for _ in range(max_iter):
+        y1, m, _, _ = monodromy(scene, y, period, t0, rtol, atol)
+        g = y1 - y
+        closure = float(jnp.max(jnp.abs(g)))
+        if closure < tol:
+            return y, closure, True
+        y = y - jnp.linalg.solve(m - jnp.eye(n), g)
+    return y, closure, False
