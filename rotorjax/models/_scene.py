@@ -121,16 +121,13 @@ class Scene(eqx.Module):
         return lagrange_accelerations(self.lagrangian, self.dissipation, q, qd, t)
 
     def _fast_path_parts(self):
-        kinds = [type(c) for c in self.components]
-        if self.equations != "auto" or len(kinds) != 2:
+        """`(supports, balancer)` when the hand-derived equations apply, else None."""
+        if self.equations != "auto" or len(self.components) != 2:
             return None
-        sup = self.find(Supports)
-        bal = self.find(AutoBalancer)
-        if sup is None or bal is None or type(sup) is not Supports or type(bal) is not AutoBalancer:
-            return None
-        if self.components[1] is not bal:  # the fast path assumes (x, y, psi...) layout
-            return None
-        return sup, bal
+        sup, bal = self.components
+        if type(sup) is Supports and type(bal) is AutoBalancer:
+            return sup, bal
+        return None
 
     def vector_field(self, t, y, args=None):
         """`dy/dt` for one state and this scene's parameters (pure, unbatched)."""

@@ -1,0 +1,11 @@
+"""Flexible rotors: finite-element shafts with disks and bearings, linear analyses."""
+
+from ._linear import Modes as Modes
+from ._linear import campbell as campbell
+from ._linear import critical_speeds_1x as critical_speeds_1x
+from ._linear import damped_frequencies as damped_frequencies
+from ._linear import modes as modes
+from ._linear import state_matrix as state_matrix
+from ._linear import unbalance_response as unbalance_response
+from ._rotor import FlexibleRotor as FlexibleRotor
+from ._rotor import cowper_shear_coefficient as cowper_shear_coefficient

@@ -1,0 +1,124 @@
+"""Linear analyses of a `FlexibleRotor`: damped modes, Campbell diagram, critical
+speeds, unbalance response, logarithmic decrements. All pure, differentiable with
+respect to the rotor's parameters, and vmappable over speeds or designs."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._rotor import DOFS_PER_NODE
+
+
+class Modes(eqx.Module):
+    """Damped modes at one speed, sorted by natural frequency (rad/s).
+
+    - `frequencies`: damped natural frequencies `|Im lambda|` (the modes with
+      `Im lambda > 0`); `eigenvalues` the matching `lambda`.
+    - `log_dec`: logarithmic decrement `-2 pi Re lambda / |Im lambda|`.
+    - `forward`: whirl direction at the node of largest motion (True: forward).
+    - `shapes`: complex mode shapes on all dofs (fixed dofs zero), columns.
+    """
+
+    eigenvalues: jax.Array
+    frequencies: jax.Array
+    log_dec: jax.Array
+    forward: jax.Array
+    shapes: jax.Array
+
+
+def state_matrix(rotor, speed):
+    M, C, G1, K = rotor.reduced_matrices()
+    n = M.shape[0]
+    Minv = jnp.linalg.inv(M)
+    top = jnp.concatenate([jnp.zeros((n, n)), jnp.eye(n)], axis=1)
+    bottom = jnp.concatenate([-Minv @ K, -Minv @ (C + speed * G1)], axis=1)
+    return jnp.concatenate([top, bottom], axis=0)
+
+
+def modes(rotor, speed, n_modes=None) -> Modes:
+    """Damped eigen-analysis at spin speed `speed` (rad/s)."""
+    a = state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64))
+    lam, vec = jnp.linalg.eig(a)
+    n = a.shape[0] // 2
+    # keep the upper half-plane (one of each conjugate pair), sorted by frequency
+    key = jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf)
+    order = jnp.argsort(key)[:n]
+    lam, vec = lam[order], vec[:n, order]
+    if n_modes is not None:
+        lam, vec = lam[:n_modes], vec[:, :n_modes]
+    full = jnp.zeros((rotor.n_dofs, lam.shape[0]), dtype=vec.dtype).at[rotor.free_dofs].set(vec)
+    x = full[0::DOFS_PER_NODE]
+    y = full[1::DOFS_PER_NODE]
+    fwd = jnp.abs(x + 1j * y)   # forward-whirl amplitude per node (for Im lambda > 0)
+    bwd = jnp.abs(x - 1j * y)
+    forward = jnp.sum(fwd**2, axis=0) >= jnp.sum(bwd**2, axis=0)
+    freq = jnp.abs(jnp.imag(lam))
+    return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
+                 forward=forward, shapes=full)
+
+
+def damped_frequencies(rotor, speed, n_modes=None):
+    """Damped natural frequencies (rad/s) at `speed`, sorted, from the eigenvalues
+    only: differentiable with respect to the rotor's parameters and the speed."""
+    lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
+    f = jnp.sort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
+    return f if n_modes is None else f[:n_modes]
+
+
+def campbell(rotor, speeds, n_modes=8):
+    """Damped natural frequencies and whirl directions over `speeds` (vmapped)."""
+    return jax.vmap(lambda s: modes(rotor, s, n_modes))(jnp.asarray(speeds, dtype=jnp.float64))
+
+
+def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9):
+    """Intersections of the forward-whirl branches of the Campbell diagram with the
+    1x line `frequency = speed`, located by a scan plus bisection on
+    `omega_k(Omega) - Omega`. Returns `[(speed, mode index)]` in rad/s."""
+    speeds = np.linspace(lo, hi, n_scan)
+    camp = jax.jit(lambda s: campbell(rotor, s, n_modes))(speeds)
+    freq = np.asarray(camp.frequencies)
+    fwd = np.asarray(camp.forward)
+    one = jax.jit(lambda s: modes(rotor, s, n_modes))
+    out = []
+    for k in range(n_modes):
+        g = freq[:, k] - speeds
+        for i in range(n_scan - 1):
+            if np.sign(g[i]) == np.sign(g[i + 1]) or not (fwd[i, k] and fwd[i + 1, k]):
+                continue
+            a, b, ga = speeds[i], speeds[i + 1], g[i]
+            while b - a > xtol * max(1.0, abs(b)):
+                c = 0.5 * (a + b)
+                gc = float(one(c).frequencies[k]) - c
+                a, b, ga = (c, b, gc) if np.sign(gc) == np.sign(ga) else (a, c, ga)
+            out.append((0.5 * (a + b), k))
+    return sorted(out)
+
+
+def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
+    """Steady response to a rotating unbalance `unbalance` (kg m) at `node` and
+    `phase` (rad), at spin speeds `speeds` (rad/s, vmapped): complex amplitudes of
+    `x` and `y` at `probe_nodes` (default: all nodes), `x = Re(X e^{i Omega t})`.
+
+    The force is `F = unbalance Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`,
+    so `F_x = U Omega^2 e^{i phase}` and `F_y = -i F_x`; the response solves
+    `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F`.
+    """
+    M, C, G1, K = rotor.reduced_matrices()
+    f = rotor.free_dofs
+    b = DOFS_PER_NODE * int(node)
+    if b not in f or b + 1 not in f:
+        raise ValueError(f"the unbalance node {node} has fixed translation dofs")
+    probe = np.arange(rotor.n_nodes) if probe_nodes is None else np.asarray(probe_nodes, dtype=int)
+    pos = {dof: i for i, dof in enumerate(f)}
+    ix, iy = pos[b], pos[b + 1]
+
+    def one(w):
+        F = jnp.zeros(M.shape[0], dtype=jnp.complex128)
+        fx = unbalance * w**2 * jnp.exp(1j * phase)
+        F = F.at[ix].set(fx).at[iy].set(-1j * fx)
+        Q = jnp.linalg.solve(K - w**2 * M + 1j * w * (C + w * G1), F)
+        full = jnp.zeros(rotor.n_dofs, dtype=Q.dtype).at[f].set(Q)
+        return full[DOFS_PER_NODE * probe], full[DOFS_PER_NODE * probe + 1]
+
+    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
