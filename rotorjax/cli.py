@@ -67,12 +67,25 @@ def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
     return summary
 
 
+def _planar(preset, command):
+    if preset.kind != "planar":
+        raise UsageError(f"`{command}` works on the planar presets; {preset.name!r} is a flexible "
+                         "rotor: use `rotorjax campbell`, `response` or `critical-speeds`")
+    return preset
+
+
+def _flexible(preset, command):
+    if preset.kind != "flexible":
+        raise UsageError(f"`{command}` works on the flexible-rotor presets; {preset.name!r} is planar")
+    return preset
+
+
 def cmd_simulate(args) -> int:
     import rotorjax as rj
     from rotorjax import presets
     from rotorjax.plot import plot_simulation
 
-    preset = presets.get(args.preset)
+    preset = _planar(presets.get(args.preset), "simulate")
     params = preset.params(_parse_sets(args.set))
     scene, y0, t_end = preset.build(params)
     if args.t_end is not None:
@@ -127,7 +140,7 @@ def cmd_steady(args) -> int:
     from rotorjax import presets
     from rotorjax.analysis import steady_states
 
-    preset = presets.get(args.preset)
+    preset = _planar(presets.get(args.preset), "steady")
     overrides = _parse_sets(args.set)
     overrides[preset.speed_key] = args.speed
     params = preset.params(overrides)
@@ -158,6 +171,8 @@ def cmd_critical_speeds(args) -> int:
     preset = presets.get(args.preset)
     params = preset.params(_parse_sets(args.set))
     lo, hi = args.range
+    if preset.kind == "flexible":
+        return _flexible_critical_speeds(preset, params, lo, hi, args)
     key = preset.speed_key
     preset.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
     found = critical_speeds(lambda v: preset.margin(dict(params, **{key: v})), lo, hi,
@@ -188,7 +203,7 @@ def cmd_stability_map(args) -> int:
     from rotorjax.plot import plot_stability_map
     from rotorjax.sweep import sweep
 
-    preset = presets.get(args.preset)
+    preset = _planar(presets.get(args.preset), "stability-map")
     params = preset.params(_parse_sets(args.set))
     (xk, xlo, xhi, nx), (yk, ylo, yhi, ny) = args.x, args.y
     for k in (xk, yk):
@@ -217,6 +232,97 @@ def cmd_stability_map(args) -> int:
         print(json.dumps(out, indent=2))
     else:
         print(f"stable at {100 * out['stable_fraction']:.1f}% of {nx}x{ny} points; wrote {stem}.png")
+    return 0
+
+
+def _flexible_critical_speeds(preset, params, lo, hi, args) -> int:
+    from rotorjax.flexible import critical_speeds_1x
+
+    rotor, _, _ = preset.build(params)
+    found = critical_speeds_1x(rotor, lo, hi, n_scan=args.n_scan, n_modes=args.modes)
+    fwd = _forward_flags(rotor, found, args.modes)
+    out = {"preset": preset.name, "range": [lo, hi], "params": params, "unit": "rad/s",
+           "critical_speeds": [{"speed": s, "mode": k, "whirl": "forward" if f else "backward"}
+                               for (s, k), f in zip(found, fwd)]}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: critical speeds (1x crossings) in [{lo}, {hi}] rad/s:")
+        for c in out["critical_speeds"]:
+            print(f"  {c['speed']:.4f} rad/s  ({c['speed'] * 30 / np.pi:.1f} rpm)  mode {c['mode']}, "
+                  f"{c['whirl']} whirl")
+    return 0
+
+
+def _forward_flags(rotor, found, n_modes):
+    from rotorjax.flexible import modes
+
+    return [bool(modes(rotor, s, n_modes).forward[k]) for s, k in found]
+
+
+def cmd_campbell(args) -> int:
+    from rotorjax import presets
+    from rotorjax.flexible import campbell, critical_speeds_1x
+    from rotorjax.plot import plot_campbell
+
+    preset = _flexible(presets.get(args.preset), "campbell")
+    params = preset.params(_parse_sets(args.set))
+    rotor, _, _ = preset.build(params)
+    lo, hi = args.range
+    if not (0 <= lo < hi):
+        raise UsageError(f"--range must satisfy 0 <= LO < HI, got {lo} {hi}")
+    speeds = np.linspace(lo, hi, args.n_speeds)
+    camp = campbell(rotor, speeds, args.modes)
+    crit = critical_speeds_1x(rotor, max(lo, 1e-6), hi, n_modes=args.modes)
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, f"campbell_{preset.name}")
+    plot_campbell(speeds, np.asarray(camp.frequencies), np.asarray(camp.forward), stem + ".png",
+                  critical=[s for s, _ in crit], title=f"{preset.name}: Campbell diagram")
+    out = {"preset": preset.name, "unit": "rad/s", "speeds": speeds.tolist(),
+           "frequencies": np.asarray(camp.frequencies).tolist(),
+           "forward": np.asarray(camp.forward).tolist(),
+           "log_dec": np.asarray(camp.log_dec).tolist(),
+           "critical_speeds": [s for s, _ in crit], "files": {"plot": stem + ".png"}}
+    with open(stem + ".json", "w") as f:
+        json.dump(out, f)
+    if args.json:
+        print(json.dumps(out))
+    else:
+        print(f"wrote {stem}.png and .json; critical speeds (rad/s): "
+              + ", ".join(f"{s:.3f}" for s, _ in crit))
+    return 0
+
+
+def cmd_response(args) -> int:
+    from rotorjax import presets
+    from rotorjax.flexible import unbalance_response
+    from rotorjax.plot import plot_response
+
+    preset = _flexible(presets.get(args.preset), "response")
+    params = preset.params(_parse_sets(args.set))
+    rotor, _, _ = preset.build(params)
+    lo, hi = args.range
+    if not (0 < lo < hi):
+        raise UsageError(f"--range must satisfy 0 < LO < HI, got {lo} {hi}")
+    for name, node in (("--node", args.node), ("--probe", args.probe)):
+        if not 0 <= node < rotor.n_nodes:
+            raise UsageError(f"{name} {node}: the rotor has nodes 0..{rotor.n_nodes - 1}")
+    speeds = np.linspace(lo, hi, args.n)
+    X, Y = unbalance_response(rotor, args.node, args.unbalance, args.phase, speeds,
+                              probe_nodes=[args.probe])
+    X, Y = np.asarray(X[:, 0]), np.asarray(Y[:, 0])
+    amp = np.sqrt(np.abs(X) ** 2 + np.abs(Y) ** 2)
+    peaks = [float(speeds[i]) for i in range(1, len(amp) - 1) if amp[i] > amp[i - 1] and amp[i] > amp[i + 1]]
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, f"response_{preset.name}")
+    plot_response(speeds, X, Y, stem + ".png", title=f"{preset.name}: unbalance response at node {args.probe}")
+    out = {"preset": preset.name, "node": args.node, "probe": args.probe, "unbalance": args.unbalance,
+           "unit": "rad/s, m", "peaks": peaks, "max_amplitude": float(amp.max()),
+           "speed_at_max": float(speeds[np.argmax(amp)]), "files": {"plot": stem + ".png"}}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"peaks at " + ", ".join(f"{p:.2f}" for p in peaks) + f" rad/s; wrote {stem}.png")
     return 0
 
 
@@ -272,6 +378,7 @@ def build_parser():
     cs.add_argument("--set", action="append", metavar="KEY=VALUE")
     cs.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
     cs.add_argument("--n-scan", type=int, default=200)
+    cs.add_argument("--modes", type=int, default=8, help="modes tracked (flexible rotors)")
     cs.add_argument("--json", action="store_true")
     cs.set_defaults(fn=cmd_critical_speeds)
 
@@ -284,6 +391,29 @@ def build_parser():
     sm.add_argument("--out", default="rotorjax-out")
     sm.add_argument("--json", action="store_true")
     sm.set_defaults(fn=cmd_stability_map)
+
+    cb = sub.add_parser("campbell", help="Campbell diagram of a flexible rotor")
+    cb.add_argument("preset")
+    cb.add_argument("--set", action="append", metavar="KEY=VALUE")
+    cb.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
+    cb.add_argument("--n-speeds", type=int, default=100)
+    cb.add_argument("--modes", type=int, default=8)
+    cb.add_argument("--out", default="rotorjax-out")
+    cb.add_argument("--json", action="store_true")
+    cb.set_defaults(fn=cmd_campbell)
+
+    rs_ = sub.add_parser("response", help="unbalance response of a flexible rotor")
+    rs_.add_argument("preset")
+    rs_.add_argument("--set", action="append", metavar="KEY=VALUE")
+    rs_.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
+    rs_.add_argument("--n", type=int, default=2000, help="number of speeds")
+    rs_.add_argument("--node", type=int, default=2, help="node of the unbalance")
+    rs_.add_argument("--probe", type=int, default=2, help="node where the response is read")
+    rs_.add_argument("--unbalance", type=float, default=1e-3, help="kg m")
+    rs_.add_argument("--phase", type=float, default=0.0, help="rad")
+    rs_.add_argument("--out", default="rotorjax-out")
+    rs_.add_argument("--json", action="store_true")
+    rs_.set_defaults(fn=cmd_response)
 
     pre = sub.add_parser("presets", help="list presets and their parameters")
     pre.set_defaults(fn=cmd_presets)

@@ -95,3 +95,49 @@ def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def plot_campbell(speeds, frequencies, forward, path, critical=(), title=""):
+    """Campbell diagram: damped natural frequencies against speed, forward whirl
+    solid red, backward dashed blue, with the 1x line and the critical speeds."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    f, fw = np.asarray(frequencies), np.asarray(forward)
+    for k in range(f.shape[1]):
+        ax.plot(speeds, np.where(fw[:, k], f[:, k], np.nan), "-", color="tab:red", lw=1.2,
+                label="forward" if k == 0 else None)
+        ax.plot(speeds, np.where(~fw[:, k], f[:, k], np.nan), "--", color="tab:blue", lw=1.2,
+                label="backward" if k == 0 else None)
+    ax.plot(speeds, speeds, "k:", lw=1, label="1x")
+    for c in critical:
+        ax.plot([c], [c], "ko", ms=4)
+    ax.set_xlabel("speed (rad/s)")
+    ax.set_ylabel("damped natural frequency (rad/s)")
+    ax.set_ylim(0, np.nanmax(f) * 1.05)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_response(speeds, X, Y, path, title=""):
+    """Unbalance response amplitude (log) and phase of x and y against speed."""
+    plt = _plt()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for z, label in ((X, "x"), (Y, "y")):
+        a1.semilogy(speeds, np.abs(z), label=label)
+        a2.plot(speeds, np.degrees(np.angle(z)), label=label)
+    a1.set_ylabel("amplitude (m)")
+    a2.set_ylabel("phase (deg)")
+    a2.set_xlabel("speed (rad/s)")
+    a1.set_title(title)
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

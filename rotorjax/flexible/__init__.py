@@ -2,6 +2,7 @@
 
 from ._linear import Modes as Modes
 from ._linear import campbell as campbell
+from ._linear import critical_speed as critical_speed
 from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
 from ._linear import modes as modes

@@ -71,10 +71,14 @@ def campbell(rotor, speeds, n_modes=8):
     return jax.vmap(lambda s: modes(rotor, s, n_modes))(jnp.asarray(speeds, dtype=jnp.float64))
 
 
-def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9):
-    """Intersections of the forward-whirl branches of the Campbell diagram with the
-    1x line `frequency = speed`, located by a scan plus bisection on
-    `omega_k(Omega) - Omega`. Returns `[(speed, mode index)]` in rad/s."""
+def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="all"):
+    """Intersections of the Campbell diagram's branches with the 1x line
+    `frequency = speed`, located by a scan plus bisection on `omega_k(Omega) - Omega`.
+    `whirl="forward"` keeps the forward-whirl branches only (those an unbalance
+    excites); "all" also the backward ones (as ROSS reports them).
+    Returns `[(speed, mode index)]` in rad/s, sorted."""
+    if whirl not in ("all", "forward"):
+        raise ValueError(f"whirl must be 'all' or 'forward', got {whirl!r}")
     speeds = np.linspace(lo, hi, n_scan)
     camp = jax.jit(lambda s: campbell(rotor, s, n_modes))(speeds)
     freq = np.asarray(camp.frequencies)
@@ -84,7 +88,8 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9):
     for k in range(n_modes):
         g = freq[:, k] - speeds
         for i in range(n_scan - 1):
-            if np.sign(g[i]) == np.sign(g[i + 1]) or not (fwd[i, k] and fwd[i + 1, k]):
+            wrong_way = whirl == "forward" and not (fwd[i, k] and fwd[i + 1, k])
+            if np.sign(g[i]) == np.sign(g[i + 1]) or wrong_way:
                 continue
             a, b, ga = speeds[i], speeds[i + 1], g[i]
             while b - a > xtol * max(1.0, abs(b)):
@@ -93,6 +98,24 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9):
                 a, b, ga = (c, b, gc) if np.sign(gc) == np.sign(ga) else (a, c, ga)
             out.append((0.5 * (a + b), k))
     return sorted(out)
+
+
+def critical_speed(rotor, k, lo, hi, iters=60):
+    """The speed where the `k`-th damped natural frequency (sorted, all whirl
+    directions) equals the speed, by bisection on `omega_k(Omega) - Omega` in pure
+    JAX: vmappable over designs (the bracket `[lo, hi]` must contain one crossing).
+    (Its derivative: the implicit function theorem on `omega_k - Omega = 0`.)"""
+    def g(w):
+        return damped_frequencies(rotor, w, k + 1)[k] - w
+
+    def body(_, ab):
+        a, b = ab
+        c = 0.5 * (a + b)
+        same = jnp.sign(g(c)) == jnp.sign(g(a))
+        return jnp.where(same, c, a), jnp.where(same, b, c)
+
+    a, b = jax.lax.fori_loop(0, iters, body, (jnp.float64(lo), jnp.float64(hi)))
+    return 0.5 * (a + b)
 
 
 def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):

@@ -2,9 +2,10 @@
 
 from . import _anisotropic_abb as anisotropic_abb
 from . import _jeffcott_abb as jeffcott_abb
+from . import _ross_compare as ross_compare
 from ._base import Preset as Preset
 
-PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET)}
+PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross_compare.PRESET)}
 
 
 def get(name: str) -> Preset:

@@ -35,6 +35,7 @@ class Preset:
     margin: Callable = None
     regime: str = ""
     topology_keys: tuple = ()
+    kind: str = "planar"  # "planar" (a Scene, simulated) or "flexible" (a FlexibleRotor)
 
     def params(self, overrides=None) -> dict:
         """Defaults with `overrides` applied; unknown keys and non-numbers raise."""
@@ -52,8 +53,8 @@ class Preset:
             if not np.isfinite(value):
                 raise ValueError(f"parameter {key!r} must be finite, got {value!r}")
             if key in self.integer_keys:
-                if value != int(value) or value < 1:
-                    raise ValueError(f"parameter {key!r} must be a positive integer, got {value!r}")
+                if value != int(value) or value < 0:
+                    raise ValueError(f"parameter {key!r} must be a non-negative integer, got {value!r}")
                 value = int(value)
             params[key] = value
         return params

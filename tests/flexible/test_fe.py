@@ -76,7 +76,7 @@ def test_gyroscopic_forward_stiffens_backward_softens():
 
 def test_critical_speed_is_where_forward_branch_meets_1x():
     rotor = overhung()
-    (speed, k), *_ = critical_speeds_1x(rotor, 10.0, 600.0, n_scan=60, n_modes=4)
+    (speed, k), *_ = critical_speeds_1x(rotor, 10.0, 600.0, n_scan=60, n_modes=4, whirl="forward")
     m = modes(rotor, speed, 4)
     assert bool(m.forward[k]) and float(m.frequencies[k]) == pytest.approx(speed, rel=1e-8)
 
@@ -88,7 +88,8 @@ def test_critical_speed_gradient_wrt_bearing_stiffness():
                              bearings=((0, kb, kb, 0.0, 0.0), (3, kb, kb, 0.0, 0.0)))
 
     def crit(kb):
-        return critical_speeds_1x(rotor_with(kb), 10.0, 600.0, n_scan=60, n_modes=4, xtol=1e-13)[0]
+        return critical_speeds_1x(rotor_with(kb), 10.0, 600.0, n_scan=60, n_modes=4, xtol=1e-13,
+                                  whirl="forward")[0]
 
     kb = 1e7
     speed, k = crit(kb)
