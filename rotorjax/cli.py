@@ -173,6 +173,8 @@ def cmd_critical_speeds(args) -> int:
     lo, hi = args.range
     if preset.kind == "flexible":
         return _flexible_critical_speeds(preset, params, lo, hi, args)
+    if preset.kind == "modal":
+        return _modal_critical_speeds(preset, params, lo, hi, args)
     key = preset.speed_key
     preset.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
     found = critical_speeds(lambda v: preset.margin(dict(params, **{key: v})), lo, hi,
@@ -239,8 +241,9 @@ def _flexible_critical_speeds(preset, params, lo, hi, args) -> int:
     from rotorjax.flexible import critical_speeds_1x
 
     rotor, _, _ = preset.build(params)
-    found = critical_speeds_1x(rotor, lo, hi, n_scan=args.n_scan, n_modes=args.modes)
-    fwd = _forward_flags(rotor, found, args.modes)
+    n_modes = args.modes or 8
+    found = critical_speeds_1x(rotor, lo, hi, n_scan=args.n_scan, n_modes=n_modes)
+    fwd = _forward_flags(rotor, found, n_modes)
     out = {"preset": preset.name, "range": [lo, hi], "params": params, "unit": "rad/s",
            "critical_speeds": [{"speed": s, "mode": k, "whirl": "forward" if f else "backward"}
                                for (s, k), f in zip(found, fwd)]}
@@ -251,6 +254,30 @@ def _flexible_critical_speeds(preset, params, lo, hi, args) -> int:
         for c in out["critical_speeds"]:
             print(f"  {c['speed']:.4f} rad/s  ({c['speed'] * 30 / np.pi:.1f} rpm)  mode {c['mode']}, "
                   f"{c['whirl']} whirl")
+    return 0
+
+
+def _modal_critical_speeds(preset, params, lo, hi, args) -> int:
+    from rotorjax.flexible import exact_critical_speeds
+
+    if args.modes is not None:
+        params["modes"] = preset.params({"modes": args.modes})["modes"]
+    shaft = preset.build(params)[0]
+    if args.exact:
+        speeds = exact_critical_speeds(float(shaft.m), float(shaft.z0), float(shaft.J), lo, hi)
+        method = "closed form, eq. (17)"
+    else:
+        f, excited = (np.asarray(v) for v in shaft.natural_frequencies())
+        speeds = [float(v) for v, e in zip(f, excited) if e and lo <= v <= hi]
+        method = f"modal model, {shaft.n_modes} modes"
+    out = {"preset": preset.name, "range": [lo, hi], "params": params, "method": method,
+           "unit": "omega_1 (first pinned-pinned frequency of the bare shaft)",
+           "critical_speeds": speeds}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: critical speeds ({method}) in units of omega_1: "
+              + ", ".join(f"{v:.6f}" for v in speeds))
     return 0
 
 
@@ -378,7 +405,9 @@ def build_parser():
     cs.add_argument("--set", action="append", metavar="KEY=VALUE")
     cs.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
     cs.add_argument("--n-scan", type=int, default=200)
-    cs.add_argument("--modes", type=int, default=8, help="modes tracked (flexible rotors)")
+    cs.add_argument("--modes", type=int, default=None,
+                    help="modes tracked (ross-compare) or shaft modes (flexible-abb)")
+    cs.add_argument("--exact", action="store_true", help="flexible-abb: the closed-form equation (17)")
     cs.add_argument("--json", action="store_true")
     cs.set_defaults(fn=cmd_critical_speeds)
 

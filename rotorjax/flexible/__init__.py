@@ -10,3 +10,7 @@ from ._linear import state_matrix as state_matrix
 from ._linear import unbalance_response as unbalance_response
 from ._rotor import FlexibleRotor as FlexibleRotor
 from ._rotor import cowper_shear_coefficient as cowper_shear_coefficient
+from ._modal import ModalShaft as ModalShaft
+from ._modal import closed_form_sums as closed_form_sums
+from ._modal import critical_speed_function as critical_speed_function
+from ._modal import exact_critical_speeds as exact_critical_speeds

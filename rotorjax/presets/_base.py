@@ -35,7 +35,7 @@ class Preset:
     margin: Callable = None
     regime: str = ""
     topology_keys: tuple = ()
-    kind: str = "planar"  # "planar" (a Scene, simulated) or "flexible" (a FlexibleRotor)
+    kind: str = "planar"  # "planar" (a Scene), "flexible" (a FlexibleRotor) or "modal" (a ModalShaft)
 
     def params(self, overrides=None) -> dict:
         """Defaults with `overrides` applied; unknown keys and non-numbers raise."""

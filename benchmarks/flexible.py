@@ -1,0 +1,143 @@
+"""Flexible rotor linear analyses: rotorjax vs ROSS on `ross-compare`.
+
+(a) Campbell diagram, 100 speeds, 8 modes; (b) unbalance response, 2000 speeds;
+(c) first critical speed of 10 000 random designs (bearing stiffness, disk
+positions as element lengths) in one vmapped call, vs a ROSS loop timed on a subset
+and extrapolated. ROSS runs in its own interpreter (`--ross-python`, default
+$ROTORJAX_ROSS_PYTHON), in the same benchmark run; it is not a rotorjax dependency.
+
+Run: python benchmarks/flexible.py [--ross-python PATH]; writes
+benchmarks/results/flexible.json.
+"""
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROSS_WORKER = r'''
+import json, sys, time, warnings
+warnings.filterwarnings("ignore")
+import numpy as np, ross as rs
+cfg = json.loads(sys.argv[1])
+out = {"version": rs.__version__}
+rotor = rs.rotor_example()
+def timed(fn, repeats=3):
+    fn()
+    ts = []
+    for _ in range(repeats):
+        t0 = time.perf_counter(); r = fn(); ts.append(time.perf_counter() - t0)
+    return float(np.median(ts)), r
+speeds = np.linspace(0, 1000, cfg["n_campbell"])
+t, camp = timed(lambda: rotor.run_campbell(speeds, frequencies=8))
+out["campbell_s"] = t
+out["campbell_wd"] = np.asarray(camp.wd).tolist()
+freq = np.linspace(10, 1200, cfg["n_response"])
+t, resp = timed(lambda: rotor.run_unbalance_response(node=2, unbalance_magnitude=0.001,
+                                                     unbalance_phase=0.0, frequency=freq))
+out["response_s"] = t
+out["response_x_node2"] = np.abs(resp.forced_resp[rotor.number_dof * 2, :]).tolist()
+designs = cfg["designs"]
+steel = rotor.shaft_elements[0].material
+t0 = time.perf_counter()
+crit = []
+for kb, z1, z2 in designs:
+    lengths = [z1 / 2, z1 / 2, (z2 - z1) / 2, (z2 - z1) / 2, (1.5 - z2) / 2, (1.5 - z2) / 2]
+    shaft = [rs.ShaftElement(L, 0.0, 0.05, material=steel) for L in lengths]
+    disks = [rs.DiskElement(n=n, m=d.m, Id=d.Id, Ip=d.Ip) for n, d in zip((2, 4), rotor.disk_elements)]
+    brgs = [rs.BearingElement(n=0, kxx=kb, kyy=0.8 * kb, cxx=0), rs.BearingElement(n=6, kxx=kb, kyy=0.8 * kb, cxx=0)]
+    r = rs.Rotor(shaft, disks, brgs)
+    crit.append(float(np.sort(r.run_critical_speed(num_modes=12).wn())[0]))
+out["designs_s_per_design"] = (time.perf_counter() - t0) / len(designs)
+out["designs_critical"] = crit
+print(json.dumps(out))
+'''
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--ross-python", default=os.environ.get("ROTORJAX_ROSS_PYTHON"))
+    ap.add_argument("--n-designs", type=int, default=10_000)
+    ap.add_argument("--ross-designs", type=int, default=20)
+    args = ap.parse_args()
+
+    import jax
+    import jax.numpy as jnp
+
+    import rotorjax  # noqa: F401
+    from rotorjax.flexible import FlexibleRotor, campbell, critical_speed, unbalance_response
+    from rotorjax.presets import ross_compare
+
+    p = dict(ross_compare.PRESET.defaults)
+    rotor = ross_compare.build_rotor(p)
+    rng = np.random.default_rng(0)
+    designs = np.stack([rng.uniform(5e5, 2e6, args.n_designs), rng.uniform(0.3, 0.7, args.n_designs),
+                        rng.uniform(0.8, 1.2, args.n_designs)], axis=1)
+    disk = (p["disk_mass"], p["disk_It"], p["disk_Ip"])
+
+    def design_rotor(kb, z1, z2):
+        lengths = jnp.stack([z1 / 2, z1 / 2, (z2 - z1) / 2, (z2 - z1) / 2, (1.5 - z2) / 2, (1.5 - z2) / 2])
+        return FlexibleRotor(lengths, 0.05, E=p["E"], G=p["G"], rho=p["rho"],
+                             disks=((2,) + disk, (4,) + disk),
+                             bearings=((0, kb, 0.8 * kb, 0.0, 0.0), (6, kb, 0.8 * kb, 0.0, 0.0)))
+
+    def timed(fn, repeats=3):
+        t0 = time.perf_counter()
+        r = jax.block_until_ready(fn())
+        first = time.perf_counter() - t0
+        ts = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            r = jax.block_until_ready(fn())
+            ts.append(time.perf_counter() - t0)
+        return float(np.median(ts)), first, r
+
+    speeds = np.linspace(0, 1000, 100)
+    camp_fn = jax.jit(lambda s: campbell(rotor, s, 8).frequencies)
+    t_camp, c_camp, camp = timed(lambda: camp_fn(speeds))
+    freq = np.linspace(10, 1200, 2000)
+    resp_fn = jax.jit(lambda w: unbalance_response(rotor, 2, 1e-3, 0.0, w, probe_nodes=[2])[0])
+    t_resp, c_resp, resp = timed(lambda: resp_fn(freq))
+    crit_fn = jax.jit(jax.vmap(lambda d: critical_speed(design_rotor(d[0], d[1], d[2]), 0, 20.0, 300.0)))
+    t_crit, c_crit, crit = timed(lambda: crit_fn(jnp.asarray(designs)), repeats=1)
+    out = {"benchmark": "flexible (ross-compare)",
+           "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+           "versions": {"jax": jax.__version__},
+           "rotorjax": {"campbell_s": t_camp, "campbell_first_call_s": c_camp, "response_s": t_resp,
+                        "response_first_call_s": c_resp, "designs_s": t_crit,
+                        "designs_first_call_s": c_crit, "n_designs": args.n_designs,
+                        "designs_s_per_design": t_crit / args.n_designs}}
+    if args.ross_python:
+        cfg = {"n_campbell": 100, "n_response": 2000, "designs": designs[:args.ross_designs].tolist()}
+        proc = subprocess.run([args.ross_python, "-c", ROSS_WORKER, json.dumps(cfg)],
+                              capture_output=True, text=True, timeout=3000)
+        if proc.returncode != 0:
+            raise SystemExit(proc.stderr[-3000:])
+        ross = json.loads(proc.stdout.strip().splitlines()[-1])
+        wd = np.sort(np.asarray(ross["campbell_wd"]), axis=-1)
+        ours = np.asarray(camp)
+        k = min(wd.shape[-1], ours.shape[-1])
+        camp_err = float(np.max(np.abs(ours[:, :k] / wd[:, :k] - 1)))
+        resp_err = float(np.max(np.abs(np.abs(np.asarray(resp[:, 0])) / np.asarray(ross["response_x_node2"]) - 1)))
+        crit_err = float(np.max(np.abs(np.asarray(crit[:args.ross_designs]) / np.asarray(ross["designs_critical"]) - 1)))
+        out["ross"] = {"version": ross["version"], "campbell_s": ross["campbell_s"],
+                       "response_s": ross["response_s"], "designs_s_per_design": ross["designs_s_per_design"],
+                       "designs_subset": args.ross_designs}
+        out["ratios"] = {"campbell": ross["campbell_s"] / t_camp, "response": ross["response_s"] / t_resp,
+                         "designs": ross["designs_s_per_design"] / (t_crit / args.n_designs)}
+        out["agreement"] = {"campbell_max_rel": camp_err, "response_max_rel": resp_err,
+                            "critical_speed_max_rel": crit_err}
+    print(json.dumps({k: v for k, v in out.items() if k != "machine"}, indent=2))
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "flexible.json")
+    with open(path, "w") as f:
+        json.dump(out, f, indent=2)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
