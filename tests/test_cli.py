@@ -73,3 +73,64 @@ def test_demo_runs_and_writes_plots(tmp_path):
         assert (tmp_path / f).stat().st_size > 0
     summary = json.loads((tmp_path / "demo_summary.json").read_text())
     assert summary["sweep_001"]["failed_points"] == 0
+
+
+def test_steady_lists_all_regimes(capsys):
+    rc = main(["steady", "elliptic-abb", "--set", "delta_n=0.1", "--speed", "1.5", "--json"])
+    assert rc == 0
+    out = json.loads(capsys.readouterr().out)
+    amps = sorted(r["whirl_amplitude"] for r in out["regimes"])
+    assert any(abs(a - 0.039210) < 1e-6 for a in amps) and any(abs(a - 0.141525) < 1e-6 for a in amps)
+    assert {"verdict", "weight_angles", "max_eigenvalue_real_part", "kind"} <= set(out["regimes"][0])
+
+
+def test_steady_on_a_periodic_scene_suggests_floquet(capsys):
+    assert main(["steady", "anisotropic-abb", "--speed", "3"]) == 2
+    assert "Floquet" in capsys.readouterr().err
+
+
+def test_critical_speeds_anisotropic_with_criterion(capsys):
+    rc = main(["critical-speeds", "anisotropic-abb", "--set", "eps=0.001", "--set", "mu_w=0.25",
+               "--range", "4.5", "5.5", "--n-scan", "6", "--json"])
+    assert rc == 0
+    out = json.loads(capsys.readouterr().out)
+    (c,) = out["critical_speeds"]
+    assert 5.0 < c["speed"] < 5.05 and c["stable_side"] == "below"
+    assert out["criterion_roots"] == pytest.approx([5.040672901949166])
+
+
+def test_stability_map_writes_png(tmp_path, capsys):
+    rc = main(["stability-map", "anisotropic-abb", "--x", "n", "2", "8", "4", "--y", "mu_w", "0.2", "0.6",
+               "2", "--out", str(tmp_path), "--json"])
+    assert rc == 0
+    out = json.loads(capsys.readouterr().out)
+    assert 0 < out["stable_fraction"] < 1 and out["failed_points"] == 0
+    assert (tmp_path / "stability_map_anisotropic-abb.png").stat().st_size > 0
+    assert main(["stability-map", "anisotropic-abb", "--x", "sigma", "0.2", "0.5", "3", "--y", "n", "1", "2",
+                 "2", "--out", str(tmp_path)]) == 2
+
+
+def test_flexible_commands(tmp_path, capsys):
+    assert main(["campbell", "ross-compare", "--range", "0", "1000", "--n-speeds", "20",
+                 "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "campbell_ross-compare.png").stat().st_size > 0
+    capsys.readouterr()
+    assert main(["critical-speeds", "ross-compare", "--range", "10", "200", "--n-scan", "40", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [round(c["speed"], 3) for c in out["critical_speeds"]] == [91.788, 96.296]
+    assert [c["whirl"] for c in out["critical_speeds"]] == ["backward", "forward"]
+    assert main(["response", "ross-compare", "--range", "10", "400", "--n", "400", "--set", "cxx=100",
+                 "--set", "cyy=100", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert abs(out["peaks"][0] - 91.8) < 2 and (tmp_path / "response_ross-compare.png").exists()
+    assert main(["response", "ross-compare", "--range", "10", "400", "--node", "9", "--out", str(tmp_path)]) == 2
+    assert main(["simulate", "ross-compare", "--out", str(tmp_path)]) == 2
+
+
+def test_flexible_abb_critical_speeds(capsys):
+    assert main(["critical-speeds", "flexible-abb", "--range", "0.1", "25", "--exact", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["critical_speeds"] == pytest.approx([0.705801, 7.276434, 21.484371], abs=1e-6)
+    assert main(["critical-speeds", "flexible-abb", "--range", "0.1", "25", "--modes", "20", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["critical_speeds"][0] == pytest.approx(0.705801, abs=1e-5)
