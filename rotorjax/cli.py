@@ -140,9 +140,12 @@ def cmd_steady(args) -> int:
     from rotorjax import presets
     from rotorjax.analysis import steady_states
 
-    preset = _planar(presets.get(args.preset), "steady")
+    preset = presets.get(args.preset)
     overrides = _parse_sets(args.set)
     overrides[preset.speed_key] = args.speed
+    if preset.kind == "modal":
+        return _modal_steady(preset, preset.params(overrides), args)
+    _planar(preset, "steady")
     params = preset.params(overrides)
     if preset.speed_key == "n":
         params["n_dot"] = 0.0
@@ -161,6 +164,34 @@ def cmd_steady(args) -> int:
                   + ", ".join(f"{a:+.4f}" for a in r["weight_angles"])
                   + f" rad  max Re(lambda) {r['max_eigenvalue_real_part']:+.3e}  {r['verdict']}"
                   f"  ({r['kind']})")
+    return 0
+
+
+def _modal_steady(preset, params, args) -> int:
+    from rotorjax.flexible import balanced_regime, unbalanced_regimes
+    from rotorjax.presets import flexible_abb
+
+    if params["n_balls"] < 1:
+        raise UsageError("flexible-abb regimes need balls: --set n_balls=2")
+    rotor = flexible_abb.build_balancer_rotor(params)
+    regimes = []
+    try:
+        regimes.append(balanced_regime(rotor))
+    except ValueError as e:
+        print(f"  (no balanced regime: {e})", file=sys.stderr)
+    regimes += unbalanced_regimes(rotor)
+    rows = [{"kind": r.kind, "sigma": None if r.kind == "C" else r.sigma,
+             "disk_amplitude": float(r.disk_amplitude), "max_eigenvalue_real_part": float(r.margin),
+             "verdict": "stable" if float(r.margin) < -1e-9 else "unstable",
+             "residual": float(r.residual)} for r in regimes]
+    out = {"preset": preset.name, "speed": args.speed, "params": params, "regimes": rows}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name} at omega = {args.speed}: {len(rows)} stationary regimes")
+        for r in rows:
+            print(f"  {r['kind']:4s} disk amplitude {r['disk_amplitude']:.6f}  max Re(lambda) "
+                  f"{r['max_eigenvalue_real_part']:+.3e}  {r['verdict']}")
     return 0
 
 
@@ -205,7 +236,9 @@ def cmd_stability_map(args) -> int:
     from rotorjax.plot import plot_stability_map
     from rotorjax.sweep import sweep
 
-    preset = _planar(presets.get(args.preset), "stability-map")
+    preset = presets.get(args.preset)
+    if preset.margin is None:
+        raise UsageError(f"{preset.name!r} has no reference regime to map")
     params = preset.params(_parse_sets(args.set))
     (xk, xlo, xhi, nx), (yk, ylo, yhi, ny) = args.x, args.y
     for k in (xk, yk):
@@ -370,80 +403,68 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def _command(sub, name, help, fn, flags=()):
+    """A subcommand on a preset, with the shared `--set`, `--json` and `--out`."""
+    p = sub.add_parser(name, help=help)
+    p.add_argument("preset")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a preset parameter (repeatable)")
+    p.add_argument("--json", action="store_true", help="print a JSON summary to stdout")
+    p.add_argument("--out", default="rotorjax-out")
+    for args, kwargs in flags:
+        p.add_argument(*args, **kwargs)
+    p.set_defaults(fn=fn)
+    return p
+
+
+def _range(required=True):
+    return (("--range",), dict(type=float, nargs=2, metavar=("LO", "HI"), required=required))
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="rotorjax", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
-
-    sim = sub.add_parser("simulate", help="simulate a preset scene")
-    sim.add_argument("preset")
-    sim.add_argument("--set", action="append", metavar="KEY=VALUE",
-                     help="override a dimensionless parameter (repeatable)")
-    sim.add_argument("--t-end", type=float, default=None)
-    sim.add_argument("--out", default="rotorjax-out")
-    sim.add_argument("--json", action="store_true", help="print a JSON summary to stdout")
-    sim.add_argument("--solver", default="auto")
-    sim.add_argument("--rtol", type=float, default=1e-8)
-    sim.add_argument("--atol", type=float, default=1e-10)
-    sim.add_argument("--max-steps", type=int, default=500_000)
-    sim.add_argument("--n-save", type=int, default=4000)
-    sim.set_defaults(fn=cmd_simulate)
-
+    _command(sub, "simulate", "simulate a preset scene", cmd_simulate, [
+        (("--t-end",), dict(type=float, default=None)),
+        (("--solver",), dict(default="auto")),
+        (("--rtol",), dict(type=float, default=1e-8)),
+        (("--atol",), dict(type=float, default=1e-10)),
+        (("--max-steps",), dict(type=int, default=500_000)),
+        (("--n-save",), dict(type=int, default=4000)),
+    ])
+    _command(sub, "steady", "all stationary regimes at a speed (rotating frame)", cmd_steady, [
+        (("--speed",), dict(type=float, required=True)),
+        (("--n-angles",), dict(type=int, default=16, help="starts per weight angle")),
+    ])
+    _command(sub, "critical-speeds", "speeds where stability changes (planar) or 1x crossings "
+             "(flexible)", cmd_critical_speeds, [
+        _range(),
+        (("--n-scan",), dict(type=int, default=200)),
+        (("--modes",), dict(type=int, default=None,
+                            help="modes tracked (ross-compare) or shaft modes (flexible-abb)")),
+        (("--exact",), dict(action="store_true", help="flexible-abb: the closed-form equation (17)")),
+    ])
+    _command(sub, "stability-map", "stability margin over a 2-D parameter grid", cmd_stability_map, [
+        (("--x",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NX"), required=True)),
+        (("--y",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NY"), required=True)),
+        (("--chunk",), dict(type=int, default=32)),
+    ])
+    _command(sub, "campbell", "Campbell diagram of a flexible rotor", cmd_campbell, [
+        _range(),
+        (("--n-speeds",), dict(type=int, default=100)),
+        (("--modes",), dict(type=int, default=8)),
+    ])
+    _command(sub, "response", "unbalance response of a flexible rotor", cmd_response, [
+        _range(),
+        (("--n",), dict(type=int, default=2000, help="number of speeds")),
+        (("--node",), dict(type=int, default=2, help="node of the unbalance")),
+        (("--probe",), dict(type=int, default=2, help="node where the response is read")),
+        (("--unbalance",), dict(type=float, default=1e-3, help="kg m")),
+        (("--phase",), dict(type=float, default=0.0, help="rad")),
+    ])
     demo = sub.add_parser("demo", help="a short representative study with plots")
     demo.add_argument("--out", default="rotorjax-out")
     demo.set_defaults(fn=cmd_demo)
-
-    st = sub.add_parser("steady", help="all stationary regimes at a speed (rotating frame)")
-    st.add_argument("preset")
-    st.add_argument("--set", action="append", metavar="KEY=VALUE")
-    st.add_argument("--speed", type=float, required=True)
-    st.add_argument("--n-angles", type=int, default=16, help="starts per weight angle")
-    st.add_argument("--json", action="store_true")
-    st.set_defaults(fn=cmd_steady)
-
-    cs = sub.add_parser("critical-speeds", help="speeds where the reference regime's stability changes")
-    cs.add_argument("preset")
-    cs.add_argument("--set", action="append", metavar="KEY=VALUE")
-    cs.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
-    cs.add_argument("--n-scan", type=int, default=200)
-    cs.add_argument("--modes", type=int, default=None,
-                    help="modes tracked (ross-compare) or shaft modes (flexible-abb)")
-    cs.add_argument("--exact", action="store_true", help="flexible-abb: the closed-form equation (17)")
-    cs.add_argument("--json", action="store_true")
-    cs.set_defaults(fn=cmd_critical_speeds)
-
-    sm = sub.add_parser("stability-map", help="stability margin over a 2-D parameter grid")
-    sm.add_argument("preset")
-    sm.add_argument("--set", action="append", metavar="KEY=VALUE")
-    sm.add_argument("--x", nargs=4, metavar=("KEY", "LO", "HI", "NX"), required=True)
-    sm.add_argument("--y", nargs=4, metavar=("KEY", "LO", "HI", "NY"), required=True)
-    sm.add_argument("--chunk", type=int, default=256)
-    sm.add_argument("--out", default="rotorjax-out")
-    sm.add_argument("--json", action="store_true")
-    sm.set_defaults(fn=cmd_stability_map)
-
-    cb = sub.add_parser("campbell", help="Campbell diagram of a flexible rotor")
-    cb.add_argument("preset")
-    cb.add_argument("--set", action="append", metavar="KEY=VALUE")
-    cb.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
-    cb.add_argument("--n-speeds", type=int, default=100)
-    cb.add_argument("--modes", type=int, default=8)
-    cb.add_argument("--out", default="rotorjax-out")
-    cb.add_argument("--json", action="store_true")
-    cb.set_defaults(fn=cmd_campbell)
-
-    rs_ = sub.add_parser("response", help="unbalance response of a flexible rotor")
-    rs_.add_argument("preset")
-    rs_.add_argument("--set", action="append", metavar="KEY=VALUE")
-    rs_.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), required=True)
-    rs_.add_argument("--n", type=int, default=2000, help="number of speeds")
-    rs_.add_argument("--node", type=int, default=2, help="node of the unbalance")
-    rs_.add_argument("--probe", type=int, default=2, help="node where the response is read")
-    rs_.add_argument("--unbalance", type=float, default=1e-3, help="kg m")
-    rs_.add_argument("--phase", type=float, default=0.0, help="rad")
-    rs_.add_argument("--out", default="rotorjax-out")
-    rs_.add_argument("--json", action="store_true")
-    rs_.set_defaults(fn=cmd_response)
-
     pre = sub.add_parser("presets", help="list presets and their parameters")
     pre.set_defaults(fn=cmd_presets)
     return parser

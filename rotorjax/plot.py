@@ -12,6 +12,18 @@ def _plt():
     return plt
 
 
+def _save(fig, path, axes=(), legend=True):
+    """The common finish of every figure: grid, legend, layout, PNG, close."""
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        if legend:
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    _plt().close(fig)
+    return path
+
+
 def _amplitude_axis(ax, values):
     ax.set_ylabel("whirl amplitude")
     v = np.asarray(values)
@@ -69,12 +81,7 @@ def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, sh
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, [ax])
 
 
 def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
@@ -115,12 +122,7 @@ def plot_campbell(speeds, frequencies, forward, path, critical=(), title=""):
     ax.set_ylabel("damped natural frequency (rad/s)")
     ax.set_ylim(0, np.nanmax(f) * 1.05)
     ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, [ax])
 
 
 def plot_response(speeds, X, Y, path, title=""):
@@ -134,10 +136,4 @@ def plot_response(speeds, X, Y, path, title=""):
     a2.set_ylabel("phase (deg)")
     a2.set_xlabel("speed (rad/s)")
     a1.set_title(title)
-    for a in (a1, a2):
-        a.grid(alpha=0.3)
-        a.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, [a1, a2])

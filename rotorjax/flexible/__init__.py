@@ -14,3 +14,8 @@ from ._modal import ModalShaft as ModalShaft
 from ._modal import closed_form_sums as closed_form_sums
 from ._modal import critical_speed_function as critical_speed_function
 from ._modal import exact_critical_speeds as exact_critical_speeds
+from ._balancer003 import BalancerRegime as BalancerRegime
+from ._balancer003 import ModalBalancerRotor as ModalBalancerRotor
+from ._balancer003 import balanced_regime as balanced_regime
+from ._balancer003 import unbalanced_regimes as unbalanced_regimes
+from ._balancer003 import pseudo_balanced_speeds as pseudo_balanced_speeds

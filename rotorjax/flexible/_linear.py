@@ -100,22 +100,17 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     return sorted(out)
 
 
-def critical_speed(rotor, k, lo, hi, iters=60):
+def critical_speed(rotor, k, guess, iters=6):
     """The speed where the `k`-th damped natural frequency (sorted, all whirl
-    directions) equals the speed, by bisection on `omega_k(Omega) - Omega` in pure
-    JAX: vmappable over designs (the bracket `[lo, hi]` must contain one crossing).
-    (Its derivative: the implicit function theorem on `omega_k - Omega = 0`.)"""
-    def g(w):
-        return damped_frequencies(rotor, w, k + 1)[k] - w
-
-    def body(_, ab):
-        a, b = ab
-        c = 0.5 * (a + b)
-        same = jnp.sign(g(c)) == jnp.sign(g(a))
-        return jnp.where(same, c, a), jnp.where(same, b, c)
-
-    a, b = jax.lax.fori_loop(0, iters, body, (jnp.float64(lo), jnp.float64(hi)))
-    return 0.5 * (a + b)
+    directions) equals the speed: the fixed point `Omega = omega_k(Omega)`, which
+    converges fast because gyroscopic effects make `|d omega_k / d Omega|` small (the
+    residual `omega_k(Omega) - Omega` is returned to check it). Pure JAX, vmappable
+    over designs; differentiate with the implicit function theorem on
+    `omega_k(Omega) - Omega = 0`."""
+    w = jnp.float64(guess)
+    for _ in range(iters):  # unrolled: a few iterations, no while loop around LAPACK calls
+        w = damped_frequencies(rotor, w, k + 1)[k]
+    return w, damped_frequencies(rotor, w, k + 1)[k] - w
 
 
 def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):

@@ -5,30 +5,55 @@ Defaults: the published critical-speed case, a point-mass disk (`Jt = Jp = 0`) w
 `m = 1` (half the shaft's mass) at mid-span, 20 modes.
 """
 
-from ..flexible import ModalShaft
+import jax.numpy as jnp
+
+from ..flexible import ModalBalancerRotor, ModalShaft
+from ..models import ConstantSpeed
 from ._base import Preset
 
 
 def build_shaft(p) -> ModalShaft:
-    return ModalShaft(int(p["modes"]), p["m"], p["z0"], p["Jt"], p["Jp"], p["d"], p["m0"],
+    """The shaft + disk; its mass `m` includes the balls (`m + n_balls ball_mass`)."""
+    return ModalShaft(int(p["modes"]), p["m"] + p["n_balls"] * p["ball_mass"], p["z0"], p["Jt"],
+                      p["Jp"], p["d"], p["m0"],
                       gyroscopic="paper" if p["paper_gyroscopics"] else "standard")
+
+
+def build_balancer_rotor(p, speed=None) -> ModalBalancerRotor:
+    n = int(p["n_balls"])
+    return ModalBalancerRotor(build_shaft(p), jnp.full(n, p["ball_mass"]), p["ball_radius"],
+                              p["ball_drag"], ConstantSpeed(p["omega"]) if speed is None else speed)
+
+
+def _balanced_margin(p):
+    from ..flexible import balanced_regime
+
+    if int(p["n_balls"]) < 1:
+        raise ValueError("the balanced regime needs balls: --set n_balls=2")
+    return balanced_regime(build_balancer_rotor(p)).margin
 
 
 PRESET = Preset(
     name="flexible-abb",
     source="model 003: Kovachev, SPbU dissertation abstract (pinned-pinned modal shaft + disk)",
     defaults={"m": 1.0, "z0": 0.5, "Jt": 0.0, "Jp": 0.0, "d": 0.0, "m0": 0.01, "modes": 20,
-              "paper_gyroscopics": 1},
+              "paper_gyroscopics": 1, "n_balls": 0, "ball_mass": 0.02, "ball_radius": 1.0,
+              "ball_drag": 5.0, "omega": 1.2},
     build=lambda p: (build_shaft(p), None, None),
     describe_params={
         "m": "disk (+ imbalance) mass / (rho S l / 2)", "z0": "disk position / l",
         "Jt": "transverse inertia / (l^2 m_S / pi^2)", "Jp": "polar inertia / (l^2 m_S / pi^2)",
         "d": "external damping / (m_S omega_1)", "m0": "imbalance mass / m_S", "modes": "shaft modes",
         "paper_gyroscopics": "1: J = Jt + 2 Jp as the paper; 0: J = Jt - Jp (standard)",
+        "n_balls": "balls of the auto-balancer (0: none)", "ball_mass": "each ball / m_S",
+        "ball_radius": "ball circle radius / r0", "ball_drag": "d_j / (m_j r_j^2 omega_1)",
+        "omega": "speed / omega_1 (regimes, maps)",
     },
     time_unit="1/omega_1", length_unit="r0 (lateral), l (axial)",
-    integer_keys=("modes", "paper_gyroscopics"),
+    integer_keys=("modes", "paper_gyroscopics", "n_balls"),
     speed_key="omega",
-    topology_keys=("modes",),
+    margin=_balanced_margin,
+    regime="the balanced regime C (straight shaft, balls cancel the imbalance)",
+    topology_keys=("modes", "n_balls", "paper_gyroscopics"),
     kind="modal",
 )
