@@ -4,6 +4,8 @@ Importing rotorjax enables float64 (`jax_enable_x64`); see `rotorjax._config`.
 """
 
 from . import _config  # noqa: F401
+from . import analysis as analysis
+from . import flexible as flexible
 from . import models as models
 from . import presets as presets
 from . import solve as solve

@@ -165,7 +165,7 @@ def _dynamic_matrix(rotor, omega):
 
 def balanced_regime(rotor):
     """Regime C: shaft straight, two (or more, fanned) balls cancelling the imbalance."""
-    from ..presets._anisotropic_abb import main_motion_angles
+    from ..models import balancing_angles
 
     mr = rotor.ball_mass * rotor.ball_radius
     if rotor.n_balls < 1:
@@ -177,7 +177,7 @@ def balanced_regime(rotor):
         if c > 1:
             raise ValueError(f"the balls cannot cancel the imbalance: m0 = {float(rotor.shaft.m0)} > "
                              f"sum m_j r_j = {rotor.n_balls * float(mr[0])}")
-    alpha = main_motion_angles(rotor.n_balls, c)
+    alpha = balancing_angles(rotor.n_balls, c)
     return _regime(rotor, "C", float("nan"), jnp.zeros(rotor.shaft.n_modes, dtype=complex), alpha)
 
 

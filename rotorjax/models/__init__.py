@@ -4,6 +4,7 @@ from .. import _config  # noqa: F401  (float64)
 from ._balancer import INERTIA_FACTORS as INERTIA_FACTORS
 from ._balancer import AutoBalancer as AutoBalancer
 from ._balancer import Race as Race
+from ._balancer import balancing_angles as balancing_angles
 from ._balancer import weights_at as weights_at
 from ._base import AbstractComponent as AbstractComponent
 from ._base import Kinematics as Kinematics

@@ -157,3 +157,28 @@ def weights_at(angles, race: Race) -> np.ndarray:
                 break
         out.append(psi)
     return np.asarray(out)
+
+
+def balancing_angles(N: int, c):
+    """Angles of `N` identical weights placed symmetrically about the direction
+    opposite an imbalance of relative size `c` (imbalance / sum of the weights'
+    mass moments), so that they cancel it: `mean(e^{i psi}) + c = 0`, `c <= 1`.
+    Traceable in `c` for `N <= 2`."""
+    if isinstance(c, jax.core.Tracer):
+        if N != 2:
+            raise ValueError("sweeping c is supported for N = 2 weights")
+    elif not 0 <= c <= 1 or (N == 1 and c != 1):
+        raise ValueError(f"{N} weight(s) cannot cancel an imbalance c = {c}")
+    if N == 1:
+        return jnp.array([np.pi])
+    if N == 2:
+        half = jnp.arccos(-c)  # cos(half) = -c: the pair's resultant is -c
+        return jnp.stack([half, 2 * np.pi - half])
+    # N >= 3: a symmetric fan about pi with the spread solved by bisection.
+    offsets = np.arange(N) - (N - 1) / 2
+    lo, hi = 0.0, 2 * np.pi / N
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        resultant = np.mean(np.cos(np.pi + offsets * mid))  # in [-1, ...]
+        lo, hi = (mid, hi) if resultant < -c else (lo, mid)
+    return np.pi + offsets * 0.5 * (lo + hi)

@@ -27,6 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
+from ..models import balancing_angles
 from ._base import Preset
 
 GROUPS = ("n_eta", "mu_xi", "mu_eta", "sigma", "c", "eps", "mu_w")
@@ -101,28 +102,10 @@ def scene_from_groups(n_eta, mu_xi, mu_eta, sigma, c, eps, mu_w, n=3.0, n_dot=0.
     return scene_si(**si, speed=speed, inertia_factor=K)
 
 
-def main_motion_angles(N: int, c: float) -> np.ndarray:
-    """Weight angles (relative to the rotor) of a main motion: weights placed
-    symmetrically about the direction opposite the imbalance so that they cancel
-    it (`sigma sum e^{i psi} + c = 0`, needs `c <= 1`)."""
-    if isinstance(c, jax.core.Tracer):
-        if N != 2:
-            raise ValueError("sweeping c is supported for N = 2 weights")
-    elif not 0 <= c <= 1 or (N == 1 and c != 1):
-        raise ValueError(f"{N} weight(s) cannot cancel an imbalance c = {c}")
-    if N == 1:
-        return jnp.array([np.pi])
-    if N == 2:
-        half = jnp.arccos(-c)  # cos(half) = -c: the pair's resultant is -c
-        return jnp.stack([half, 2 * np.pi - half])
-    # N >= 3: a symmetric fan about pi with the spread solved by bisection.
-    offsets = np.arange(N) - (N - 1) / 2
-    lo, hi = 0.0, 2 * np.pi / N
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        resultant = np.mean(np.cos(np.pi + offsets * mid))  # in [-1, ...]
-        lo, hi = (mid, hi) if resultant < -c else (lo, mid)
-    return np.pi + offsets * 0.5 * (lo + hi)
+def main_motion_angles(N: int, c: float):
+    """Weight angles (relative to the rotor) of a main motion: the weights cancel the
+    imbalance `c` (`sigma sum e^{i psi} + c = 0`); see `models.balancing_angles`."""
+    return balancing_angles(N, c)
 
 
 def criterion_polynomial(n, n_eta, mu_xi, mu_eta):

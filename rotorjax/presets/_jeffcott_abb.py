@@ -100,7 +100,7 @@ def balanced_regime(p):
     at `alpha + pi -+ arccos(eps / (n chi))` for two balls) at speed `nu`. Returns the
     `Regime` (traceable in the parameters). Needs `rho1 == rho2` and `eps <= n chi rho`."""
     from ..analysis import steady_state
-    from ._anisotropic_abb import main_motion_angles
+    from ..models import balancing_angles
 
     rho1, rho2 = p["rho1"], p["rho2"]
     if not isinstance(rho1 - rho2, jax.core.Tracer) and rho1 != rho2:
@@ -113,7 +113,7 @@ def balanced_regime(p):
                          f"{n * p['chi'] * rho1}: there is no balanced regime")
     scene = scene_from_groups(p["chi"], p["eps"], p["alpha"], rho1, rho2, p["delta_n"],
                               p["delta_b"], nu=p["nu"], n_balls=n, K=p["K"])
-    psi = p["alpha"] + main_motion_angles(n, c)
+    psi = p["alpha"] + balancing_angles(n, c)
     return steady_state(scene, jnp.concatenate([jnp.zeros(2), psi]))
 
 
