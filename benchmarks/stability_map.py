@@ -25,7 +25,6 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 import rotorjax as rj  # noqa: E402

@@ -29,7 +29,6 @@ os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
 
 import rotorjax as rj  # noqa: E402
 from rotorjax.models import Scene  # noqa: E402

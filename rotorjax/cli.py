@@ -4,7 +4,6 @@ import argparse
 import json
 import os
 import sys
-import time
 
 import numpy as np
 
@@ -382,7 +381,7 @@ def cmd_response(args) -> int:
     if args.json:
         print(json.dumps(out, indent=2))
     else:
-        print(f"peaks at " + ", ".join(f"{p:.2f}" for p in peaks) + f" rad/s; wrote {stem}.png")
+        print("peaks at " + ", ".join(f"{p:.2f}" for p in peaks) + f" rad/s; wrote {stem}.png")
     return 0
 
 

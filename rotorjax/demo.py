@@ -10,7 +10,6 @@ import json
 import os
 import time
 
-import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 

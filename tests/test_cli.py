@@ -1,7 +1,6 @@
 """The rotorjax command."""
 
 import json
-import os
 import subprocess
 import sys
 

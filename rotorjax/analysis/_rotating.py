@@ -10,7 +10,6 @@ already relative to the rotor) and
 with `C''` and `psi''` from the scene's fixed-frame equations at the same instant.
 """
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 

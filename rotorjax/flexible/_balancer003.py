@@ -26,7 +26,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._speed import AbstractSpeedProfile, ConstantSpeed
+from ..models._speed import AbstractSpeedProfile
 from ..models._validate import as_param
 from ._modal import ModalShaft
 
@@ -79,7 +79,7 @@ class ModalBalancerRotor(eqx.Module):
 
     def _residual(self, t, y, acc):
         s = self.shaft
-        n, N = s.n_modes, self.n_balls
+        n = s.n_modes
         v, th, vd, thd = self._split(y)
         vdd, thdd = acc[:n] + 1j * acc[n:2 * n], acc[2 * n:]
         a, b, k = s.mode_vectors()

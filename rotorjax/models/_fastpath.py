@@ -19,7 +19,6 @@ checks them equal to the autodiff path at random states and parameters, and
 `benchmarks/sweep_throughput.py` measures what they save.
 """
 
-import jax
 import jax.numpy as jnp
 
 

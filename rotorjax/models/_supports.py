@@ -1,7 +1,6 @@
 """Linear visco-elastic supports acting on the rotor centre."""
 
 import jax
-import jax.numpy as jnp
 
 from ._base import AbstractComponent
 from ._validate import as_param

@@ -23,7 +23,6 @@ coordinates are their angles relative to the rotor, `psi_j = phi_j - n tau`.
 """
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports

@@ -1,6 +1,5 @@
 """Floquet analysis, critical speeds and maps for model 001."""
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest

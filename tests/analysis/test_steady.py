@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import rotorjax as rj
-from rotorjax import presets
 from rotorjax.analysis import check_autonomous, rotating_field, steady_state, steady_states, to_fixed, to_rotating
 from rotorjax.presets import anisotropic_abb, jeffcott_abb
 from tests.helpers import central_difference

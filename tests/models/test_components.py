@@ -8,7 +8,7 @@ import pytest
 import rotorjax as rj
 from rotorjax.models import (AutoBalancer, ConstantSpeed, CustomSpeed, Race, RigidRotor, RunUp,
                              Scene, Supports)
-from rotorjax.presets import anisotropic_abb, jeffcott_abb
+from rotorjax.presets import jeffcott_abb
 
 
 @pytest.mark.parametrize("make,match", [

@@ -23,6 +23,17 @@ def _si_001(rng):
                 by=rng.uniform(1, 50), weight_drag=rng.uniform(0, 2), inertia_factor=1.4)
 
 
+def _assert_rescaled(si_scene, dl_scene, scale, omega_unit, rng):
+    """f_dimless(omega_unit t, y / scale) = f_SI(t, y) / (scale omega_unit) at random states."""
+    for _ in range(5):
+        y = rng.normal(size=scale.size) * scale
+        t = rng.uniform(0, 1)
+        f_si = np.asarray(si_scene.vector_field(t, y))
+        f_dl = np.asarray(dl_scene.vector_field(t * omega_unit, y / scale))
+        np.testing.assert_allclose(f_si / (scale * omega_unit), f_dl, rtol=1e-10,
+                                   atol=1e-10 * np.abs(f_dl).max())
+
+
 def test_000_groups_roundtrip():
     rng = np.random.default_rng(0)
     g = {k: v for k, v in J.groups_from_si(**_si_000(rng)).items() if k in J.GROUPS}
@@ -55,12 +66,7 @@ def test_000_si_scene_is_the_dimensionless_scene_rescaled():
     si_scene = J.scene_si(**si, speed=ConstantSpeed(omega))
     dl_scene = J.scene_from_groups(**{k: g[k] for k in J.GROUPS}, nu=omega / Om)
     scale = np.array([r, r, 1, 1, r * Om, r * Om, Om, Om])
-    for _ in range(5):
-        y = rng.normal(size=8) * scale
-        t = rng.uniform(0, 1)
-        f_si = np.asarray(si_scene.vector_field(t, y))
-        f_dl = np.asarray(dl_scene.vector_field(t * Om, y / scale))
-        np.testing.assert_allclose(f_si / (scale * Om), f_dl, rtol=1e-10, atol=1e-10 * np.abs(f_dl).max())
+    _assert_rescaled(si_scene, dl_scene, scale, Om, rng)
     y0 = si_scene.rest_state(np.array([0.3, 2.0]))
     T = 40.0 / Om
     a = rj.simulate(si_scene, y0, (0.0, T), rtol=1e-11, atol=1e-13 * r)
@@ -77,9 +83,4 @@ def test_001_si_scene_is_the_dimensionless_scene_rescaled():
     si_scene = A.scene_si(**si, speed=ConstantSpeed(omega))
     dl_scene = A.scene_from_groups(**{k: g[k] for k in A.GROUPS}, n=omega / wx, K=1.4)
     scale = np.array([L, L, 1, 1, 1, L * wx, L * wx, wx, wx, wx])
-    for _ in range(5):
-        y = rng.normal(size=10) * scale
-        t = rng.uniform(0, 1)
-        f_si = np.asarray(si_scene.vector_field(t, y))
-        f_dl = np.asarray(dl_scene.vector_field(t * wx, y / scale))
-        np.testing.assert_allclose(f_si / (scale * wx), f_dl, rtol=1e-10, atol=1e-10 * np.abs(f_dl).max())
+    _assert_rescaled(si_scene, dl_scene, scale, wx, rng)
