@@ -279,6 +279,12 @@ def _flexible_critical_speeds(preset, params, lo, hi, args) -> int:
     out = {"preset": preset.name, "range": [lo, hi], "params": params, "unit": "rad/s",
            "critical_speeds": [{"speed": s, "mode": k, "whirl": "forward" if f else "backward"}
                                for (s, k), f in zip(found, fwd)]}
+    M, C, _, K = (np.asarray(a) for a in rotor.reduced_matrices())
+    if not np.any(C) and np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max()):
+        from rotorjax.flexible import synchronous_critical_speeds
+
+        roots = np.asarray(synchronous_critical_speeds(rotor))
+        out["synchronous_determinant_roots"] = [float(r) for r in roots if lo <= r <= hi]
     if args.json:
         print(json.dumps(out, indent=2))
     else:
@@ -286,6 +292,9 @@ def _flexible_critical_speeds(preset, params, lo, hi, args) -> int:
         for c in out["critical_speeds"]:
             print(f"  {c['speed']:.4f} rad/s  ({c['speed'] * 30 / np.pi:.1f} rpm)  mode {c['mode']}, "
                   f"{c['whirl']} whirl")
+        if "synchronous_determinant_roots" in out:
+            print("  roots of the synchronous determinant (undamped): "
+                  + ", ".join(f"{r:.4f}" for r in out["synchronous_determinant_roots"]))
     return 0
 
 
@@ -319,6 +328,10 @@ def _forward_flags(rotor, found, n_modes):
     return [bool(modes(rotor, s, n_modes).forward[k]) for s, k in found]
 
 
+def _maybe_reduced(rotor, n_modes):
+    return rotor if n_modes is None else rotor.reduce(n_modes)
+
+
 def cmd_campbell(args) -> int:
     from rotorjax import presets
     from rotorjax.flexible import campbell, critical_speeds_1x
@@ -326,7 +339,7 @@ def cmd_campbell(args) -> int:
 
     preset = _flexible(presets.get(args.preset), "campbell")
     params = preset.params(_parse_sets(args.set))
-    rotor, _, _ = preset.build(params)
+    rotor = _maybe_reduced(preset.build(params)[0], args.reduce)
     lo, hi = args.range
     if not (0 <= lo < hi):
         raise UsageError(f"--range must satisfy 0 <= LO < HI, got {lo} {hi}")
@@ -359,7 +372,7 @@ def cmd_response(args) -> int:
 
     preset = _flexible(presets.get(args.preset), "response")
     params = preset.params(_parse_sets(args.set))
-    rotor, _, _ = preset.build(params)
+    rotor = _maybe_reduced(preset.build(params)[0], args.reduce)
     lo, hi = args.range
     if not (0 < lo < hi):
         raise UsageError(f"--range must satisfy 0 < LO < HI, got {lo} {hi}")
@@ -420,6 +433,11 @@ def _range(required=True):
     return (("--range",), dict(type=float, nargs=2, metavar=("LO", "HI"), required=required))
 
 
+def _reduce():
+    return (("--reduce",), dict(type=int, default=None, metavar="N",
+                                help="reduce to the N lowest undamped modes first (ReducedRotor)"))
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="rotorjax", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -452,6 +470,7 @@ def build_parser():
         _range(),
         (("--n-speeds",), dict(type=int, default=100)),
         (("--modes",), dict(type=int, default=8)),
+        _reduce(),
     ])
     _command(sub, "response", "unbalance response of a flexible rotor", cmd_response, [
         _range(),
@@ -460,6 +479,7 @@ def build_parser():
         (("--probe",), dict(type=int, default=2, help="node where the response is read")),
         (("--unbalance",), dict(type=float, default=1e-3, help="kg m")),
         (("--phase",), dict(type=float, default=0.0, help="rad")),
+        _reduce(),
     ])
     demo = sub.add_parser("demo", help="a short representative study with plots")
     demo.add_argument("--out", default="rotorjax-out")

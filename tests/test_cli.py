@@ -4,6 +4,7 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from rotorjax.cli import main
@@ -118,6 +119,14 @@ def test_flexible_commands(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert [round(c["speed"], 3) for c in out["critical_speeds"]] == [91.788, 96.296]
     assert [c["whirl"] for c in out["critical_speeds"]] == ["backward", "forward"]
+    np.testing.assert_allclose(out["synchronous_determinant_roots"],
+                               [c["speed"] for c in out["critical_speeds"]], rtol=1e-8)
+    assert main(["campbell", "ross-compare", "--range", "0", "1000", "--n-speeds", "5", "--reduce", "20",
+                 "--out", str(tmp_path), "--json"]) == 0
+    assert abs(json.loads(capsys.readouterr().out)["frequencies"][0][0] / 91.797 - 1) < 1e-4
+    assert main(["campbell", "ross-compare", "--range", "0", "1000", "--reduce", "0",
+                 "--out", str(tmp_path)]) == 2
+    assert "n_modes (reduction)" in capsys.readouterr().err
     assert main(["response", "ross-compare", "--range", "10", "400", "--n", "400", "--set", "cxx=100",
                  "--set", "cyy=100", "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

@@ -7,9 +7,12 @@ from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
 from ._linear import modes as modes
 from ._linear import state_matrix as state_matrix
+from ._linear import synchronous_critical_speeds as synchronous_critical_speeds
 from ._linear import unbalance_response as unbalance_response
 from ._rotor import FlexibleRotor as FlexibleRotor
 from ._rotor import cowper_shear_coefficient as cowper_shear_coefficient
+from ._reduction import ReducedRotor as ReducedRotor
+from ._reduction import undamped_modes as undamped_modes
 from ._modal import ModalShaft as ModalShaft
 from ._modal import closed_form_sums as closed_form_sums
 from ._modal import critical_speed_function as critical_speed_function

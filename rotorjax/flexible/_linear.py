@@ -47,7 +47,7 @@ def modes(rotor, speed, n_modes=None) -> Modes:
     lam, vec = lam[order], vec[:n, order]
     if n_modes is not None:
         lam, vec = lam[:n_modes], vec[:, :n_modes]
-    full = jnp.zeros((rotor.n_dofs, lam.shape[0]), dtype=vec.dtype).at[rotor.free_dofs].set(vec)
+    full = rotor.expand(vec)
     x = full[0::DOFS_PER_NODE]
     y = full[1::DOFS_PER_NODE]
     fwd = jnp.abs(x + 1j * y)   # forward-whirl amplitude per node (for Im lambda > 0)
@@ -131,12 +131,44 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
     pos = {dof: i for i, dof in enumerate(f)}
     ix, iy = pos[b], pos[b + 1]
 
+    unit = rotor.project(jnp.zeros(len(f), dtype=jnp.complex128).at[ix].set(1.0).at[iy].set(-1j))
+
     def one(w):
-        F = jnp.zeros(M.shape[0], dtype=jnp.complex128)
-        fx = unbalance * w**2 * jnp.exp(1j * phase)
-        F = F.at[ix].set(fx).at[iy].set(-1j * fx)
+        F = unbalance * w**2 * jnp.exp(1j * phase) * unit
         Q = jnp.linalg.solve(K - w**2 * M + 1j * w * (C + w * G1), F)
-        full = jnp.zeros(rotor.n_dofs, dtype=Q.dtype).at[f].set(Q)
+        full = rotor.expand(Q)
         return full[DOFS_PER_NODE * probe], full[DOFS_PER_NODE * probe + 1]
 
     return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
+
+
+def _asymmetry(a):
+    a = np.asarray(a)
+    return np.linalg.norm(a - a.T) / max(np.linalg.norm(a), 1e-300)
+
+
+def synchronous_critical_speeds(rotor, n_speeds=None):
+    """Undamped critical speeds as the roots of the synchronous determinant
+    `det(K - Omega^2 M + i Omega^2 G1) = 0` (a harmonic solution `e^{i Omega t}` at
+    the spin speed: every Campbell branch, forward and backward, meeting 1x).
+
+    `i G1` is Hermitian (G1 real skew), so this is the Hermitian pencil
+    `(M - i G1) u = mu K u` with `mu = 1 / Omega^2`: one `eigh`, no scan, exact,
+    differentiable and vmappable. Modes with `mu <= 0` (gyroscopic stiffening
+    outruns the inertia: the branch never meets 1x) have no critical speed.
+    Returns the speeds (rad/s) ascending, `inf` where there is none; `n_speeds`
+    keeps the first ones. Requires an undamped rotor with symmetric stiffness
+    (damping moves the roots off the real axis: use `critical_speeds_1x`).
+    """
+    M, C, G1, K = rotor.reduced_matrices()
+    if not isinstance(C, jax.core.Tracer) and np.any(np.asarray(C) != 0):
+        raise ValueError("synchronous_critical_speeds needs an undamped rotor (C = 0); "
+                         "use critical_speeds_1x with damping")
+    if not isinstance(K, jax.core.Tracer) and _asymmetry(K) > 1e-9:
+        raise ValueError("synchronous_critical_speeds needs a symmetric stiffness (no kxy != kyx)")
+    L = jnp.linalg.cholesky(0.5 * (K + K.T))
+    Linv = jax.scipy.linalg.solve_triangular(L, jnp.eye(K.shape[0]), lower=True)
+    H = Linv @ (M - 1j * G1) @ Linv.T
+    mu = jnp.linalg.eigvalsh(0.5 * (H + H.conj().T))
+    speeds = jnp.sort(jnp.where(mu > 0, 1 / jnp.sqrt(jnp.where(mu > 0, mu, 1.0)), jnp.inf))
+    return speeds if n_speeds is None else speeds[:n_speeds]

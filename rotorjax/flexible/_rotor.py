@@ -148,3 +148,19 @@ class FlexibleRotor(eqx.Module):
         """`(M, C, G1, K)` on the free dofs only."""
         f = self.free_dofs
         return tuple(a[np.ix_(f, f)] for a in self.matrices())
+
+    def expand(self, q):
+        """Free-dof vector (or columns) to all dofs, fixed dofs zero."""
+        q = jnp.asarray(q)
+        return jnp.zeros((self.n_dofs,) + q.shape[1:], dtype=q.dtype).at[self.free_dofs].set(q)
+
+    def project(self, f):
+        """A load on the free dofs, in this rotor's coordinates (the identity here;
+        see `ReducedRotor`)."""
+        return f
+
+    def reduce(self, n_modes):
+        """This rotor reduced to its `n_modes` lowest undamped modes (`ReducedRotor`)."""
+        from ._reduction import ReducedRotor
+
+        return ReducedRotor(self, n_modes)

@@ -1,0 +1,75 @@
+"""Modal (Ritz) reduction of a finite-element rotor.
+
+The basis is the `n_modes` lowest undamped modes of the non-rotating rotor
+(`K_s phi = w^2 M phi`, `K_s` the symmetric part of the stiffness, bearings
+included), mass-normalised. The reduced rotor `Phi^T (M, C, G1, K) Phi` has the
+same interface as the full one (`reduced_matrices`, `expand`, `project`), so every
+linear analysis runs on either.
+
+The basis is held fixed under differentiation (`stop_gradient`): gradients are
+those of the reduced model in a frozen basis. This keeps them finite where the
+rotor has repeated frequencies (an isotropic rotor's x/y pairs, where the
+derivative of individual eigenvectors is undefined) and, because eigenvalues are
+stationary with respect to the Ritz basis, differs from the full model's
+derivative only at the order of the reduction error.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+
+def undamped_modes(M, K):
+    """Eigenpairs of the symmetric pencil `(K_s, M)`, ascending, mass-normalised."""
+    Ks = 0.5 * (K + K.T)
+    L = jnp.linalg.cholesky(M)
+    Linv = jax.scipy.linalg.solve_triangular(L, jnp.eye(M.shape[0]), lower=True)
+    w2, V = jnp.linalg.eigh(Linv @ Ks @ Linv.T)
+    return w2, Linv.T @ V
+
+
+class ReducedRotor(eqx.Module):
+    """A `FlexibleRotor` reduced to its `n_modes` lowest undamped modes (see the
+    module docstring); `rotor.reduce(n_modes)` builds one."""
+
+    rotor: eqx.Module
+    basis: jax.Array  # (n_free_dofs, n_modes)
+
+    def __init__(self, rotor, n_modes):
+        n_free = len(rotor.free_dofs)
+        if int(n_modes) != n_modes or not 1 <= n_modes <= n_free:
+            raise ValueError(f"n_modes (reduction) must be an integer in 1..{n_free}, got {n_modes!r}")
+        M, _, _, K = rotor.reduced_matrices()
+        _, phi = undamped_modes(M, K)
+        self.rotor = rotor
+        self.basis = jax.lax.stop_gradient(phi[:, : int(n_modes)])
+
+    @property
+    def n_modes(self) -> int:
+        return self.basis.shape[1]
+
+    @property
+    def n_nodes(self) -> int:
+        return self.rotor.n_nodes
+
+    @property
+    def n_dofs(self) -> int:
+        return self.rotor.n_dofs
+
+    @property
+    def free_dofs(self) -> np.ndarray:
+        return self.rotor.free_dofs
+
+    def reduced_matrices(self):
+        """`Phi^T (M, C, G1, K) Phi` in the modal coordinates."""
+        P = self.basis
+        return tuple(P.T @ a @ P for a in self.rotor.reduced_matrices())
+
+    def expand(self, q):
+        """Modal coordinates (vector or columns) to all dofs of the shaft."""
+        return self.rotor.expand(self.basis @ q)
+
+    def project(self, f):
+        """A load on the free dofs to modal loads."""
+        return self.basis.T @ f
