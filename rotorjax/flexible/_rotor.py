@@ -30,7 +30,8 @@ class FlexibleRotor(eqx.Module):
     - `lengths`, `d_out`, `d_in`: per element (m); `E`, `G`, `rho` (Pa, Pa, kg/m^3).
     - `disks`: `(node, mass, It, Ip)` tuples; `bearings`: `(node, kxx, kyy, cxx, cyy)` or
       `(node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx)` tuples.
-    - `theory`: "timoshenko" (shear and rotary inertia) or "euler-bernoulli".
+    - `theory`: "timoshenko" (shear and rotary inertia), "rayleigh" (rotary inertia,
+      no shear) or "euler-bernoulli" (neither; the gyroscopic matrix is kept).
     - `fixed_dofs`: `(node, dof)` pairs held at zero (dof 0..3 = x, y, sx, sy).
     """
 
@@ -64,8 +65,8 @@ class FlexibleRotor(eqx.Module):
         self.rho = as_param("rho (density)", rho, sign="positive")
         nu = self.E / (2 * self.G) - 1 if nu is None else nu
         self.kappa = cowper_shear_coefficient(nu, self.d_out, self.d_in)
-        if theory not in ("timoshenko", "euler-bernoulli"):
-            raise ValueError(f"theory must be 'timoshenko' or 'euler-bernoulli', got {theory!r}")
+        if theory not in ("timoshenko", "rayleigh", "euler-bernoulli"):
+            raise ValueError(f"theory must be 'timoshenko', 'rayleigh' or 'euler-bernoulli', got {theory!r}")
         self.theory = theory
         n_nodes = n_el + 1
 
@@ -121,7 +122,8 @@ class FlexibleRotor(eqx.Module):
     def matrices(self):
         """Global `(M, C, G1, K)` on all dofs (`G = Omega G1`)."""
         n = self.n_dofs
-        shear = rotary = self.theory == "timoshenko"
+        shear = self.theory == "timoshenko"
+        rotary = self.theory in ("timoshenko", "rayleigh")
         Me, Ge, Ke = jax.vmap(
             lambda L, do, di, kap: element_matrices(self.E, self.G, self.rho, do, di, L, kap, shear, rotary)
         )(self.lengths, self.d_out, self.d_in, self.kappa)

@@ -6,3 +6,4 @@ from ._simulate import simulate as simulate
 from ._stiffness import STIFFNESS_THRESHOLD as STIFFNESS_THRESHOLD
 from ._stiffness import choose_solver as choose_solver
 from ._stiffness import stiffness_ratio as stiffness_ratio
+from ._events import simulate_events as simulate_events

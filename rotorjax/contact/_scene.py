@@ -1,0 +1,148 @@
+"""Model 004's scene: the cantilever rotor (`rotorjax.flexible.CantileverRotor`),
+its unbalance and weight, and (when present) the limiters around the disk.
+
+State `y = (q, q', W)`: the rotor's coordinates (the free FE dofs, or the amplitudes
+of its lowest undamped modes with `n_modes`), their rates, and `W`, the work done
+on the lateral motion by the non-conservative forces (dampers, internal friction's
+circulatory force, unbalance, contact), integrated with the motion. Energy
+bookkeeping: `E(t) - E(0) = W(t)` with `E = q'^T M q' / 2 + q^T K q / 2 - F_g^T q`
+(gyroscopic forces do no work); `energy_residual` checks it.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..models._speed import ConstantSpeed
+from ..models._validate import as_param
+
+
+class CantileverScene(eqx.Module):
+    """Model 004 at spin speed `N` with mass eccentricity `eps` (phase `phase`),
+    weight `gamma` (0: vertical axis or weight neglected, as in the paper), and
+    `limiters` (`rotorjax.contact.Limiters`, or None). `n_modes`: simulate on the
+    lowest undamped modes (None: all FE dofs)."""
+
+    rotor: eqx.Module
+    limiters: eqx.Module | None
+    N: jax.Array
+    eps: jax.Array
+    phase: jax.Array
+    gamma: jax.Array
+    basis: jax.Array
+    M: jax.Array
+    Minv: jax.Array
+    D: jax.Array          # C + Ci
+    G1: jax.Array
+    K: jax.Array
+    CiJ: jax.Array
+    unit_weight: jax.Array  # modal load of a unit weight along -x
+    disk: jax.Array         # rows of the basis at the disk's x, y, sx, sy
+
+    def __init__(self, rotor, N, eps=0.0, phase=0.0, gamma=0.0, limiters=None, n_modes=None):
+        self.rotor, self.limiters = rotor, limiters
+        self.N = as_param("N (spin speed)", N, shape=())
+        self.eps = as_param("eps (eccentricity)", eps, sign="nonnegative", shape=())
+        self.phase = as_param("phase", phase, shape=())
+        self.gamma = as_param("gamma (weight)", gamma, sign="nonnegative", shape=())
+        M, C, G1, K, Ci, J = rotor.matrices()
+        P = jnp.eye(M.shape[0]) if n_modes is None else rotor.modal_basis(n_modes)
+        self.basis = P
+        self.M, self.G1, self.K = P.T @ M @ P, P.T @ G1 @ P, P.T @ K @ P
+        self.D, self.CiJ = P.T @ (C + Ci) @ P, P.T @ Ci @ J @ P
+        self.Minv = jnp.linalg.inv(self.M)
+        ex = jnp.zeros(M.shape[0]).at[0::4].set(1.0)   # rigid unit x translation field
+        self.unit_weight = -(P.T @ (M @ ex))
+        self.disk = P[rotor.disk_dofs]
+
+    @property
+    def n_coords(self) -> int:
+        return self.basis.shape[1]
+
+    @property
+    def state_size(self) -> int:
+        return 2 * self.n_coords + 1
+
+    @property
+    def n_contacts(self) -> int:
+        return 0 if self.limiters is None else self.limiters.n
+
+    @property
+    def speed(self):
+        return ConstantSpeed(self.N)
+
+    @property
+    def disk_radius(self):
+        return self.rotor.beta**0.5 * 2  # eps_D / 2 = 2 sqrt(beta) for a thin disk
+
+    def describe(self) -> str:
+        lim = "no limiters" if self.limiters is None else self.limiters.describe()
+        return (f"cantilever rotor, {self.rotor.n_elements} elements, {self.n_coords} coordinates, "
+                f"{lim}")
+
+    def split(self, y):
+        n = self.n_coords
+        return y[:n], y[n:2 * n], y[2 * n]
+
+    def disk_state(self, y):
+        q, qd, _ = self.split(y)
+        return self.disk[:2] @ q, self.disk[:2] @ qd
+
+    def unbalance(self, t):
+        a = self.N * t + self.phase
+        return self.eps * self.N**2 * jnp.stack([jnp.cos(a), jnp.sin(a)])
+
+    def contact(self, t, y, active=None):
+        """Force of the limiters on the disk and the normal forces."""
+        if self.limiters is None:
+            return jnp.zeros(2), jnp.zeros(0)
+        pos, vel = self.disk_state(y)
+        return self.limiters.force(pos, vel, self.N, self.disk_radius, active)
+
+    def contact_indicator(self, t, y):
+        pos, vel = self.disk_state(y)
+        return self.limiters.indicator(pos, vel)
+
+    def vector_field(self, t, y, active=None):
+        """`active=None`: smoothed contact; else the exact force with that contact set."""
+        q, qd, _ = self.split(y)
+        f_disk = self.unbalance(t) + self.contact(t, y, active)[0]
+        f_nc = self.disk[:2].T @ f_disk
+        f = f_nc + self.gamma * self.unit_weight
+        qdd = self.Minv @ (f - (self.D + self.N * self.G1) @ qd - (self.K + self.N * self.CiJ) @ q)
+        power = qd @ f_nc - qd @ (self.D @ qd) - self.N * qd @ (self.CiJ @ q)
+        return jnp.concatenate([qd, qdd, power[None]])
+
+    def energy(self, y):
+        q, qd, _ = self.split(y)
+        return 0.5 * qd @ (self.M @ qd) + 0.5 * q @ (self.K @ q) - self.gamma * self.unit_weight @ q
+
+    def outputs(self, t, y):
+        q, qd, work = self.split(y)
+        pos, vel = self.disk[:2] @ q, self.disk[:2] @ qd
+        _, normal = self.contact(t, y)
+        return {"disk_x": pos[0], "disk_y": pos[1], "disk_vx": vel[0], "disk_vy": vel[1],
+                "disk_tilt_x": self.disk[2] @ q, "disk_tilt_y": self.disk[3] @ q,
+                "radius": jnp.sqrt(pos @ pos), "energy": self.energy(y), "work": work,
+                "normal_forces": normal}
+
+    def rest_state(self):
+        """Straight-line rotation (with the static sag under weight)."""
+        q = jnp.linalg.solve(self.K + self.N * self.CiJ, self.gamma * self.unit_weight)
+        return jnp.concatenate([q, jnp.zeros(self.n_coords), jnp.zeros(1)])
+
+    def synchronous_state(self):
+        """The linear steady unbalance response at `t = 0` (no contact, no weight)."""
+        M, D, G1, K, CiJ, N = self.M, self.D, self.G1, self.K, self.CiJ, self.N
+        fx = self.eps * N**2 * jnp.exp(1j * self.phase)
+        F = self.disk[0] * fx + self.disk[1] * (-1j * fx)
+        Q = jnp.linalg.solve(K + N * CiJ - N**2 * M + 1j * N * (D + N * G1), F)
+        return jnp.concatenate([jnp.real(Q), jnp.real(1j * N * Q), jnp.zeros(1)])
+
+
+def energy_residual(scene, ys):
+    """`max |E(t) - E(0) - W(t)| / max |E|` over saved states (one run)."""
+    e = jax.vmap(scene.energy)(ys)
+    w = ys[:, -1]
+    return float(np.max(np.abs(np.asarray(e - e[0] - w))) / max(float(np.max(np.abs(np.asarray(e)))), 1e-300))

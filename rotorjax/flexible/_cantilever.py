@@ -1,0 +1,154 @@
+"""Model 004: a cantilever flexible rotor with a disk at its free end, Voigt
+internal friction and external damping (Azarov, Guskov, Panovko 2023), as a
+finite-element shaft in the paper's dimensionless units (eq. 7).
+
+Units: length `l` (the shaft), mass `M` (the disk), time
+`T* = sqrt(M l^3 / (E I_R))`; so `E I_R = 1`, the shaft's mass per unit length is
+`mu_R = m_R l / M`, the disk's transverse inertia `beta = B / (M l^2) = eps_D^2 / 16`
+(`eps_D = D / l`) and its polar inertia `2 beta` (thin disk). The spin speed is
+`N = Omega T*`.
+
+Equations (fixed frame, free dofs of the clamped shaft `q`):
+
+    M q'' + (C + Ci + N G1) q' + (K + N Ci J) q = F(t, q, q'),
+
+with `K` the shaft's bending stiffness, `Ci = 2 eta_i K` Voigt internal damping
+(the paper's `q_V = -2 eta_i (xi'''' ' + N S xi'''')`: damping of the strain rate
+seen in the rotating frame, which adds the circulatory stiffness `N Ci J`, `J` the
+quarter-turn `(x, y) -> (y, -x)` of every node's displacement and slope),
+`C = 2 eta_e M_1 + 2 eta_Dxi (disk translation) + 2 eta_Dtheta (disk tilt)` (`M_1`
+the consistent translational mass of a unit-density shaft), and `G1` the
+gyroscopic matrix of shaft (Rayleigh beam) and disk. The loads `F` (unbalance
+`eps N^2 (cos(N t + phi), sin(N t + phi))`, gravity `-gamma` along x, limiter
+contact) act at the disk (node `n_elements`).
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..models._validate import as_param
+from ._reduction import undamped_modes
+from ._rotor import DOFS_PER_NODE, FlexibleRotor
+
+#: The paper's base case (SI): shaft length, shaft and disk diameters, disk thickness;
+#: steel (E, rho), eccentricity, limiter clearance and stiffness.
+PAPER_SI = dict(l=0.7, d=0.02, D=0.2, a=0.01, E=2.1e11, rho=7800.0, e=0.001, h=0.0075, k_S=4.087e6)
+
+
+def groups_from_si(l, d, D, a, E, rho, g=9.81):
+    """The paper's dimensionless groups (eq. 7) and scales from SI geometry and
+    material: `mu_R`, `beta`, `eps_D`, `d_ratio = d / l`, `gamma = M g l^2 / EI`, and
+    `T_star` (s), `M` (kg), `EI` (N m^2), `l` (m)."""
+    for name, v in (("l", l), ("d", d), ("D", D), ("a", a), ("E", E), ("rho", rho)):
+        as_param(name, v, sign="positive", shape=())
+    M = rho * np.pi * D**2 / 4 * a
+    EI = E * np.pi * d**4 / 64
+    m_R = rho * np.pi * d**2 / 4
+    return {"mu_R": m_R * l / M, "beta": (D / l) ** 2 / 16, "eps_D": D / l, "d_ratio": d / l,
+            "gamma": M * g * l**2 / EI, "T_star": float(np.sqrt(M * l**3 / EI)), "M": M, "EI": EI, "l": l}
+
+
+def quarter_turn(n_nodes):
+    """`J`: per node `(x, y, sx, sy) -> (y, -x, sy, -sx)` (multiplication of the
+    complex displacement `x + i y` by `-i`)."""
+    blk = np.array([[0, 1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1], [0, 0, -1, 0]], dtype=float)
+    return np.kron(np.eye(n_nodes), blk)
+
+
+class CantileverRotor(eqx.Module):
+    """Model 004's rotor (see the module docstring), dimensionless.
+
+    **Arguments:** `mu_R` (shaft mass / disk mass), `beta` (disk transverse inertia,
+    `eps_D^2 / 16` for a thin disk of diameter `eps_D`), `d_ratio` (shaft diameter /
+    length: the shaft's rotary inertia), `eta_i` (internal, Voigt), `eta_e` (external,
+    per unit length), `eta_Dxi`, `eta_Dtheta` (disk translation and tilt damping),
+    `n_elements` (static, >= 1; Rayleigh beam elements).
+    """
+
+    mu_R: jax.Array
+    beta: jax.Array
+    d_ratio: jax.Array
+    eta_i: jax.Array
+    eta_e: jax.Array
+    eta_Dxi: jax.Array
+    eta_Dtheta: jax.Array
+    n_elements: int = eqx.field(static=True)
+
+    def __init__(self, mu_R, beta, d_ratio, eta_i, eta_e, eta_Dxi=0.0, eta_Dtheta=0.0, n_elements=8):
+        self.mu_R = as_param("mu_R (shaft/disk mass ratio)", mu_R, sign="positive", shape=())
+        self.beta = as_param("beta (disk inertia)", beta, sign="nonnegative", shape=())
+        self.d_ratio = as_param("d_ratio (shaft diameter / length)", d_ratio, sign="positive", shape=())
+        self.eta_i = as_param("eta_i (internal damping)", eta_i, sign="nonnegative", shape=())
+        self.eta_e = as_param("eta_e (external damping)", eta_e, sign="nonnegative", shape=())
+        self.eta_Dxi = as_param("eta_Dxi (disk damping)", eta_Dxi, sign="nonnegative", shape=())
+        self.eta_Dtheta = as_param("eta_Dtheta (disk angular damping)", eta_Dtheta, sign="nonnegative",
+                                   shape=())
+        if int(n_elements) != n_elements or n_elements < 1:
+            raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
+        self.n_elements = int(n_elements)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.n_elements + 1
+
+    @property
+    def disk_dofs(self) -> np.ndarray:
+        """Indices of the disk's `(x, y, sx, sy)` among the free dofs."""
+        return DOFS_PER_NODE * (self.n_elements - 1) + np.arange(DOFS_PER_NODE)
+
+    def shaft(self, density=None, disk=True, theory="rayleigh") -> FlexibleRotor:
+        """The FE shaft in these units (`E I = 1`, `rho A = mu_R`), clamped at node 0."""
+        n = self.n_elements
+        area, inertia = jnp.pi * self.d_ratio**2 / 4, jnp.pi * self.d_ratio**4 / 64
+        rho = (self.mu_R if density is None else density) / area
+        disks = ((n, 1.0, self.beta, 2 * self.beta),) if disk else ()
+        return FlexibleRotor(jnp.full(n, 1.0 / n), self.d_ratio, E=1 / inertia, G=1.0, rho=rho, nu=0.3,
+                             disks=disks, theory=theory,
+                             fixed_dofs=tuple((0, k) for k in range(DOFS_PER_NODE)))
+
+    def matrices(self):
+        """`(M, C, G1, K, Ci, J)` on the free dofs (see the module docstring)."""
+        M, _, G1, K = self.shaft().reduced_matrices()
+        M1 = self.shaft(density=1.0, disk=False, theory="euler-bernoulli").reduced_matrices()[0]
+        d = self.disk_dofs
+        C = 2 * self.eta_e * M1
+        C = C.at[d[:2], d[:2]].add(2 * self.eta_Dxi).at[d[2:], d[2:]].add(2 * self.eta_Dtheta)
+        J = jnp.asarray(quarter_turn(self.n_elements))
+        return M, C, G1, K, 2 * self.eta_i * K, J
+
+    def state_matrix(self, N):
+        """First-order matrix of the free (load-free) motion at speed `N`."""
+        M, C, G1, K, Ci, J = self.matrices()
+        n = M.shape[0]
+        Minv = jnp.linalg.inv(M)
+        return jnp.block([[jnp.zeros((n, n)), jnp.eye(n)],
+                          [-Minv @ (K + N * Ci @ J), -Minv @ (C + Ci + N * G1)]])
+
+    def eigenvalues(self, N):
+        return jnp.linalg.eigvals(self.state_matrix(jnp.asarray(N, dtype=jnp.float64)))
+
+    def stability_margin(self, N):
+        """Largest real part of the eigenvalues of straight-line rotation at `N`."""
+        return jnp.max(jnp.real(self.eigenvalues(N)))
+
+    def modal_basis(self, n_modes):
+        """The `n_modes` lowest undamped non-rotating modes (mass-normalised), for a
+        reduced-order simulation; held fixed under differentiation."""
+        M, _, _, K, _, _ = self.matrices()
+        n_free = M.shape[0]
+        if int(n_modes) != n_modes or not 1 <= n_modes <= n_free:
+            raise ValueError(f"n_modes must be an integer in 1..{n_free}, got {n_modes!r}")
+        return jax.lax.stop_gradient(undamped_modes(M, K)[1][:, : int(n_modes)])
+
+    def unbalance_response(self, N, eps, phase=0.0):
+        """Steady response to the unbalance at speed `N` (no contact, no gravity):
+        complex amplitudes of all free dofs, `q = Re(Q e^{i N t})`. In synchronous
+        forward whirl the shaft does not deform in the rotating frame, so internal
+        friction does no work and drops out (a check, tested)."""
+        M, C, G1, K, Ci, J = self.matrices()
+        d = self.disk_dofs
+        fx = eps * N**2 * jnp.exp(1j * phase)
+        F = jnp.zeros(M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
+        return jnp.linalg.solve(K + N * Ci @ J - N**2 * M + 1j * N * (C + Ci + N * G1), F)
