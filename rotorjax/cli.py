@@ -66,6 +66,213 @@ def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
     return summary
 
 
+def _contact_run(preset, params, scene, y0, t_end, args, n_save):
+    """One run of a contact preset, smoothed or event-located (`events`)."""
+    import rotorjax as rj
+    from rotorjax.solve import simulate_events
+
+    if params["events"]:
+        solver = "dopri8" if args.solver == "auto" else args.solver
+        return simulate_events(scene, y0, (0.0, t_end), saveat=n_save, solver=solver, rtol=args.rtol,
+                               atol=args.atol, max_steps=args.max_steps)
+    return rj.simulate(scene, y0, (0.0, t_end), saveat=n_save, solver=args.solver, rtol=args.rtol,
+                       atol=args.atol, max_steps=args.max_steps)
+
+
+def _window(params, t_end):
+    """The analysis window: the last 300 revolutions (the paper's), at most the
+    second half of the run."""
+    revs = t_end * params["N"] / (2 * np.pi)
+    return (max(0.5, 1 - 300 / revs), 1.0)
+
+
+def _contact_simulate(preset, params, args) -> int:
+    from rotorjax.analysis import precession
+    from rotorjax.contact._scene import energy_residual
+    from rotorjax.plot import plot_precession
+
+    scene, y0, t_end = preset.build(params)
+    if args.t_end is not None:
+        if not args.t_end > 0:
+            raise UsageError(f"--t-end must be > 0, got {args.t_end}")
+        t_end = args.t_end
+    revs = t_end * params["N"] / (2 * np.pi)
+    n_save = args.n_save or max(4000, int(40 * revs))
+    result = _contact_run(preset, params, scene, y0, t_end, args, n_save)
+    o = {k: np.asarray(v) for k, v in result.outputs.items()}
+    summary = {"preset": preset.name, "params": params, "t_end": t_end, "revolutions": revs,
+               "success": bool(result.success), "code": int(result.code), "message": result.message,
+               "solver": result.solver, "stats": {k: int(v) for k, v in result.stats.items()}}
+    if result.success:
+        prec = precession(result.ts, o["disk_x"], o["disk_y"], o["disk_vx"], o["disk_vy"], params["N"],
+                          window=_window(params, t_end))
+        k = np.asarray(result.ts) >= prec.ts[0]
+        normal = o["normal_forces"][k] if o["normal_forces"].size else np.zeros((int(k.sum()), 0))
+        summary.update(prec.as_dict())
+        summary.update({
+            "window": [float(prec.ts[0]), float(prec.ts[-1])],
+            "max_disk_x": float(o["disk_x"][k].max()), "min_disk_x": float(o["disk_x"][k].min()),
+            "max_radius": float(o["radius"][k].max()),
+            "max_normal_force": float(normal.max()) if normal.size else 0.0,
+            "contact_fraction": float(np.mean(np.any(normal > 1e-9, axis=1))) if normal.size else 0.0,
+            "energy_residual": energy_residual(scene, result.ys),
+        })
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, preset.name)
+    np.savez(stem + ".npz", ts=np.asarray(result.ts), ys=np.asarray(result.ys), **o)
+    files = {"data": stem + ".npz", "summary": stem + ".json"}
+    if result.success:
+        files["plot"] = plot_precession(result, prec, stem + ".png", clearance=params["chi"],
+                                        title=f"{preset.name}: N = {params['N']}, eps = {params['eps']}")
+    summary["files"] = files
+    with open(stem + ".json", "w") as f:
+        json.dump(summary, f, indent=2)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(f"{preset.name}: {summary['message']} ({summary['solver']}, {summary['stats']['num_steps']} steps)")
+        if result.success:
+            print(f"  <Lambda> = {summary['mean_Lambda']:.4f} ({summary['direction']} whirl), max disk x "
+                  f"{summary['max_disk_x']:.5f}, contact {100 * summary['contact_fraction']:.1f}% of the time, "
+                  f"energy residual {summary['energy_residual']:.1e}")
+        print(f"  wrote {stem}.npz, .json" + (", .png" if result.success else ""))
+    return 0 if result.success else 3
+
+
+def cmd_hopf(args) -> int:
+    from rotorjax import presets
+    from rotorjax.analysis import hopf_points, hopf_speed_gradient
+
+    preset = presets.get(args.preset)
+    if preset.kind != "contact":
+        raise UsageError(f"`hopf` works on the internal-friction rotor presets; {preset.name!r} is "
+                         f"{preset.kind}")
+    params = preset.params(_parse_sets(args.set))
+    lo, hi = args.range
+    if not 0 <= lo < hi:
+        raise UsageError(f"--range must satisfy 0 <= LO < HI, got {lo} {hi}")
+    from rotorjax.presets import cantilever_limiters as cl
+
+    rotor = cl.build_rotor(params)
+    points = hopf_points(rotor.state_matrix, lo, hi, n_scan=args.n_scan)
+    out = {"preset": preset.name, "params": params, "range": [lo, hi],
+           "unit": "speed N and whirl frequency in 1/T*", "hopf_points": []}
+    for h in points:
+        lam, fwd = rotor.whirl_direction(h.speed)
+
+        def a_of(s, eta_e):
+            return cl.build_rotor(dict(params, eta_e=eta_e)).state_matrix(s)
+
+        d = h.as_dict()
+        d.update({"N_crit": h.speed, "whirl_frequency": h.frequency,
+                  "whirl": "forward" if bool(fwd) else "backward",
+                  "dN_crit_d_eta_e": hopf_speed_gradient(a_of, h.speed, params["eta_e"])})
+        out["hopf_points"].append(d)
+    if points:
+        out["N_crit"], out["whirl_frequency"] = points[0].speed, points[0].frequency
+        ratio = params["eta_e"] / params["eta_i"] if params["eta_i"] > 0 else None
+        out["eta_e_over_eta_i"] = ratio
+        if ratio is not None:
+            out["paper_fit"] = {"N_crit": 2.47 * ratio + 1.64, "formula": "N_crit = 2.47 eta_e/eta_i + 1.64"}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        if not points:
+            print(f"{preset.name}: straight-line rotation keeps its stability over N in [{lo}, {hi}]")
+        for d in out["hopf_points"]:
+            print(f"{preset.name}: Hopf point at N = {d['N_crit']:.6f} (whirl frequency "
+                  f"{d['whirl_frequency']:.6f}, {d['whirl']} whirl); dN/d eta_e = {d['dN_crit_d_eta_e']:.4f}")
+        if "paper_fit" in out:
+            print(f"  the paper's fit gives N_crit = {out['paper_fit']['N_crit']:.4f}")
+    return 0
+
+
+def cmd_bifurcation(args) -> int:
+    import equinox as eqx
+    import jax
+    import jax.numpy as jnp
+
+    import rotorjax as rj
+    from rotorjax import presets
+    from rotorjax.analysis import precession
+    from rotorjax.plot import plot_bifurcation
+    from rotorjax.sweep import sweep
+
+    preset = presets.get(args.preset)
+    if preset.kind != "contact":
+        raise UsageError(f"`bifurcation` works on the contact presets; {preset.name!r} is {preset.kind}")
+    key, lo, hi, n = args.param[0], float(args.param[1]), float(args.param[2]), int(args.param[3])
+    params = preset.params(_parse_sets(args.set))
+    if key not in ("eps", "N", "phase", "f_S", "chi", "kappa", "eta_S"):
+        raise UsageError(f"--param must be one of eps, N, phase, f_S, chi, kappa, eta_S; got {key!r}")
+    if n < 2 or not hi > lo:
+        raise UsageError(f"--param needs LO < HI and NP >= 2, got {lo} {hi} {n}")
+    if params["events"]:
+        raise UsageError("bifurcation sweeps use the smoothed contact (events=0); the event-located "
+                         "contact runs one point at a time (`simulate --set events=1`)")
+    preset.params({key: lo}), preset.params({key: hi})
+    base, y0, t_end = preset.build(params)
+    preset.build(dict(params, **{key: lo}))  # validates the range's ends
+    preset.build(dict(params, **{key: hi}))
+    n_save = int(40 * params["revolutions"])
+    where = {"eps": lambda s: s.eps, "N": lambda s: s.N, "phase": lambda s: s.phase,
+             "f_S": lambda s: s.limiters.friction, "chi": lambda s: s.limiters.clearance,
+             "kappa": lambda s: s.limiters.stiffness, "eta_S": lambda s: s.limiters.damping}[key]
+
+    def run(p):
+        v = p[key]
+        old = where(base)
+        scene = eqx.tree_at(where, base, jnp.broadcast_to(v, jnp.shape(old)))
+        t1 = 2 * jnp.pi / scene.N * params["revolutions"]
+        r = rj.simulate(scene, y0, (0.0, t1), saveat=n_save, solver="dopri8" if args.solver == "auto"
+                        else args.solver, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
+        o = r.outputs
+        return {"ts": r.ts, "x": o["disk_x"], "y": o["disk_y"], "vx": o["disk_vx"], "vy": o["disk_vy"],
+                "code": r.code}
+
+    values = np.linspace(lo, hi, n)
+    res = sweep(run, {key: values}, chunk_size=args.chunk, progress=not args.json)
+    v = res.values
+    rows, extrema, lams = [], [], []
+    for i, val in enumerate(values):
+        code = int(np.asarray(v["code"])[i])
+        speed = params["N"] if key != "N" else val
+        t_end_i = 2 * np.pi / speed * params["revolutions"]
+        if code != 0:
+            rows.append({key: float(val), "code": code, "mean_Lambda": None})
+            extrema.append(np.zeros(0))
+            lams.append(np.nan)
+            continue
+        pr = precession(np.asarray(v["ts"])[i], np.asarray(v["x"])[i], np.asarray(v["y"])[i],
+                        np.asarray(v["vx"])[i], np.asarray(v["vy"])[i], speed,
+                        window=_window(dict(params, N=speed), t_end_i))
+        rows.append({key: float(val), "code": 0, "mean_Lambda": pr.mean, "direction": pr.direction,
+                     "extrema_x": [float(pr.extrema_x.min()), float(pr.extrema_x.max())] if pr.extrema_x.size
+                     else None})
+        extrema.append(pr.extrema_x)
+        lams.append(pr.mean)
+    lams = np.asarray(lams)
+    switches = [0.5 * (values[i] + values[i + 1]) for i in range(n - 1)
+                if np.isfinite(lams[i]) and np.isfinite(lams[i + 1]) and np.sign(lams[i]) != np.sign(lams[i + 1])]
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, f"bifurcation_{preset.name}_{key}")
+    plot_bifurcation(values, extrema, lams, stem + ".png", key,
+                     title=f"{preset.name}: extrema of disk x vs {key}")
+    out = {"preset": preset.name, "param": key, "params": params, "points": rows,
+           "Lambda_sign_switches": switches, "files": {"plot": stem + ".png", "data": stem + ".json"}}
+    with open(stem + ".json", "w") as f:
+        json.dump(out, f, indent=2)
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        for r in rows:
+            lam = "failed" if r["mean_Lambda"] is None else f"<Lambda> = {r['mean_Lambda']:+.4f}"
+            print(f"  {key} = {r[key]:.6g}: {lam}")
+        print("  <Lambda> changes sign near " + (", ".join(f"{s:.6g}" for s in switches) or "nowhere")
+              + f"; wrote {stem}.png")
+    return 0 if all(r["code"] == 0 for r in rows) else 3
+
+
 def _planar(preset, command):
     if preset.kind != "planar":
         raise UsageError(f"`{command}` works on the planar presets; {preset.name!r} is a flexible "
@@ -84,14 +291,17 @@ def cmd_simulate(args) -> int:
     from rotorjax import presets
     from rotorjax.plot import plot_simulation
 
-    preset = _planar(presets.get(args.preset), "simulate")
+    preset = presets.get(args.preset)
     params = preset.params(_parse_sets(args.set))
+    if preset.kind == "contact":
+        return _contact_simulate(preset, params, args)
+    _planar(preset, "simulate")
     scene, y0, t_end = preset.build(params)
     if args.t_end is not None:
         if not args.t_end > 0:
             raise UsageError(f"--t-end must be > 0, got {args.t_end}")
         t_end = args.t_end
-    result = rj.simulate(scene, y0, (0.0, t_end), saveat=args.n_save, solver=args.solver,
+    result = rj.simulate(scene, y0, (0.0, t_end), saveat=args.n_save or 4000, solver=args.solver,
                          rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
     summary = summarize(result, scene, params, preset.name, t_end)
     os.makedirs(args.out, exist_ok=True)
@@ -447,7 +657,8 @@ def build_parser():
         (("--rtol",), dict(type=float, default=1e-8)),
         (("--atol",), dict(type=float, default=1e-10)),
         (("--max-steps",), dict(type=int, default=500_000)),
-        (("--n-save",), dict(type=int, default=4000)),
+        (("--n-save",), dict(type=int, default=None,
+                             help="saved states (default 4000; cantilever-limiters: 40 per revolution)")),
     ])
     _command(sub, "steady", "all stationary regimes at a speed (rotating frame)", cmd_steady, [
         (("--speed",), dict(type=float, required=True)),
@@ -480,6 +691,18 @@ def build_parser():
         (("--unbalance",), dict(type=float, default=1e-3, help="kg m")),
         (("--phase",), dict(type=float, default=0.0, help="rad")),
         _reduce(),
+    ])
+    _command(sub, "hopf", "Hopf point of straight-line rotation (internal friction)", cmd_hopf, [
+        _range(required=False),
+        (("--n-scan",), dict(type=int, default=80)),
+    ])
+    _command(sub, "bifurcation", "extrema diagram over a swept parameter (vmapped)", cmd_bifurcation, [
+        (("--param",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NP"), required=True)),
+        (("--solver",), dict(default="auto")),
+        (("--rtol",), dict(type=float, default=1e-8)),
+        (("--atol",), dict(type=float, default=1e-10)),
+        (("--max-steps",), dict(type=int, default=1_000_000)),
+        (("--chunk",), dict(type=int, default=16)),
     ])
     demo = sub.add_parser("demo", help="a short representative study with plots")
     demo.add_argument("--out", default="rotorjax-out")

@@ -137,3 +137,52 @@ def plot_response(speeds, X, Y, path, title=""):
     a2.set_xlabel("speed (rad/s)")
     a1.set_title(title)
     return _save(fig, path, [a1, a2])
+
+
+def plot_precession(result, prec, path, title="", clearance=None):
+    """Model 004 run: disk-centre orbit (window, with the once-per-revolution
+    samples), the relative precession speed `Lambda(t)` and its spectrum."""
+    plt = _plt()
+    out = result.outputs
+    ts, x, y = np.asarray(result.ts), np.asarray(out["disk_x"]), np.asarray(out["disk_y"])
+    k = ts >= prec.ts[0]
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    ax = axes[0, 0]
+    ax.plot(x[k], y[k], lw=0.4, label="disk centre")
+    ax.plot(prec.strobe_x, prec.strobe_y, ".", color="C3", ms=3, label="once per revolution")
+    if clearance is not None:
+        a = np.linspace(0, 2 * np.pi, 200)
+        ax.plot(clearance * np.cos(a), clearance * np.sin(a), "k:", lw=0.8, label="clearance")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / l")
+    ax.set_ylabel("y / l")
+    ax = axes[0, 1]
+    ax.plot(ts, x, lw=0.4, label="x")
+    ax.set_xlabel("time")
+    ax.set_ylabel("disk x / l")
+    ax = axes[1, 0]
+    ax.plot(prec.ts, np.clip(prec.Lambda, -5, 5), lw=0.4, label="Lambda(t)")
+    ax.axhline(prec.mean, color="C3", label=f"<Lambda> = {prec.mean:.4f}")
+    ax.set_xlabel("time")
+    ax.set_ylabel("Lambda = psi' / N")
+    ax = axes[1, 1]
+    ax.plot(prec.frequencies, prec.spectrum, lw=0.6, label="|FFT Lambda|")
+    ax.set_xlabel("frequency (cycles per time unit)")
+    ax.set_yscale("log")
+    fig.suptitle(title)
+    return _save(fig, path, axes.ravel())
+
+
+def plot_bifurcation(values, extrema, mean_lambda, path, param, title=""):
+    """Extrema diagram of the disk's x against a swept parameter, with <Lambda>."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    for v, ext, lam in zip(values, extrema, mean_lambda):
+        axes[0].plot(np.full(len(ext), v), ext, ".", ms=1.5, color="C3" if lam < 0 else "k")
+    axes[0].set_ylabel("extrema of disk x / l")
+    axes[1].plot(values, mean_lambda, "o-", ms=3, label="<Lambda>")
+    axes[1].axhline(0, color="k", lw=0.6)
+    axes[1].set_xlabel(param)
+    axes[1].set_ylabel("<Lambda>")
+    fig.suptitle(title)
+    return _save(fig, path, axes[1:])

@@ -15,3 +15,8 @@ from ._floquet import periodic_orbit as periodic_orbit
 from ._critical import CriticalSpeed as CriticalSpeed
 from ._critical import critical_speed_gradient as critical_speed_gradient
 from ._critical import critical_speeds as critical_speeds
+from ._hopf import HopfPoint as HopfPoint
+from ._hopf import hopf_points as hopf_points
+from ._hopf import hopf_speed_gradient as hopf_speed_gradient
+from ._precession import Precession as Precession
+from ._precession import precession as precession

@@ -22,3 +22,6 @@ from ._balancer003 import ModalBalancerRotor as ModalBalancerRotor
 from ._balancer003 import balanced_regime as balanced_regime
 from ._balancer003 import unbalanced_regimes as unbalanced_regimes
 from ._balancer003 import pseudo_balanced_speeds as pseudo_balanced_speeds
+from ._cantilever import CantileverRotor as CantileverRotor
+from ._cantilever import PAPER_SI as PAPER_SI
+from ._cantilever import groups_from_si as groups_from_si

@@ -152,3 +152,12 @@ class CantileverRotor(eqx.Module):
         fx = eps * N**2 * jnp.exp(1j * phase)
         F = jnp.zeros(M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
         return jnp.linalg.solve(K + N * Ci @ J - N**2 * M + 1j * N * (C + Ci + N * G1), F)
+
+    def whirl_direction(self, N):
+        """Eigenvalue of largest real part at `N` and whether its mode whirls forward
+        (in the spin's direction) at the disk."""
+        lam, vec = jnp.linalg.eig(self.state_matrix(jnp.asarray(N, dtype=jnp.float64)))
+        k = jnp.argmax(jnp.real(lam) + 1e-9 * jnp.sign(jnp.imag(lam)))  # the Im > 0 member
+        x, y = vec[self.disk_dofs[0], k], vec[self.disk_dofs[1], k]
+        fwd = jnp.abs(x + 1j * y) >= jnp.abs(x - 1j * y)
+        return lam[k], jnp.where(jnp.imag(lam[k]) >= 0, fwd, ~fwd)

@@ -1,0 +1,81 @@
+"""`cantilever-limiters`: model 004 (Azarov, Guskov, Panovko 2023), a cantilever
+flexible rotor with a heavy disk, Voigt internal friction and three visco-elastic
+limiters with Coulomb friction around the disk.
+
+Units (eq. 7): length `l = 0.7 m`, mass the disk's `M = 2.45 kg`, time
+`T* = sqrt(M l^3 / EI) = 0.0226 s`. Defaults are the paper's base parameters; the
+groups `mu_R`, `beta`, `d_ratio` come from its geometry (`groups_from_si`).
+"""
+
+import numpy as np
+
+from ..contact import CantileverScene, Limiters
+from ..flexible._cantilever import PAPER_SI, CantileverRotor, groups_from_si
+from ._base import Preset
+
+_G = groups_from_si(**{k: PAPER_SI[k] for k in ("l", "d", "D", "a", "E", "rho")})
+
+
+def build_rotor(p) -> CantileverRotor:
+    return CantileverRotor(p["mu_R"], p["beta"], p["d_ratio"], p["eta_i"], p["eta_e"], p["eta_Dxi"],
+                           p["eta_Dtheta"], n_elements=p["n_elements"])
+
+
+def build_limiters(p):
+    n = p["n_limiters"]
+    if n == 0:
+        return None
+    angles = p["alpha1"] + 2 * np.pi / n * np.arange(n)
+    return Limiters(angles, p["chi"], p["kappa"], p["eta_S"], p["f_S"], smoothing=p["smoothing"])
+
+
+def build_scene(p) -> CantileverScene:
+    return CantileverScene(build_rotor(p), p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
+                           limiters=build_limiters(p), n_modes=p["n_modes"] or None)
+
+
+def initial_state(scene, p):
+    """Straight-line rotation (static sag under weight) plus a lateral kick of
+    `perturbation` (dimensionless velocity of the disk along y)."""
+    y0 = scene.rest_state()
+    n = scene.n_coords
+    return y0.at[n:2 * n].add(p["perturbation"] * scene.disk[1])
+
+
+def _build(p):
+    scene = build_scene(p)
+    return scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"]
+
+
+PRESET = Preset(
+    name="cantilever-limiters",
+    source="Azarov, Guskov, Panovko 2023: cantilever rotor, internal friction, discrete limiters",
+    defaults={
+        "N": 15.0, "eps": 0.00142, "phase": 0.0, "eta_i": 0.005, "eta_e": 0.025, "eta_Dxi": 0.0025,
+        "eta_Dtheta": 0.05, "mu_R": _G["mu_R"], "beta": _G["beta"], "d_ratio": _G["d_ratio"], "gamma": 0.0,
+        "chi": 0.0107, "kappa": 850.0, "eta_S": 0.06, "f_S": 0.1, "n_limiters": 3, "alpha1": np.pi / 3,
+        "n_elements": 8, "n_modes": 6, "events": 0, "smoothing": 1e-6, "revolutions": 600,
+        "perturbation": 1e-3,
+    },
+    build=_build,
+    describe_params={
+        "N": "spin speed (units 1/T*)", "eps": "eccentricity e/l", "phase": "unbalance phase (rad)",
+        "eta_i": "internal (Voigt) damping", "eta_e": "external shaft damping",
+        "eta_Dxi": "disk damping", "eta_Dtheta": "disk angular damping", "mu_R": "shaft/disk mass",
+        "beta": "disk inertia B/(M l^2)", "d_ratio": "shaft diameter / length",
+        "gamma": "weight M g l^2/EI (0: neglected, as in the paper)", "chi": "limiter clearance h/l",
+        "kappa": "limiter stiffness k l^3/EI", "eta_S": "limiter damping", "f_S": "limiter friction",
+        "n_limiters": "limiters, equally spaced (0: none)", "alpha1": "angle of the first limiter (rad)",
+        "n_elements": "shaft elements", "n_modes": "modes kept in simulations (0: all dofs)",
+        "events": "1: event-located exact contact, 0: smoothed contact",
+        "smoothing": "regularisation length of the smoothed contact (units l)",
+        "revolutions": "run length in revolutions", "perturbation": "initial disk velocity kick",
+    },
+    time_unit="T* = sqrt(M l^3 / EI) (0.0226 s)", length_unit="l (0.7 m)",
+    integer_keys=("n_limiters", "n_elements", "n_modes", "events", "revolutions"),
+    speed_key="N",
+    margin=lambda p: build_rotor(p).stability_margin(p["N"]),
+    regime="straight-line rotation (no contact)",
+    topology_keys=("n_limiters", "n_elements", "n_modes", "events"),
+    kind="contact",
+)
