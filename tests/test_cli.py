@@ -142,3 +142,31 @@ def test_flexible_abb_critical_speeds(capsys):
     assert main(["critical-speeds", "flexible-abb", "--range", "0.1", "25", "--modes", "20", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["critical_speeds"][0] == pytest.approx(0.705801, abs=1e-5)
+
+
+def test_hopf_command(capsys):
+    assert main(["hopf", "cantilever-limiters", "--range", "5", "25", "--n-scan", "20", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert abs(out["N_crit"] / out["paper_fit"]["N_crit"] - 1) < 0.01
+    assert out["hopf_points"][0]["whirl"] == "forward" and out["hopf_points"][0]["dN_crit_d_eta_e"] > 0
+    assert main(["hopf", "ross-compare"]) == 2
+
+
+def test_contact_simulate_and_bifurcation(tmp_path, capsys):
+    assert main(["simulate", "cantilever-limiters", "--set", "revolutions=60", "--set", "perturbation=0.05",
+                 "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["success"] and out["energy_residual"] < 1e-5 and out["max_normal_force"] > 0
+    assert {"mean_Lambda", "direction", "spectrum_peaks", "max_disk_x"} <= set(out)
+    assert (tmp_path / "cantilever-limiters.png").stat().st_size > 0
+    assert main(["simulate", "cantilever-limiters", "--set", "revolutions=30", "--set", "events=1",
+                 "--set", "perturbation=0.05", "--out", str(tmp_path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["stats"]["num_events"] > 0
+    assert main(["bifurcation", "cantilever-limiters", "--param", "eps", "0", "0.001", "2", "--set",
+                 "revolutions=20", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["points"]) == 2 and all(p["code"] == 0 for p in out["points"])
+    assert (tmp_path / "bifurcation_cantilever-limiters_eps.png").exists()
+    assert main(["bifurcation", "cantilever-limiters", "--param", "mu_R", "0", "1", "2"]) == 2
+    assert main(["simulate", "cantilever-limiters", "--set", "chi=0"]) == 2
+    assert "clearance" in capsys.readouterr().err

@@ -16,8 +16,9 @@ Two ways to evaluate the switch (`Limiters.force`):
   changes sign);
 - smoothed, with regularisation length `ell`: `delta -> ell softplus(delta / ell)`,
   the damping switched by `sigmoid(delta / ell)`, and the compressive clip
-  `R -> ell kappa softplus(R / (ell kappa))`. The force converges to the exact one
-  as `ell -> 0` (tested); `ell` is in the units of the clearance.
+  `R -> R sigmoid(R / (ell kappa))` (zero at `R = 0`, so nothing leaks out of
+  contact). The force converges to the exact one at first order in `ell` (tested);
+  `ell` is in the units of the clearance.
 `sgn(V)` is `tanh(V / v_reg)` with `v_reg = 1e-6`: in model 004 the rim speed
 `N rho_D` (about 2 at `N = 15`) dwarfs the whirl velocities, so `V` never changes
 sign in practice (its minimum is an output of the scene).
@@ -99,7 +100,7 @@ class Limiters(eqx.Module):
         ell = self.smoothing
         r = self.stiffness * ell * jax.nn.softplus(delta / ell) + self.damping * rate * jax.nn.sigmoid(delta / ell)
         scale = ell * jnp.maximum(self.stiffness, 1e-300)
-        return scale * jax.nn.softplus(r / scale)
+        return r * jax.nn.sigmoid(r / scale)
 
     def force(self, pos, vel, N, radius, active=None):
         """Total force on the disk centre, and the normal forces per limiter."""
