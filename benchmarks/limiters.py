@@ -17,6 +17,9 @@ matched accuracy interpolates each scipy method's time at rotorjax's error
 contact, rotorjax at rtol 1e-7) in vmapped calls vs a scipy LSODA loop at the
 tolerance that matches rotorjax's error, timed on a subset and extrapolated.
 
+(c) The full FE model (all 32 dofs) against the 6-mode reduction, 50 revolutions:
+the stiffness ratio, the solver "auto" picks, Dopri8 and Kvaerno5 on each.
+
 Run: python benchmarks/limiters.py; writes benchmarks/results/limiters.json.
 """
 
@@ -140,6 +143,25 @@ def main():
             return {"seconds": float(np.exp(c[-1])), "note": "scipy's loosest run is already this accurate"}
         return {"seconds": float(np.exp(np.interp(target, e, c)))}
 
+    # (c) what the modal reduction buys: the full FE model (32 dofs) is stiff (Voigt
+    # damping of the high shaft modes), so "auto" picks the implicit Kvaerno5
+    from rotorjax.solve import choose_solver, stiffness_ratio
+
+    full_p = dict(p, n_modes=0)
+    full = cl.build_scene(full_p)
+    yf = cl.initial_state(full, full_p)
+    t50 = 2 * np.pi / N * 50
+    full_runs = {"stiffness_ratio_full": stiffness_ratio(full, yf), "auto_full": type(choose_solver(full, yf)).__name__,
+                 "stiffness_ratio_reduced": stiffness_ratio(scene, y0),
+                 "auto_reduced": type(choose_solver(scene, y0)).__name__, "revolutions": 50}
+    for label, sc, yy in (("reduced_6_modes", scene, y0), ("full_fe", full, yf)):
+        for solver in ("dopri8", "kvaerno5"):
+            t_run, res = timed(lambda: rj.simulate(sc, yy, (0.0, t50), saveat=2000, solver=solver, rtol=1e-7,
+                                                    atol=1e-7, max_steps=10**7), repeats=1)
+            full_runs[f"{label}_{solver}"] = {"seconds": t_run, "steps": int(res.stats["num_steps"]),
+                                              "success": bool(res.success)}
+    print(full_runs, flush=True)
+
     # (b) eccentricity sweep
     eps = np.linspace(0.0, 0.002, args.n_sweep)
 
@@ -191,6 +213,7 @@ def main():
                                    "error": runs[ours]["error_after_5_revolutions"]}) for m in ladders}
             for ours in ("rotorjax_smooth_dopri8_rtol1e-07", "rotorjax_smooth_dopri8_rtol1e-09",
                          "rotorjax_events_dopri8_rtol1e-07")},
+        "reduction_and_stiffness": full_runs,
         "sweep": {"n": args.n_sweep, "rotorjax_s": t_sweep, "rotorjax_s_per_point": t_sweep / args.n_sweep,
                   "failed": int(np.sum(np.asarray(code) != 0)), "scipy_LSODA_s_per_point": t_scipy_each,
                   "scipy_subset": args.scipy_sweep, "scipy_rtol": sweep_tol,
