@@ -189,7 +189,6 @@ def cmd_hopf(args) -> int:
 
 def cmd_bifurcation(args) -> int:
     import equinox as eqx
-    import jax
     import jax.numpy as jnp
 
     import rotorjax as rj
@@ -210,8 +209,9 @@ def cmd_bifurcation(args) -> int:
     if params["events"]:
         raise UsageError("bifurcation sweeps use the smoothed contact (events=0); the event-located "
                          "contact runs one point at a time (`simulate --set events=1`)")
-    preset.params({key: lo}), preset.params({key: hi})
     base, y0, t_end = preset.build(params)
+    if key in ("f_S", "chi", "kappa", "eta_S") and base.limiters is None:
+        raise UsageError(f"--param {key} needs limiters (n_limiters > 0)")
     preset.build(dict(params, **{key: lo}))  # validates the range's ends
     preset.build(dict(params, **{key: hi}))
     n_save = int(40 * params["revolutions"])
@@ -271,6 +271,115 @@ def cmd_bifurcation(args) -> int:
         print("  <Lambda> changes sign near " + (", ".join(f"{s:.6g}" for s in switches) or "nowhere")
               + f"; wrote {stem}.png")
     return 0 if all(r["code"] == 0 for r in rows) else 3
+
+
+def cmd_balance(args) -> int:
+    from rotorjax import identify as idf
+
+    path = args.runs or idf.BALANCING_RUNS
+    cols = idf.read_signals(path)
+    runs = idf.runs_from_signals(cols)
+    base = [r for r in runs if r["trial"] is None]
+    trials = [r for r in runs if r["trial"] is not None]
+    if len(base) != 1:
+        raise UsageError(f"{path}: need exactly one run without a trial weight, found {len(base)}")
+    planes = sorted({r["trial"][0] for r in trials})
+    if args.planes:
+        try:
+            wanted = [int(p) for p in args.planes.split(",")]
+        except ValueError:
+            raise UsageError(f"--planes must be comma-separated plane numbers, got {args.planes!r}") from None
+        missing = [p for p in wanted if p not in planes]
+        if missing:
+            raise UsageError(f"--planes {args.planes}: no trial run for plane(s) {missing} in {path} "
+                             f"(trial planes: {planes})")
+        planes = wanted
+    by_plane = {r["trial"][0]: r for r in trials}
+    X0 = base[0]["X"]
+    K = idf.influence_from_trials(X0, np.stack([by_plane[p]["X"] for p in planes]),
+                                  np.array([by_plane[p]["trial"][1] for p in planes]))
+    if K.shape[0] == K.shape[1]:
+        W = -idf.unbalance_from_vibration(K, X0)
+    else:
+        W = idf.least_squares_correction(K, X0)
+    predicted = X0 + K @ W
+    speed = base[0]["speed"]
+    # residual unbalance from the phasors' noise: sigma_X = rms residual * sqrt(2 / samples)
+    n_samples = int(np.sum(cols.get("run", np.zeros(1)) == base[0]["run"]))
+    sigma_X = np.asarray(base[0]["residual_rms"]) * np.sqrt(2.0 / max(n_samples, 1))
+    sigma_U = np.sqrt(np.abs(np.linalg.pinv(K)) ** 2 @ sigma_X**2)
+    residual_gmm = float(np.sum(sigma_U)) * 1e6
+    initial_gmm = float(np.sum(np.abs(W))) * 1e6
+    out = {"runs_file": path, "speed_rad_s": speed, "speed_rpm": speed * 30 / np.pi,
+           "phase_convention": "angles from the once-per-revolution mark, in the direction of rotation",
+           "influence_matrix": [[{"magnitude": float(abs(k)), "angle_deg": float(np.degrees(np.angle(k)))}
+                                 for k in row] for row in K],
+           "corrections": [], "vibration_before": [float(abs(x)) for x in X0],
+           "predicted_vibration_after": [float(abs(x)) for x in predicted],
+           "residual_unbalance_g_mm": residual_gmm}
+    for p, w in zip(planes, W):
+        c = {"plane": p, "unbalance_kg_m": float(abs(w)), "angle_deg": float(np.degrees(np.angle(w)) % 360),
+             "mass_g": float(abs(w) / args.radius * 1e3), "radius_m": args.radius}
+        if args.holes:
+            holes = np.arange(args.holes) * 2 * np.pi / args.holes
+            (ma, aa), (mb, ab) = idf.split_onto_holes(w / args.radius * 1e3, holes)
+            c["holes"] = [{"angle_deg": float(np.degrees(aa)), "mass_g": ma},
+                          {"angle_deg": float(np.degrees(ab)), "mass_g": mb}]
+        out["corrections"].append(c)
+    if args.rotor_mass:
+        out["rotor_mass_kg"] = args.rotor_mass
+        out["iso_grade_before"] = idf.grade_reached(initial_gmm, args.rotor_mass, speed)
+        out["iso_grade_reached"] = idf.grade_reached(residual_gmm, args.rotor_mass, speed)
+        out["permissible_unbalance_g_mm"] = {str(G): idf.permissible_unbalance(G, args.rotor_mass, speed)
+                                             for G in (1.0, 2.5, 6.3, 16.0)}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"balancing at {speed:.2f} rad/s ({out['speed_rpm']:.0f} rpm), {len(planes)} planes:")
+        for c in out["corrections"]:
+            print(f"  plane {c['plane']}: add {c['mass_g']:.3f} g at {c['angle_deg']:.1f} deg "
+                  f"(radius {c['radius_m']} m)")
+        print("  vibration before " + ", ".join(f"{v:.3g}" for v in out["vibration_before"])
+              + "; predicted after " + ", ".join(f"{v:.3g}" for v in out["predicted_vibration_after"]))
+        if "iso_grade_reached" in out:
+            print(f"  ISO 21940-11 grade reached: G{out['iso_grade_reached']} (before: G{out['iso_grade_before']})")
+    return 0
+
+
+def cmd_identify(args) -> int:
+    from rotorjax import identify as idf
+    from rotorjax import presets
+
+    preset = presets.get(args.preset)
+    if preset.kind != "machine":
+        raise UsageError(f"`identify` works on the balancing-machine preset; {preset.name!r} is {preset.kind}")
+    params = preset.params(_parse_sets(args.set))
+    fit = tuple(k.strip() for k in args.fit.split(",") if k.strip())
+    path = args.data or idf.RUNUP
+    cols = idf.read_signals(path)
+    x = np.stack([cols[s] for s in cols["sensors"][:2]], axis=1)
+    if x.shape[1] != 2:
+        raise UsageError(f"{path}: the balancing machine needs two sensor columns (x1, x2)")
+    speeds, X = idf.order_track(cols["time"], x, tacho=cols["tacho"], revolutions_per_block=args.block)
+    keep = speeds >= args.min_speed
+    if keep.sum() < 4:
+        raise UsageError(f"{path}: fewer than 4 revolutions above --min-speed {args.min_speed}")
+    base, planes, U = preset.build(params)
+    res = idf.identify(base, speeds[keep], X[keep], planes, fit=fit,
+                       unbalances=None if args.fit_unbalance else U)
+    out = {"preset": preset.name, "data": path, "fit": list(fit), "n_points": int(keep.sum()),
+           "speed_range_rad_s": [float(speeds[keep].min()), float(speeds[keep].max())],
+           "start": {k: params[k] for k in fit}, **res.as_dict()}
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: identified from {out['n_points']} revolutions of {path}")
+        for k in fit:
+            lo, hi = res.intervals[k]
+            print(f"  {k} = {res.estimates[k]:.6g}   95% [{lo:.6g}, {hi:.6g}]")
+        for w in res.warnings:
+            print(f"  warning: {w}")
+    return 0 if res.converged else 3
 
 
 def _planar(preset, command):
@@ -703,6 +812,21 @@ def build_parser():
         (("--atol",), dict(type=float, default=1e-10)),
         (("--max-steps",), dict(type=int, default=1_000_000)),
         (("--chunk",), dict(type=int, default=16)),
+    ])
+    bal = sub.add_parser("balance", help="correction weights from runs with trial weights")
+    bal.add_argument("--runs", default=None, help="CSV/.npz of runs (default: the shipped dataset)")
+    bal.add_argument("--planes", default=None, help="comma-separated plane numbers (default: all trial planes)")
+    bal.add_argument("--radius", type=float, default=0.01, help="correction radius, m")
+    bal.add_argument("--holes", type=int, default=0, help="split onto N equally spaced holes")
+    bal.add_argument("--rotor-mass", type=float, default=10.0, help="kg, for the ISO grade")
+    bal.add_argument("--json", action="store_true")
+    bal.set_defaults(fn=cmd_balance)
+    _command(sub, "identify", "identify support stiffness/damping from measured vibration", cmd_identify, [
+        (("--data",), dict(default=None, help="run-up CSV/.npz (default: the shipped dataset)")),
+        (("--fit",), dict(default="k1,k2,c1,c2")),
+        (("--fit-unbalance",), dict(action="store_true", help="also fit the unbalances")),
+        (("--block",), dict(type=int, default=1, help="revolutions per 1x estimate")),
+        (("--min-speed",), dict(type=float, default=0.0, help="rad/s")),
     ])
     demo = sub.add_parser("demo", help="a short representative study with plots")
     demo.add_argument("--out", default="rotorjax-out")

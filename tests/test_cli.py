@@ -170,3 +170,23 @@ def test_contact_simulate_and_bifurcation(tmp_path, capsys):
     assert main(["bifurcation", "cantilever-limiters", "--param", "mu_R", "0", "1", "2"]) == 2
     assert main(["simulate", "cantilever-limiters", "--set", "chi=0"]) == 2
     assert "clearance" in capsys.readouterr().err
+
+
+def test_balance_and_identify_on_the_shipped_data(tmp_path, capsys):
+    assert main(["balance", "--holes", "12", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    got = {c["plane"]: (c["mass_g"], c["angle_deg"]) for c in out["corrections"]}
+    # the preset's unbalances: 20 g at 30 deg and 30 g at 200 deg (radius 10 mm)
+    assert abs(got[0][0] - 20) < 0.3 and abs(got[0][1] - 210) < 1.5
+    assert abs(got[1][0] - 30) < 0.3 and abs(got[1][1] - 20) < 1.5
+    assert out["iso_grade_reached"] <= 1.0 and len(out["corrections"][0]["holes"]) == 2
+    assert main(["identify", "balancing-machine", "--set", "k1=1.5e5", "--set", "c1=100", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for k, true in (("k1", 2e5), ("k2", 3e5), ("c1", 150.0), ("c2", 200.0)):
+        assert abs(out["estimates"][k] / true - 1) < 0.03
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time,x1\n0,1\n")
+    assert main(["balance", "--runs", str(bad)]) == 2
+    assert "missing column" in capsys.readouterr().err
+    assert main(["identify", "balancing-machine", "--fit", "k1,zz"]) == 2
+    assert main(["balance", "--planes", "5"]) == 2

@@ -25,3 +25,4 @@ from ._balancer003 import pseudo_balanced_speeds as pseudo_balanced_speeds
 from ._cantilever import CantileverRotor as CantileverRotor
 from ._cantilever import PAPER_SI as PAPER_SI
 from ._cantilever import groups_from_si as groups_from_si
+from ._cantilever import limiter_groups_from_si as limiter_groups_from_si

@@ -50,6 +50,13 @@ def groups_from_si(l, d, D, a, E, rho, g=9.81):
             "gamma": M * g * l**2 / EI, "T_star": float(np.sqrt(M * l**3 / EI)), "M": M, "EI": EI, "l": l}
 
 
+def limiter_groups_from_si(k, h, d_S, l, M, EI):
+    """Limiter stiffness `kappa = k l^3 / EI`, clearance `chi = h / l` and damping
+    `eta = d_S sqrt(l^3 / (M EI))` (eq. 7; the paper prints `k l / EI`, a typo: its
+    `k_S = 4.087e6 N/m` gives the stated `kappa = 850` only with `l^3`)."""
+    return {"kappa": k * l**3 / EI, "chi": h / l, "eta": d_S * np.sqrt(l**3 / (M * EI))}
+
+
 def quarter_turn(n_nodes):
     """`J`: per node `(x, y, sx, sy) -> (y, -x, sy, -sx)` (multiplication of the
     complex displacement `x + i y` by `-i`)."""
@@ -88,6 +95,17 @@ class CantileverRotor(eqx.Module):
         if int(n_elements) != n_elements or n_elements < 1:
             raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
         self.n_elements = int(n_elements)
+
+    @classmethod
+    def from_si(cls, l, d, D, a, E, rho, T_V=0.0, d_e=0.0, d_Dr=0.0, d_Dtheta=0.0, n_elements=8):
+        """From SI geometry (m), material (Pa, kg/m^3) and damping: Voigt relaxation
+        time `T_V` (s), external damping per unit length `d_e` (N s/m^2), disk
+        translational `d_Dr` (N s/m) and angular `d_Dtheta` (N m s) damping, by eq. (7)."""
+        g = groups_from_si(l, d, D, a, E, rho)
+        root = np.sqrt(g["M"] * l**3 * g["EI"])
+        return cls(g["mu_R"], g["beta"], g["d_ratio"], eta_i=T_V / 2 * np.sqrt(g["EI"] / (g["M"] * l**3)),
+                   eta_e=d_e * l**4 / (2 * root), eta_Dxi=d_Dr * l**3 / (2 * root),
+                   eta_Dtheta=d_Dtheta * l / (2 * root), n_elements=n_elements)
 
     @property
     def n_nodes(self) -> int:

@@ -43,6 +43,10 @@ def initial_state(scene, p):
 
 
 def _build(p):
+    if not p["N"] > 0:
+        raise ValueError(f"N (spin speed) must be > 0: runs are measured in revolutions; got {p['N']}")
+    if p["revolutions"] < 1:
+        raise ValueError(f"revolutions must be >= 1, got {p['revolutions']}")
     scene = build_scene(p)
     return scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"]
 

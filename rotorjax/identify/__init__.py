@@ -1,0 +1,31 @@
+"""Balancing and identification from measured vibration (model 002)."""
+
+import os
+
+from ._machine import BalancingMachine as BalancingMachine
+from ._machine import scalar_influence_matrix as scalar_influence_matrix
+from ._signals import Phasors as Phasors
+from ._signals import order_track as order_track
+from ._signals import phasors as phasors
+from ._signals import pulse_times as pulse_times
+from ._signals import read_signals as read_signals
+from ._signals import runs_from_signals as runs_from_signals
+from ._balance import BalancingRun as BalancingRun
+from ._balance import ISO_GRADES as ISO_GRADES
+from ._balance import grade_reached as grade_reached
+from ._balance import influence_from_trials as influence_from_trials
+from ._balance import least_squares_correction as least_squares_correction
+from ._balance import permissible_unbalance as permissible_unbalance
+from ._balance import simulate_balancing as simulate_balancing
+from ._balance import split_onto_holes as split_onto_holes
+from ._balance import unbalance_from_vibration as unbalance_from_vibration
+from ._fit import Identification as Identification
+from ._fit import identify as identify
+from ._fit import levenberg_marquardt as levenberg_marquardt
+from ._fit import optax_fit as optax_fit
+from ._fit import residual_fn as residual_fn
+
+#: The shipped synthetic measurements (see `rotorjax.identify._make_data`).
+DATA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+BALANCING_RUNS = os.path.join(DATA_DIR, "balancing_runs.csv")
+RUNUP = os.path.join(DATA_DIR, "runup.csv")

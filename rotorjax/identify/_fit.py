@@ -1,0 +1,209 @@
+"""Identification of the balancing machine from measured 1x responses: fit support
+stiffness and damping (and optionally the rotor's unbalances, mass, inertia) by
+Levenberg-Marquardt (Gauss-Newton with damping) or optax, through the complex
+frequency response, with autodiff Jacobians.
+
+Parameters are fitted as logarithms (positivity by reparametrisation). The
+residuals are the real and imaginary parts of `(model - measured) / sigma` over
+all speeds and sensors. At the optimum, the covariance of the log-parameters is
+`s^2 (J^T J)^-1` (`s^2` the residual variance), mapped to the parameters by the
+delta method; 95 % intervals are `p exp(+-1.96 sd_log)`. Parameters the data
+cannot see (relative standard deviation above 0.3, i.e. an interval wider than a
+factor 3, or a Jacobian near rank deficiency) are flagged.
+"""
+
+import dataclasses
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._machine import BalancingMachine
+
+FITTABLE = ("k1", "k2", "c1", "c2", "m", "I")
+
+
+@dataclasses.dataclass(frozen=True)
+class Identification:
+    """Estimates with 95 % intervals, the unbalances (if fitted), fit quality,
+    identifiability warnings and the optimiser's history."""
+
+    names: tuple
+    estimates: dict
+    intervals: dict
+    std: dict
+    unbalances: np.ndarray | None
+    rms_residual: float
+    iterations: int
+    converged: bool
+    warnings: list
+    history: list
+
+    def as_dict(self):
+        out = {"estimates": self.estimates, "intervals_95": self.intervals, "std": self.std,
+               "rms_residual": self.rms_residual, "iterations": self.iterations,
+               "converged": self.converged, "warnings": self.warnings}
+        if self.unbalances is not None:
+            out["unbalances"] = [{"magnitude": float(abs(u)), "angle_deg": float(np.degrees(np.angle(u)))}
+                                 for u in self.unbalances]
+        return out
+
+
+def _machine_with(base: BalancingMachine, names, logp):
+    vals = {k: getattr(base, k) for k in ("m", "I", "l", "k1", "k2", "c1", "c2")}
+    for i, k in enumerate(names):
+        vals[k] = jnp.exp(logp[i])
+    return BalancingMachine(**vals)
+
+
+class Residual(eqx.Module):
+    """`r(theta)`: theta = (log params, then Re/Im of the unbalances when they are
+    fitted); stacked Re/Im residuals over speeds and sensors, scaled by `sigma`.
+    A module (data as leaves), so one compilation serves every data set of a shape."""
+
+    base: BalancingMachine
+    names: tuple = eqx.field(static=True)
+    speeds: jax.Array
+    planes: jax.Array
+    X: jax.Array
+    sigma: jax.Array
+    unbalances: jax.Array | None
+
+    def __call__(self, theta):
+        n, n_planes = len(self.names), self.planes.shape[0]
+        machine = _machine_with(self.base, self.names, theta[:n])
+        if self.unbalances is None:
+            D = theta[n:n + n_planes] + 1j * theta[n + n_planes:]
+        else:
+            D = self.unbalances
+        model = jax.vmap(lambda w: machine.response(w, self.planes, D))(self.speeds)
+        d = (model - self.X) / self.sigma
+        return jnp.concatenate([jnp.real(d).ravel(), jnp.imag(d).ravel()])
+
+
+def residual_fn(base, names, speeds, planes, X, sigma=1.0, unbalances=None) -> Residual:
+    return Residual(base, tuple(names), jnp.asarray(speeds, dtype=jnp.float64),
+                    jnp.asarray(planes, dtype=jnp.float64), jnp.asarray(X, dtype=jnp.complex128),
+                    jnp.asarray(sigma, dtype=jnp.float64),
+                    None if unbalances is None else jnp.asarray(unbalances, dtype=jnp.complex128))
+
+
+@eqx.filter_jit
+def _stacked_influence(machine, speeds, planes):
+    K = jax.vmap(lambda w: machine.influence_matrix(w, planes))(speeds)
+    return K.reshape(-1, planes.shape[0])
+
+
+@eqx.filter_jit
+def _res_jac(r, theta):
+    return r(theta), jax.jacfwd(r)(theta)
+
+
+def levenberg_marquardt(r, theta0, max_iter=100, tol=1e-12, lam0=1e-3):
+    """Minimise `|r(theta)|^2` with autodiff Jacobians; returns `(theta, J, info)`."""
+    def res_jac(th):
+        return _res_jac(r, th)
+
+    theta = jnp.asarray(theta0, dtype=jnp.float64)
+    res, J = res_jac(theta)
+    cost = float(res @ res)
+    lam = lam0
+    history = [cost]
+    converged = False
+    it = 0
+    for it in range(1, max_iter + 1):
+        JtJ, g = J.T @ J, J.T @ res
+        step = -jnp.linalg.solve(JtJ + lam * jnp.diag(jnp.diag(JtJ) + 1e-300), g)
+        new = theta + step
+        res_new, J_new = res_jac(new)
+        cost_new = float(res_new @ res_new)
+        if np.isfinite(cost_new) and cost_new < cost:
+            small = float(jnp.max(jnp.abs(step))) < 1e-10 or (cost - cost_new) <= tol * cost
+            theta, res, J, cost = new, res_new, J_new, cost_new
+            lam = max(lam / 10, 1e-12)
+            history.append(cost)
+            if small:
+                converged = True
+                break
+        else:
+            lam *= 10
+            if lam > 1e12:
+                converged = float(jnp.max(jnp.abs(g))) < 1e-8 * max(cost, 1e-300) ** 0.5
+                break
+    return theta, J, {"iterations": it, "converged": converged, "history": history, "cost": cost}
+
+
+def optax_fit(r, theta0, steps=2000, learning_rate=1e-2):
+    """Minimise `|r|^2` with optax's Adam (for comparison with LM; slower)."""
+    import optax
+
+    opt = optax.adam(learning_rate)
+    loss = eqx.filter_jit(jax.value_and_grad(lambda th: jnp.sum(r(th) ** 2)))
+    theta = jnp.asarray(theta0, dtype=jnp.float64)
+    state = opt.init(theta)
+
+    @jax.jit
+    def step(theta, state):
+        v, g = loss(theta)
+        upd, state = opt.update(g, state)
+        return optax.apply_updates(theta, upd), state, v
+
+    history = []
+    for _ in range(steps):
+        theta, state, v = step(theta, state)
+        history.append(float(v))
+    return theta, {"iterations": steps, "history": history, "cost": float(loss(theta)[0])}
+
+
+def identify(base, speeds, X, planes, fit=("k1", "k2", "c1", "c2"), sigma=None, unbalances=None,
+             guess=None, max_iter=200) -> Identification:
+    """Fit `fit` (names in `FITTABLE`) of `base` (a `BalancingMachine` holding the
+    known values and the starting guesses) to measured phasors `X[speed, sensor]`,
+    with the unbalances in `planes` known (`unbalances`) or fitted (None)."""
+    bad = [k for k in fit if k not in FITTABLE]
+    if bad or not fit:
+        raise ValueError(f"--fit must name some of {', '.join(FITTABLE)}; got {', '.join(fit) or 'nothing'}")
+    speeds = np.asarray(speeds, dtype=float)
+    X = np.asarray(X, dtype=complex)
+    if X.shape != (speeds.size, 2):
+        raise ValueError(f"X must have shape (n_speeds, 2) = ({speeds.size}, 2), got {X.shape}")
+    names = tuple(fit)
+    start = guess or {}
+    logp0 = [np.log(float(start.get(k, getattr(base, k)))) for k in names]
+    if unbalances is None:
+        # linear in the unbalances: start from least squares at the guessed machine
+        K = np.asarray(_stacked_influence(_machine_with(base, names, jnp.asarray(logp0)),
+                                          jnp.asarray(speeds), jnp.asarray(planes, dtype=jnp.float64)))
+        D0 = np.linalg.lstsq(K, X.ravel(), rcond=None)[0]
+        theta0 = np.concatenate([logp0, D0.real, D0.imag])
+    else:
+        theta0 = np.asarray(logp0)
+    s = 1.0 if sigma is None else float(sigma)
+    r = residual_fn(base, names, speeds, planes, X, s, unbalances)
+    theta, J, info = levenberg_marquardt(r, theta0, max_iter=max_iter)
+    res = np.asarray(r(theta))
+    J = np.asarray(J)
+    dof = max(res.size - theta.size, 1)
+    s2 = float(res @ res) / dof
+    warnings = []
+    sv = np.linalg.svd(J, compute_uv=False)
+    if sv[-1] < 1e-10 * sv[0]:
+        warnings.append(f"the Jacobian is rank deficient (condition {sv[0] / max(sv[-1], 1e-300):.1e}): "
+                        "some parameters are not identifiable from these data")
+    cov = s2 * np.linalg.pinv(J.T @ J)
+    sd_log = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    est, ints, std = {}, {}, {}
+    for i, k in enumerate(names):
+        p = float(np.exp(theta[i]))
+        est[k] = p
+        std[k] = p * float(sd_log[i])
+        ints[k] = [p * float(np.exp(-1.96 * sd_log[i])), p * float(np.exp(1.96 * sd_log[i]))]
+        if sd_log[i] > 0.3:
+            warnings.append(f"{k} is poorly determined by the data (relative sd {sd_log[i]:.2f}: the 95 % "
+                            f"interval spans a factor {np.exp(3.92 * sd_log[i]):.1f})")
+    n = len(names)
+    D = None if unbalances is not None else np.asarray(theta[n:n + len(planes)] + 1j * theta[n + len(planes):])
+    return Identification(names=names, estimates=est, intervals=ints, std=std, unbalances=D,
+                          rms_residual=float(np.sqrt(np.mean(res**2)) * s), iterations=info["iterations"],
+                          converged=info["converged"], warnings=warnings, history=info["history"])

@@ -1,0 +1,93 @@
+"""Model 002: a rigid rotor on a two-support balancing machine (Polushkin et al.
+2016), with vector (complex) influence coefficients.
+
+Coordinates: the support displacements `x1, x2` (horizontal plane). With rotor
+mass `m`, transverse inertia `I` about the centre, span `l` (centre of mass
+mid-span), support stiffness `k1, k2` and damping `c1, c2` (eq. 9):
+
+    A = [[m/4 + I/l^2, m/4 - I/l^2], [m/4 - I/l^2, m/4 + I/l^2]],
+    B = diag(c1, c2),  C = diag(k1, k2).
+
+An unbalance `D = |D| e^{i phi}` (kg m) in a correction plane at distance `a` from
+support 1 gives the force `Re(D w^2 e^{i w t}) (l - a, a) / l` (eq. 8), so the
+support vibration `x = Re(X e^{i w t})` has the complex amplitudes
+`X = K(w, a) D` with the vector influence coefficients (eqs. 15, 17)
+
+    K(w, a) = (w^2 / l) (C - w^2 A + i w B)^-1 (l - a, a).
+
+Phase convention (used everywhere in `rotorjax.identify`): angles are measured
+from the once-per-revolution mark in the direction of rotation; a vibration
+`x(t) = Re(X e^{i theta(t)})` with `theta` the rotor angle (0 at the mark).
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ..models._validate import as_param
+
+
+class BalancingMachine(eqx.Module):
+    """The rotor on its two supports (SI: kg, kg m^2, m, N/m, N s/m)."""
+
+    m: jax.Array
+    I: jax.Array
+    l: jax.Array
+    k1: jax.Array
+    k2: jax.Array
+    c1: jax.Array
+    c2: jax.Array
+
+    def __init__(self, m, I, l, k1, k2, c1, c2):
+        self.m = as_param("m (rotor mass)", m, sign="positive", shape=())
+        self.I = as_param("I (transverse inertia)", I, sign="positive", shape=())
+        self.l = as_param("l (support span)", l, sign="positive", shape=())
+        self.k1 = as_param("k1 (support 1 stiffness)", k1, sign="positive", shape=())
+        self.k2 = as_param("k2 (support 2 stiffness)", k2, sign="positive", shape=())
+        self.c1 = as_param("c1 (support 1 damping)", c1, sign="nonnegative", shape=())
+        self.c2 = as_param("c2 (support 2 damping)", c2, sign="nonnegative", shape=())
+
+    def matrices(self):
+        """`(A, B, C)` of eq. (9)."""
+        p, q = self.m / 4 + self.I / self.l**2, self.m / 4 - self.I / self.l**2
+        A = jnp.array([[p, q], [q, p]])
+        return A, jnp.diag(jnp.stack([self.c1, self.c2])), jnp.diag(jnp.stack([self.k1, self.k2]))
+
+    def dynamic_stiffness(self, w):
+        A, B, C = self.matrices()
+        return C - w**2 * A + 1j * w * B
+
+    def influence(self, w, a):
+        """Vector influence coefficients `(K_1, K_2)` of a plane at distance `a` from
+        support 1, at speed `w` (rad/s): eqs. (15), (17). Vmap over `w` and `a`."""
+        load = jnp.stack([self.l - a, a]).astype(jnp.complex128)
+        return w**2 / self.l * jnp.linalg.solve(self.dynamic_stiffness(w), load)
+
+    def influence_matrix(self, w, planes):
+        """`K[i, j]`: support `i`, plane `j` at `planes[j]` (distances from support 1)."""
+        return jax.vmap(lambda a: self.influence(w, a), out_axes=1)(jnp.asarray(planes, dtype=jnp.float64))
+
+    def response(self, w, planes, unbalances):
+        """Complex support amplitudes `X = K(w) D` for unbalances `D` (kg m, complex)."""
+        return self.influence_matrix(w, planes) @ jnp.asarray(unbalances, dtype=jnp.complex128)
+
+    def vector_field(self, t, y, theta, theta_d, theta_dd, planes, unbalances):
+        """Time domain: `A x'' + B x' + C x = sum_j Re(D_j (theta'^2 - i theta'') e^{i theta})
+        (l - a_j, a_j) / l` at the rotor angle `theta(t)` (the unbalance force of a
+        speed profile, including its tangential part in a run-up)."""
+        A, B, C = self.matrices()
+        x, v = y[:2], y[2:]
+        planes = jnp.asarray(planes)
+        lever = jnp.stack([self.l - planes, planes]) / self.l          # (2, n_planes)
+        amp = jnp.real(jnp.asarray(unbalances) * (theta_d**2 - 1j * theta_dd) * jnp.exp(1j * theta))
+        f = lever @ amp
+        return jnp.concatenate([v, jnp.linalg.solve(A, f - B @ v - C @ x)])
+
+
+def scalar_influence_matrix(l, planes_a):
+    """The static "scalar" coefficients of eq. (3), for two planes at `A` from
+    support 1 and `C` from support 2: `(l - A - C)^-1 [[l - A, A], [C, l - C]]`
+    (the distribution of a plane's unbalance between the supports, without
+    the machine's dynamics)."""
+    A, C = planes_a
+    return jnp.array([[l - A, A], [C, l - C]]) / (l - A - C)

@@ -1,0 +1,134 @@
+"""Generate the shipped synthetic measurements (a documented, seeded script):
+
+    python -m rotorjax.identify._make_data
+
+Writes into `rotorjax/identify/data/`:
+- `balancing_runs.csv`: three steady runs of the `balancing-machine` preset's rotor
+  at 120 rad/s (2 s each, 2 kHz): without a trial weight, with a trial weight of
+  1e-4 kg m at 0 deg in plane 0, and at 90 deg in plane 1; sensor noise 1 % of the
+  initial vibration (Gaussian, per sample);
+- `runup.csv`: a run-up from 20 to 400 rad/s in 20 s sampled at 1 kHz (20 000
+  samples), through the supports' resonances, simulated in the time domain
+  (diffrax Dopri8, rtol 1e-10), with 1 % noise.
+Columns as documented in `rotorjax.identify._signals`; the tacho is a 1-sample
+pulse train with one pulse per revolution at the mark (theta = 2 pi k).
+"""
+
+import os
+
+import diffrax
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+SEED = 20161
+
+
+def _tacho(theta):
+    k = np.floor(theta / (2 * np.pi))
+    pulse = np.zeros_like(theta)
+    pulse[1:][np.diff(k) > 0] = 1.0
+    return pulse
+
+
+def simulate(machine, planes, unbalances, t, theta_fn):
+    """Support displacements at times `t` for a rotor angle `theta_fn(t)` (the
+    unbalance force of eq. 8 with the speed profile), from rest."""
+    dtheta = jax.grad(theta_fn)
+    ddtheta = jax.grad(dtheta)
+
+    def f(tt, y, args):
+        return machine.vector_field(tt, y, theta_fn(tt), dtheta(tt), ddtheta(tt), planes, unbalances)
+
+    sol = diffrax.diffeqsolve(diffrax.ODETerm(f), diffrax.Dopri8(), t[0], t[-1], None, jnp.zeros(4),
+                              saveat=diffrax.SaveAt(ts=jnp.asarray(t)),
+                              stepsize_controller=diffrax.PIDController(rtol=1e-10, atol=1e-14),
+                              max_steps=10**7)
+    return np.asarray(sol.ys[:, :2])
+
+
+def _write(path, cols):
+    names = list(cols)
+    table = np.stack([np.asarray(cols[k], dtype=float) for k in names], axis=1)
+    np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+
+
+def make_balancing_runs(p, rng):
+    from ..presets import balancing_machine as bm
+
+    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    w, fs, dur = 120.0, 2000.0, 2.0
+    trials = [None, (0, 1e-4, 0.0), (1, 1e-4, 90.0)]
+    cols = {k: [] for k in ("time", "tacho", "x1", "x2", "run", "trial_plane", "trial_unbalance", "trial_angle")}
+    settle = 3.0  # s of transient discarded: the steady run is what a balancing machine measures
+    t = np.arange(0.0, settle + dur, 1 / fs)
+    X0 = np.asarray(machine.response(w, planes, U))
+    noise = 0.01 * np.max(np.abs(X0))
+    for run, trial in enumerate(trials):
+        Ur = np.array(U, dtype=complex)
+        if trial is not None:
+            Ur[trial[0]] += trial[1] * np.exp(1j * np.radians(trial[2]))
+        x = simulate(machine, planes, jnp.asarray(Ur), jnp.asarray(t), lambda tt: w * tt)
+        keep = t >= settle
+        tt = t[keep] - settle + run * (dur + 1.0)
+        theta = w * t[keep]
+        cols["time"].append(tt)
+        cols["tacho"].append(_tacho(theta))
+        cols["x1"].append(x[keep, 0] + noise * rng.normal(size=keep.sum()))
+        cols["x2"].append(x[keep, 1] + noise * rng.normal(size=keep.sum()))
+        cols["run"].append(np.full(keep.sum(), run))
+        cols["trial_plane"].append(np.full(keep.sum(), -1 if trial is None else trial[0]))
+        cols["trial_unbalance"].append(np.full(keep.sum(), 0.0 if trial is None else trial[1]))
+        cols["trial_angle"].append(np.full(keep.sum(), 0.0 if trial is None else trial[2]))
+    _write(os.path.join(DATA, "balancing_runs.csv"), {k: np.concatenate(v) for k, v in cols.items()})
+
+
+def make_runup(p, rng, fs=1000.0, duration=20.0, w0=20.0, w1=400.0):
+    from ..presets import balancing_machine as bm
+
+    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    alpha = (w1 - w0) / duration
+    t = np.arange(0.0, duration, 1 / fs)
+
+    def theta_fn(tt):
+        return w0 * tt + 0.5 * alpha * tt**2
+
+    # start on the steady response at w0, so that no start-up transient remains
+    X = np.asarray(machine.response(w0, planes, U))
+    x = simulate_from(machine, planes, U, t, theta_fn, X, w0)
+    noise = 0.01 * np.max(np.abs(x))
+    cols = {"time": t, "tacho": _tacho(np.asarray(theta_fn(t))),
+            "x1": x[:, 0] + noise * rng.normal(size=t.size), "x2": x[:, 1] + noise * rng.normal(size=t.size)}
+    _write(os.path.join(DATA, "runup.csv"), cols)
+
+
+def simulate_from(machine, planes, unbalances, t, theta_fn, X0, w0):
+    dtheta = jax.grad(theta_fn)
+    ddtheta = jax.grad(dtheta)
+
+    def f(tt, y, args):
+        return machine.vector_field(tt, y, theta_fn(tt), dtheta(tt), ddtheta(tt), planes, unbalances)
+
+    y0 = jnp.concatenate([jnp.real(X0), jnp.real(1j * w0 * X0)])
+    sol = diffrax.diffeqsolve(diffrax.ODETerm(f), diffrax.Dopri8(), t[0], t[-1], None, y0,
+                              saveat=diffrax.SaveAt(ts=jnp.asarray(t)),
+                              stepsize_controller=diffrax.PIDController(rtol=1e-10, atol=1e-14),
+                              max_steps=10**7)
+    return np.asarray(sol.ys[:, :2])
+
+
+def main():
+    import rotorjax  # noqa: F401  (float64)
+    from ..presets import balancing_machine as bm
+
+    os.makedirs(DATA, exist_ok=True)
+    rng = np.random.default_rng(SEED)
+    p = dict(bm.PRESET.defaults)
+    make_balancing_runs(p, rng)
+    make_runup(p, rng)
+    print(f"wrote {DATA}/balancing_runs.csv and runup.csv")
+
+
+if __name__ == "__main__":
+    main()
