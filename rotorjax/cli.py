@@ -145,8 +145,7 @@ def cmd_hopf(args) -> int:
 
     preset = presets.get(args.preset)
     if preset.kind != "contact":
-        raise UsageError(f"`hopf` works on the internal-friction rotor presets; {preset.name!r} is "
-                         f"{preset.kind}")
+        raise _wrong_kind(preset, "hopf")
     params = preset.params(_parse_sets(args.set))
     lo, hi = args.range
     if not 0 <= lo < hi:
@@ -199,7 +198,7 @@ def cmd_bifurcation(args) -> int:
 
     preset = presets.get(args.preset)
     if preset.kind != "contact":
-        raise UsageError(f"`bifurcation` works on the contact presets; {preset.name!r} is {preset.kind}")
+        raise _wrong_kind(preset, "bifurcation")
     key, lo, hi, n = args.param[0], float(args.param[1]), float(args.param[2]), int(args.param[3])
     params = preset.params(_parse_sets(args.set))
     if key not in ("eps", "N", "phase", "f_S", "chi", "kappa", "eta_S"):
@@ -352,7 +351,7 @@ def cmd_identify(args) -> int:
 
     preset = presets.get(args.preset)
     if preset.kind != "machine":
-        raise UsageError(f"`identify` works on the balancing-machine preset; {preset.name!r} is {preset.kind}")
+        raise _wrong_kind(preset, "identify")
     params = preset.params(_parse_sets(args.set))
     fit = tuple(k.strip() for k in args.fit.split(",") if k.strip())
     path = args.data or idf.RUNUP
@@ -382,16 +381,29 @@ def cmd_identify(args) -> int:
     return 0 if res.converged else 3
 
 
+_KIND_COMMANDS = {
+    "planar": "a planar rotor: use `simulate`, `steady`, `critical-speeds`, `stability-map`",
+    "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`",
+    "modal": "model 003's modal shaft: use `steady`, `critical-speeds`, `stability-map`",
+    "contact": "model 004's rotor with limiters: use `simulate`, `hopf`, `bifurcation`, `critical-speeds`, "
+               "`stability-map`",
+    "machine": "a balancing machine: use `balance`, `identify`",
+}
+
+
+def _wrong_kind(preset, command):
+    return UsageError(f"`{command}` does not apply to {preset.name!r}, {_KIND_COMMANDS[preset.kind]}")
+
+
 def _planar(preset, command):
     if preset.kind != "planar":
-        raise UsageError(f"`{command}` works on the planar presets; {preset.name!r} is a flexible "
-                         "rotor: use `rotorjax campbell`, `response` or `critical-speeds`")
+        raise _wrong_kind(preset, command)
     return preset
 
 
 def _flexible(preset, command):
     if preset.kind != "flexible":
-        raise UsageError(f"`{command}` works on the flexible-rotor presets; {preset.name!r} is planar")
+        raise _wrong_kind(preset, command)
     return preset
 
 
