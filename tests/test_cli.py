@@ -190,3 +190,5 @@ def test_balance_and_identify_on_the_shipped_data(tmp_path, capsys):
     assert "missing column" in capsys.readouterr().err
     assert main(["identify", "balancing-machine", "--fit", "k1,zz"]) == 2
     assert main(["balance", "--planes", "5"]) == 2
+    assert main(["simulate", "balancing-machine"]) == 2
+    assert "use `balance`, `identify`" in capsys.readouterr().err
