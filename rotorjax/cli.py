@@ -381,6 +381,119 @@ def cmd_identify(args) -> int:
     return 0 if res.converged else 3
 
 
+def _branch_problem(preset, params, key):
+    """`(F(u, v), u0)` of the preset's stationary reference regime, for
+    one-parameter continuation in `key` (elliptic-abb: the balanced regime of a
+    circular race, in the rotating frame)."""
+    import jax.numpy as jnp
+
+    if preset.name != "elliptic-abb":
+        return None
+    from rotorjax.analysis import rotating_field
+    from rotorjax.presets import jeffcott_abb as ja
+
+    regime = ja.balanced_regime(params)
+    if not bool(regime.converged):
+        raise UsageError(f"no balanced regime at the starting parameters (residual {float(regime.residual):.2e})")
+
+    def F(u, v):
+        q = dict(params, **{key: v})
+        scene = ja.scene_from_groups(q["chi"], q["eps"], q["alpha"], q["rho1"], q["rho2"], q["delta_n"],
+                                     q["delta_b"], nu=q["nu"], n_balls=params["n_balls"], K=q["K"])
+        return rotating_field(scene, 0.0, u)
+
+    return F, np.asarray(regime.z), jnp
+
+
+def cmd_continue(args) -> int:
+    from rotorjax import presets
+    from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundary
+
+    preset = presets.get(args.preset)
+    params = preset.params(_parse_sets(args.set))
+    key, key2 = args.param, args.param2
+    for k in (key, key2):
+        if k is not None and k not in preset.defaults:
+            raise UsageError(f"unknown parameter {k!r} for {preset.name}; known: {', '.join(sorted(preset.defaults))}")
+        if k is not None and k in preset.topology_keys + preset.integer_keys:
+            raise UsageError(f"{k!r} changes the scene's structure: it cannot be continued")
+    start = args.start if args.start else [params[key]] + ([params[key2]] if key2 else [])
+    if len(start) != (2 if key2 else 1):
+        raise UsageError(f"--from needs {2 if key2 else 1} value(s): {key}" + (f" {key2}" if key2 else ""))
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, f"continue_{preset.name}_{key}" + (f"_{key2}" if key2 else ""))
+    out = {"preset": preset.name, "param": key, "param2": key2, "start": start}
+    if key2:
+        if preset.margin is None:
+            raise UsageError(f"{preset.name!r} has no reference regime whose boundary could be traced")
+        gradient = args.gradient if args.gradient != "auto" else ("fd" if preset.name == "anisotropic-abb" else
+                                                                    "autodiff")
+
+        def sigma(a, b):
+            return preset.margin(dict(params, **{key: a, key2: b}))
+
+        box = args.box or [np.nan] * 4
+        curve = trace_boundary(sigma, start, bounds=(np.array([box[0], box[2]]), np.array([box[1], box[3]])),
+                               ds=args.ds, ds_max=args.ds_max, max_points=args.max_points, gradient=gradient,
+                               direction=(0.0, 1.0) if args.direction > 0 else (0.0, -1.0))
+        out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime,
+                    key: curve.x[:, 0].tolist(), key2: curve.x[:, 1].tolist(),
+                    "residuals": curve.residuals.tolist(), "steps": curve.steps.tolist(),
+                    "stopped": curve.stopped, "gradient": gradient})
+        np.savetxt(stem + ".csv", np.column_stack([curve.x, curve.residuals]), delimiter=",",
+                   header=f"{key},{key2},residual", comments="")
+        from rotorjax.plot import plot_curves
+
+        plot_curves(curve.x[:, 0], {"boundary": curve.x[:, 1]}, stem + ".png", key, key2,
+                    title=f"{preset.name}: stability boundary of {preset.regime}")
+    elif preset.name == "anisotropic-abb":
+        from rotorjax.presets import anisotropic_abb as ab
+
+        lo, hi = args.to if args.to else (start[0] * 0.5, start[0] * 2)
+
+        def fl(v):
+            q = dict(params, **{key: v})
+            return ab.main_motion_floquet({k: q[k] for k in ab.GROUPS}, q["n"], q["K"])
+
+        found = floquet_crossings(fl, lo, hi, n_scan=args.max_points if args.max_points < 400 else 60)
+        out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi], "crossings": found})
+        with open(stem + ".csv", "w") as f:
+            f.write(f"{key},kind,residual\n")
+            for c in found:
+                f.write(f"{c['p']},{c['kind']},{c['residual']}\n")
+    else:
+        prob = _branch_problem(preset, params, key)
+        if prob is None:
+            raise UsageError(f"{preset.name!r} has no stationary branch to continue in one parameter; trace a "
+                             "boundary with --param2, or use `critical-speeds` / `hopf`")
+        F, u0, _ = prob
+        lo, hi = args.to if args.to else (-np.inf, np.inf)
+        br = continue_branch(F, u0, start[0], p_bounds=(lo, hi), ds=args.ds, ds_max=args.ds_max,
+                             max_points=args.max_points, direction=args.direction)
+        out.update({"kind": "branch of the balanced regime (rotating frame)", **br.as_dict(),
+                    "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()})
+        np.savetxt(stem + ".csv", np.column_stack([br.p, br.margin, br.curve.residuals]), delimiter=",",
+                   header=f"{key},margin,residual", comments="")
+        from rotorjax.plot import plot_curves
+
+        plot_curves(br.p, {"largest real part": br.margin}, stem + ".png", key, "margin",
+                    title=f"{preset.name}: branch in {key}")
+    out["files"] = {"data": stem + ".csv", "summary": stem + ".json"}
+    if os.path.exists(stem + ".png"):
+        out["files"]["plot"] = stem + ".png"
+    with open(stem + ".json", "w") as f:
+        json.dump(out, f, indent=2)
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: {out['kind']}; wrote {stem}.csv, .json")
+        for c in out.get("crossings", []) + out.get("events", []):
+            print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e})")
+        if "stopped" in out:
+            print(f"  stopped: {out['stopped']}")
+    return 0
+
+
 _KIND_COMMANDS = {
     "planar": "a planar rotor: use `simulate`, `steady`, `critical-speeds`, `stability-map`",
     "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`",
@@ -825,6 +938,22 @@ def build_parser():
         (("--max-steps",), dict(type=int, default=1_000_000)),
         (("--chunk",), dict(type=int, default=16)),
     ])
+    _command(sub, "continue", "continuation: a branch in one parameter, or a stability boundary in two",
+             cmd_continue, [
+                 (("--param",), dict(required=True)),
+                 (("--param2",), dict(default=None)),
+                 (("--from",), dict(dest="start", type=float, nargs="+", default=None,
+                                    help="starting value(s) (default: the preset's)")),
+                 (("--to",), dict(type=float, nargs=2, default=None, metavar=("LO", "HI"),
+                                  help="range of --param (one-parameter continuation)")),
+                 (("--box",), dict(type=float, nargs=4, default=None, metavar=("LO1", "HI1", "LO2", "HI2"),
+                                   help="parameter box for a boundary")),
+                 (("--ds",), dict(type=float, default=0.02)),
+                 (("--ds-max",), dict(type=float, default=0.2)),
+                 (("--max-points",), dict(type=int, default=200)),
+                 (("--direction",), dict(type=float, default=1.0)),
+                 (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"))),
+             ])
     bal = sub.add_parser("balance", help="correction weights from runs with trial weights")
     bal.add_argument("--runs", default=None, help="CSV/.npz of runs (default: the shipped dataset)")
     bal.add_argument("--planes", default=None, help="comma-separated plane numbers (default: all trial planes)")

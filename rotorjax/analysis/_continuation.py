@@ -318,3 +318,57 @@ def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-
 
     return trace_curve(G, np.concatenate([u0, np.asarray(p0, dtype=float)]), ds=ds, ds_max=ds_max,
                        max_points=max_points, tol=tol, bounds=bounds, direction=direction)
+
+
+def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 60, xtol: float = 1e-10):
+    """Follow a periodic regime's Floquet multipliers along a parameter and find
+    where one leaves (or enters) the unit circle: `floquet_fn(p)` returns a
+    `FloquetResult` (e.g. `anisotropic_abb.main_motion_floquet` at speed `p`).
+    Each crossing is refined by bisection on `max |mu| - 1` and classified by the
+    crossing multiplier: at +1 (fold or pitchfork of the periodic regime), at -1
+    (period doubling), or a complex pair (Neimark-Sacker: quasi-periodic motion).
+    Returns `[{"p", "kind", "multiplier", "residual", "closure", "liouville_error",
+    "stable_side"}]`; the checks are those of the Floquet result at the crossing."""
+    f = jax.jit(lambda p: floquet_fn(p))
+    ps = np.linspace(lo, hi, n_scan)
+    m = np.array([float(jnp.max(jnp.abs(f(p).multipliers))) - 1 for p in ps])
+    out = []
+    for i in range(n_scan - 1):
+        if not (np.isfinite(m[i]) and np.isfinite(m[i + 1])) or np.sign(m[i]) == np.sign(m[i + 1]):
+            continue
+        a, b, ma = ps[i], ps[i + 1], m[i]
+        while b - a > xtol * max(1.0, abs(b)):
+            c = 0.5 * (a + b)
+            mc = float(jnp.max(jnp.abs(f(c).multipliers))) - 1
+            if np.sign(mc) == np.sign(ma):
+                a, ma = c, mc
+            else:
+                b = c
+        p = 0.5 * (a + b)
+        r = f(p)
+        mu = np.asarray(r.multipliers)
+        k = int(np.argmin(np.abs(np.abs(mu) - 1)))
+        ang = abs(np.angle(mu[k]))
+        kind = "+1" if ang < 1e-3 else "-1" if abs(ang - np.pi) < 1e-3 else "complex pair"
+        out.append({"p": float(p), "kind": kind, "multiplier": [float(mu[k].real), float(mu[k].imag)],
+                    "residual": float(abs(abs(mu[k]) - 1)), "closure": float(r.closure),
+                    "liouville_error": float(r.liouville_error),
+                    "stable_side": "below" if m[i] < 0 else "above"})
+    return out
+
+
+def boundary_points(sigma: Callable, p1_guess, p2_values, iters: int = 12):
+    """Batched pointwise boundary solves: for each `p2`, Newton along `p1` on
+    `sigma(p1, p2) = 0` from `p1_guess` (scalar or per point), vmapped over the
+    batch (a fixed number of iterations, so the whole batch is one call). Returns
+    `(p1, residual)` arrays; a point whose residual stays large has not converged."""
+    p2 = jnp.asarray(p2_values, dtype=jnp.float64)
+    p1 = jnp.broadcast_to(jnp.asarray(p1_guess, dtype=jnp.float64), p2.shape)
+    ds = jax.grad(sigma, argnums=0)
+
+    def solve(a, b):
+        for _ in range(iters):
+            a = a - sigma(a, b) / ds(a, b)
+        return a, jnp.abs(sigma(a, b))
+
+    return jax.jit(jax.vmap(solve))(p1, p2)
