@@ -1,0 +1,27 @@
+"""The notebooks (jupytext percent-format scripts in notebooks/) run end to end,
+each under 3 minutes, writing their figures."""
+
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.mark.parametrize("name,figures", [
+    ("parameter_study", ["parameter_study.png"]),
+    ("identification", ["identification.png"]),
+    ("stability_boundaries", ["boundary_001.png", "boundary_003.png"]),
+])
+def test_notebook_runs(name, figures, tmp_path):
+    env = dict(os.environ, ROTORJAX_NOTEBOOK_OUT=str(tmp_path), MPLBACKEND="Agg")
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, os.path.join(ROOT, "notebooks", f"{name}.py")], env=env,
+                          capture_output=True, text=True, timeout=180, cwd=str(tmp_path))
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert time.perf_counter() - t0 < 180
+    for f in figures:
+        assert (tmp_path / f).stat().st_size > 0
