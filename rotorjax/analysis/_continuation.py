@@ -237,15 +237,21 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
 
 def _refine_hopf(F, Fu, a, b, n, t):
     """Bisection between two branch points on the real part of the eigenvalue pair
-    nearest the imaginary axis, each trial point corrected onto the branch."""
-    def corrected(s):
-        xp = a + s * (b - a)
-        tt = (b - a) / np.linalg.norm(b - a)
+    nearest the imaginary axis, each trial point corrected onto the branch (one
+    compiled corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
+    tt = jnp.asarray((b - a) / np.linalg.norm(b - a))
 
+    @jax.jit
+    def correct(xp):
         def G(y):
-            return jnp.concatenate([F(y[:n], y[n]), jnp.dot(jnp.asarray(tt), y - jnp.asarray(xp))[None]])
-        y, _ = _newton(G, xp)
+            return jnp.concatenate([F(y[:n], y[n]), jnp.dot(tt, y - xp)[None]])
+        y = xp
+        for _ in range(8):
+            y = y - jnp.linalg.solve(jax.jacfwd(G)(y), G(y))
         return y
+
+    def corrected(s):
+        return np.asarray(correct(jnp.asarray(a + s * (b - a))))
 
     def pair_real(y):
         e = np.linalg.eigvals(np.asarray(Fu(y[:n], y[n])))
