@@ -192,3 +192,23 @@ def test_balance_and_identify_on_the_shipped_data(tmp_path, capsys):
     assert main(["balance", "--planes", "5"]) == 2
     assert main(["simulate", "balancing-machine"]) == 2
     assert "use `balance`, `identify`" in capsys.readouterr().err
+
+
+def test_continue_command(tmp_path, capsys):
+    assert main(["continue", "anisotropic-abb", "--param", "n", "--to", "4", "6", "--max-points", "6",
+                 "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["crossings"]) == 1 and abs(out["crossings"][0]["p"] - 5.0499297) < 1e-6
+    assert main(["continue", "cantilever-limiters", "--param", "N", "--param2", "eta_e", "--from", "13.9", "0.025",
+                 "--box", "1", "40", "0", "0.03", "--ds", "0.002", "--max-points", "6", "--out", str(tmp_path),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert abs(out["N"][0] - 13.904126) < 1e-5 and max(out["residuals"]) < 1e-8
+    assert (tmp_path / "continue_cantilever-limiters_N_eta_e.csv").exists()
+    assert main(["continue", "elliptic-abb", "--param", "nu", "--set", "eps=0.03", "--set", "rho2=1.28",
+                 "--to", "1.4", "1.8", "--ds", "0.05", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["residual_max"] < 1e-10 and all(out["stable"])
+    assert main(["continue", "anisotropic-abb", "--param", "zz"]) == 2
+    assert main(["continue", "anisotropic-abb", "--param", "n", "--param2", "mu_w", "--from", "5"]) == 2
+    assert main(["continue", "ross-compare", "--param", "kxx"]) == 2
