@@ -384,9 +384,7 @@ def cmd_identify(args) -> int:
 def _branch_problem(preset, params, key):
     """`(F(u, v), u0)` of the preset's stationary reference regime, for
     one-parameter continuation in `key` (elliptic-abb: the balanced regime of a
-    circular race, in the rotating frame)."""
-    import jax.numpy as jnp
-
+    circular race, in the rotating frame); None for presets without one."""
     if preset.name != "elliptic-abb":
         return None
     from rotorjax.analysis import rotating_field
@@ -402,7 +400,7 @@ def _branch_problem(preset, params, key):
                                      q["delta_b"], nu=q["nu"], n_balls=params["n_balls"], K=q["K"])
         return rotating_field(scene, 0.0, u)
 
-    return F, np.asarray(regime.z), jnp
+    return F, np.asarray(regime.z)
 
 
 def cmd_continue(args) -> int:
@@ -466,7 +464,7 @@ def cmd_continue(args) -> int:
         if prob is None:
             raise UsageError(f"{preset.name!r} has no stationary branch to continue in one parameter; trace a "
                              "boundary with --param2, or use `critical-speeds` / `hopf`")
-        F, u0, _ = prob
+        F, u0 = prob
         lo, hi = args.to if args.to else (-np.inf, np.inf)
         br = continue_branch(F, u0, start[0], p_bounds=(lo, hi), ds=args.ds, ds_max=args.ds_max,
                              max_points=args.max_points, direction=args.direction)

@@ -123,7 +123,7 @@ def test_model_001_floquet_crossings_and_boundary_through_the_critical_speeds():
 
 
 def test_bad_starts_and_boxes():
-    with pytest.raises(ValueError, match="not on the curve: residual 2.000e\+00"):
+    with pytest.raises(ValueError, match=r"not on the curve: residual 2.000e\+00"):
         continue_branch(brusselator, np.array([2.0, 1.0]), 1.0)
     with pytest.raises(ValueError, match="outside the bounds"):
         continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(1.5, 3.0))
