@@ -105,17 +105,25 @@ def order_track(t, channels, tacho=None, pulses=None, revolutions_per_block=1, d
     n = int(revolutions_per_block)
     if n < 1:
         raise ValueError(f"revolutions_per_block must be >= 1, got {revolutions_per_block}")
-    speeds, X = [], []
-    k = np.floor(np.where(np.isfinite(theta), theta, -1.0) / (2 * np.pi * n))
-    for b in np.unique(k[np.isfinite(theta)]):
-        sel = (k == b) & np.isfinite(theta)
-        if sel.sum() < 8:
-            continue
-        basis = np.stack([np.cos(theta[sel]), np.sin(theta[sel]), np.ones(sel.sum())], axis=1)
-        coef, *_ = np.linalg.lstsq(basis, x[sel], rcond=None)
-        speeds.append(float(np.mean(speed[sel])))
-        X.append(coef[0] - 1j * coef[1])
-    return np.asarray(speeds), np.asarray(X)
+    ok = np.isfinite(theta)
+    th, sp, xs = theta[ok], speed[ok], x[ok]
+    k = np.floor(th / (2 * np.pi * n)).astype(int)
+    k -= k.min()
+    # per block, the normal equations of x ~ a cos + b sin + c, summed with bincount
+    c, s_ = np.cos(th), np.sin(th)
+    basis = (c, s_, np.ones_like(c))
+    nb = int(k.max()) + 1
+    A = np.empty((nb, 3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            A[:, i, j] = A[:, j, i] = np.bincount(k, basis[i] * basis[j], minlength=nb)
+    rhs = np.stack([np.stack([np.bincount(k, basis[i] * xs[:, m], minlength=nb) for i in range(3)], axis=-1)
+                    for m in range(xs.shape[1])], axis=-1)                      # (nb, 3, n_sensors)
+    count = np.bincount(k, minlength=nb)
+    keep = count >= 8
+    coef = np.linalg.solve(A[keep], rhs[keep])
+    speeds = np.bincount(k, sp, minlength=nb)[keep] / count[keep]
+    return speeds, coef[:, 0, :] - 1j * coef[:, 1, :]
 
 
 def _check_samples(t, x):
