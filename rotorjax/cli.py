@@ -283,6 +283,9 @@ def cmd_balance(args) -> int:
     if len(base) != 1:
         raise UsageError(f"{path}: need exactly one run without a trial weight, found {len(base)}")
     planes = sorted({r["trial"][0] for r in trials})
+    if not planes:
+        raise UsageError(f"{path}: no runs with a trial weight (columns run, trial_plane, trial_unbalance, "
+                         "trial_angle): the influence coefficients cannot be estimated")
     if args.planes:
         try:
             wanted = [int(p) for p in args.planes.split(",")]
@@ -304,7 +307,8 @@ def cmd_balance(args) -> int:
     predicted = X0 + K @ W
     speed = base[0]["speed"]
     # residual unbalance from the phasors' noise: sigma_X = rms residual * sqrt(2 / samples)
-    n_samples = int(np.sum(cols.get("run", np.zeros(1)) == base[0]["run"]))
+    labels = cols.get("run", np.zeros_like(cols["time"]))
+    n_samples = int(np.sum(labels == base[0]["run"]))
     sigma_X = np.asarray(base[0]["residual_rms"]) * np.sqrt(2.0 / max(n_samples, 1))
     sigma_U = np.sqrt(np.abs(np.linalg.pinv(K)) ** 2 @ sigma_X**2)
     residual_gmm = float(np.sum(sigma_U)) * 1e6

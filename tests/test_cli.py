@@ -190,6 +190,12 @@ def test_balance_and_identify_on_the_shipped_data(tmp_path, capsys):
     assert "missing column" in capsys.readouterr().err
     assert main(["identify", "balancing-machine", "--fit", "k1,zz"]) == 2
     assert main(["balance", "--planes", "5"]) == 2
+    single = tmp_path / "single.csv"
+    t = np.arange(0, 0.5, 1e-3)
+    np.savetxt(single, np.stack([t, (np.mod(t * 20, 1) < 0.01).astype(float), np.cos(40 * np.pi * t),
+                                 np.sin(40 * np.pi * t)], 1), delimiter=",", header="time,tacho,x1,x2", comments="")
+    assert main(["balance", "--runs", str(single)]) == 2
+    assert "no runs with a trial weight" in capsys.readouterr().err
     assert main(["simulate", "balancing-machine"]) == 2
     assert "use `balance`, `identify`" in capsys.readouterr().err
 
