@@ -12,23 +12,13 @@ benchmarks/results/continuation.json.
 import argparse
 import json
 import os
-import platform
 import sys
 import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
-
-def timed(fn, repeats=3):
-    fn()
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        r = fn()
-        ts.append(time.perf_counter() - t0)
-    return float(np.median(ts)), r
+from _common import machine, timed, write_results  # noqa: E402
 
 
 def main():
@@ -46,7 +36,7 @@ def main():
     from rotorjax.sweep import sweep
     from tests.analysis.test_continuation import brusselator, duffing, duffing_fold_forcing
 
-    out = {"benchmark": "continuation", "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+    out = {"benchmark": "continuation", "machine": machine(),
            "versions": {"jax": jax.__version__}}
 
     # (a) shared examples
@@ -133,10 +123,7 @@ def main():
                            "ratio_map_plus_bisection_over_trace": t_bisect_row * len(rows) / t_trace,
                            "ratio_grid_over_trace": t_grid / t_trace}
     print(json.dumps(out["boundary_001"], indent=1))
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "continuation.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=2)
-    print(f"wrote {path}")
+    write_results("continuation", out)
 
 
 if __name__ == "__main__":

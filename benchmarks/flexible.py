@@ -17,11 +17,10 @@ benchmarks/results/flexible.json.
 import argparse
 import json
 import os
-import platform
 import subprocess
-import time
 
 import numpy as np
+from _common import machine, timed_first, write_results
 
 ROSS_WORKER = r'''
 import json, sys, time, warnings
@@ -98,28 +97,17 @@ def main():
                              disks=((2,) + disk, (4,) + disk),
                              bearings=((0, kb, 0.8 * kb, 0.0, 0.0), (6, kb, 0.8 * kb, 0.0, 0.0)))
 
-    def timed(fn, repeats=3):
-        t0 = time.perf_counter()
-        r = jax.block_until_ready(fn())
-        first = time.perf_counter() - t0
-        ts = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            r = jax.block_until_ready(fn())
-            ts.append(time.perf_counter() - t0)
-        return float(np.median(ts)), first, r
-
     speeds = np.linspace(0, 1000, 100)
     camp_fn = jax.jit(lambda s: campbell(rotor, s, 8).frequencies)
-    t_camp, c_camp, camp = timed(lambda: camp_fn(speeds))
+    t_camp, c_camp, camp = timed_first(lambda: camp_fn(speeds))
     freq = np.linspace(10, 1200, 2000)
     resp_fn = jax.jit(lambda w: unbalance_response(rotor, 2, 1e-3, 0.0, w, probe_nodes=[2])[0])
-    t_resp, c_resp, resp = timed(lambda: resp_fn(freq))
+    t_resp, c_resp, resp = timed_first(lambda: resp_fn(freq))
     red = rotor.reduce(args.reduced_modes)
     camp_red_fn = jax.jit(lambda s: campbell(red, s, 8).frequencies)
-    t_camp_red, _, camp_red = timed(lambda: camp_red_fn(speeds))
+    t_camp_red, _, camp_red = timed_first(lambda: camp_red_fn(speeds))
     resp_red_fn = jax.jit(lambda w: unbalance_response(red, 2, 1e-3, 0.0, w, probe_nodes=[2])[0])
-    t_resp_red, _, resp_red = timed(lambda: resp_red_fn(freq))
+    t_resp_red, _, resp_red = timed_first(lambda: resp_red_fn(freq))
     full_amp, red_amp = np.abs(np.asarray(resp[:, 0])), np.abs(np.asarray(resp_red[:, 0]))
     reduction = {"modes": args.reduced_modes, "campbell_s": t_camp_red, "response_s": t_resp_red,
                  "campbell_max_rel_vs_full": float(np.max(np.abs(np.asarray(camp_red) / np.asarray(camp) - 1))),
@@ -129,11 +117,11 @@ def main():
                  "response_peak_freqs_rel_vs_full": float(np.max(np.abs(
                      _peaks(freq, red_amp) / _peaks(freq, full_amp) - 1)))}
     crit_fn = jax.jit(jax.vmap(lambda d: synchronous_critical_speeds(design_rotor(d[0], d[1], d[2]), 1)[0]))
-    t_crit, c_crit, crit = timed(lambda: crit_fn(jnp.asarray(designs)), repeats=3)
+    t_crit, c_crit, crit = timed_first(lambda: crit_fn(jnp.asarray(designs)), repeats=3)
     fp_fn = jax.jit(jax.vmap(lambda d: critical_speed(design_rotor(d[0], d[1], d[2]), 0, 90.0)))
-    t_fp, _, (crit_fp, crit_residual) = timed(lambda: fp_fn(jnp.asarray(designs)), repeats=1)
+    t_fp, _, (crit_fp, crit_residual) = timed_first(lambda: fp_fn(jnp.asarray(designs)), repeats=1)
     out = {"benchmark": "flexible (ross-compare)",
-           "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+           "machine": machine(),
            "versions": {"jax": jax.__version__},
            "rotorjax": {"campbell_s": t_camp, "campbell_first_call_s": c_camp, "response_s": t_resp,
                         "response_first_call_s": c_resp, "designs_s": t_crit,
@@ -175,10 +163,7 @@ def main():
                                 _peaks(freq, full_amp) / _peaks(freq, ross_amp) - 1))),
                             "critical_speed_max_rel": crit_err}
     print(json.dumps({k: v for k, v in out.items() if k != "machine"}, indent=2))
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "flexible.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=2)
-    print(f"wrote {path}")
+    write_results("flexible", out)
 
 
 if __name__ == "__main__":

@@ -15,14 +15,13 @@ Run: python benchmarks/identification.py; writes benchmarks/results/identificati
 
 import json
 import os
-import platform
 import sys
-import time
 
 import numpy as np
 from scipy.optimize import least_squares
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from _common import timed, write_results  # noqa: E402
 
 
 def numpy_response(p, w, planes, U, m, I, l):
@@ -67,22 +66,13 @@ def main():
     base = bm.build_machine(dict(P, k1=start[0], k2=start[1], c1=start[2], c2=start[3]))
     names = ("k1", "k2", "c1", "c2")
 
-    def timed(fn, repeats=5):
-        fn()
-        ts = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            r = fn()
-            ts.append(time.perf_counter() - t0)
-        return float(np.median(ts)), r
-
     # (a) 400-speed sweep
     w = np.linspace(30.0, 400.0, 400)
     Xs = np.asarray(jax.vmap(lambda ww: machine.response(ww, planes, U))(w))
     sigma = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(0)
     X = Xs + sigma * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
-    t_rj, res = timed(lambda: idf.identify(base, w, X, planes, unbalances=U, sigma=sigma))
+    t_rj, res = timed(lambda: idf.identify(base, w, X, planes, unbalances=U, sigma=sigma), repeats=5)
     est_rj = np.array([res.estimates[k] for k in names])
     t_sp, (est_sp, nfev) = timed(lambda: scipy_fit(w, X, planes, U, P, start, sigma), repeats=3)
     r_ad = idf.residual_fn(base, names, w, planes, X, sigma, U)
@@ -124,13 +114,10 @@ def main():
              "note": "the run-up's transient (20 rad/s^2 through the resonances) biases a steady-state fit by ~1 %"}
     print(json.dumps(runup, indent=1), flush=True)
     out = {"benchmark": "identification (model 002)",
-           "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+           "machine": machine(),
            "versions": {"jax": jax.__version__}, "truth": dict(zip(names, truth.tolist())),
            "start": dict(zip(names, start.tolist())), "sweep": sweep, "runup": runup}
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "identification.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=2)
-    print(f"wrote {path}")
+    write_results("identification", out)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,6 @@ Run: python benchmarks/limiters.py; writes benchmarks/results/limiters.json.
 import argparse
 import json
 import os
-import platform
 import sys
 import time
 
@@ -34,6 +33,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from _common import machine, timed, write_results  # noqa: E402
 
 
 def _with_ratio(d):
@@ -87,15 +87,6 @@ def main():
 
     def err20(y_end):
         return float(np.linalg.norm(disk @ np.asarray(y_end)[: scene.n_coords] - pos_ref) / np.linalg.norm(pos_ref))
-
-    def timed(fn, repeats=3):
-        jax.block_until_ready(fn())
-        out = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            r = jax.block_until_ready(fn())
-            out.append(time.perf_counter() - t0)
-        return float(np.median(out)), r
 
     runs = {}
     for tol in (1e-7, 1e-9):
@@ -195,7 +186,7 @@ def main():
     base = runs["rotorjax_smooth_dopri8_rtol1e-07"]["seconds"]
     out = {
         "benchmark": "model 004 limiters",
-        "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
+        "machine": machine(),
         "versions": {"jax": jax.__version__},
         "setup": {"revolutions": args.revolutions, "N": N, "eps": p["eps"], "kappa": p["kappa"],
                   "perturbation": p["perturbation"],
@@ -221,10 +212,7 @@ def main():
                   "eps": eps.tolist(), "mean_Lambda": lams, "Lambda_sign_switch_eps": switch},
     }
     print(json.dumps({k: v for k, v in out.items() if k not in ("machine",)}, indent=1)[:4000])
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "limiters.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=2)
-    print(f"wrote {path}")
+    write_results("limiters", out)
 
 
 if __name__ == "__main__":
