@@ -140,13 +140,9 @@ def _contact_simulate(preset, params, args) -> int:
 
 
 def cmd_hopf(args) -> int:
-    from rotorjax import presets
     from rotorjax.analysis import hopf_points, hopf_speed_gradient
 
-    preset = presets.get(args.preset)
-    if preset.kind != "contact":
-        raise _wrong_kind(preset, "hopf")
-    params = preset.params(_parse_sets(args.set))
+    preset, params = _preset_and_params(args, "hopf", "contact")
     lo, hi = args.range
     if not 0 <= lo < hi:
         raise UsageError(f"--range must satisfy 0 <= LO < HI, got {lo} {hi}")
@@ -191,16 +187,12 @@ def cmd_bifurcation(args) -> int:
     import jax.numpy as jnp
 
     import rotorjax as rj
-    from rotorjax import presets
     from rotorjax.analysis import precession
     from rotorjax.plot import plot_bifurcation
     from rotorjax.sweep import sweep
 
-    preset = presets.get(args.preset)
-    if preset.kind != "contact":
-        raise _wrong_kind(preset, "bifurcation")
+    preset, params = _preset_and_params(args, "bifurcation", "contact")
     key, lo, hi, n = args.param[0], float(args.param[1]), float(args.param[2]), int(args.param[3])
-    params = preset.params(_parse_sets(args.set))
     if key not in ("eps", "N", "phase", "f_S", "chi", "kappa", "eta_S"):
         raise UsageError(f"--param must be one of eps, N, phase, f_S, chi, kappa, eta_S; got {key!r}")
     if n < 2 or not hi > lo:
@@ -351,12 +343,8 @@ def cmd_balance(args) -> int:
 
 def cmd_identify(args) -> int:
     from rotorjax import identify as idf
-    from rotorjax import presets
 
-    preset = presets.get(args.preset)
-    if preset.kind != "machine":
-        raise _wrong_kind(preset, "identify")
-    params = preset.params(_parse_sets(args.set))
+    preset, params = _preset_and_params(args, "identify", "machine")
     fit = tuple(k.strip() for k in args.fit.split(",") if k.strip())
     path = args.data or idf.RUNUP
     cols = idf.read_signals(path)
@@ -516,10 +504,15 @@ def _planar(preset, command):
     return preset
 
 
-def _flexible(preset, command):
-    if preset.kind != "flexible":
+def _preset_and_params(args, command, kind):
+    """The preset named on the command line, checked to be of `kind`, and its
+    parameters with the `--set` overrides applied."""
+    from rotorjax import presets
+
+    preset = presets.get(args.preset)
+    if preset.kind != kind:
         raise _wrong_kind(preset, command)
-    return preset
+    return preset, preset.params(_parse_sets(args.set))
 
 
 def cmd_simulate(args) -> int:
@@ -779,12 +772,10 @@ def _maybe_reduced(rotor, n_modes):
 
 
 def cmd_campbell(args) -> int:
-    from rotorjax import presets
     from rotorjax.flexible import campbell, critical_speeds_1x
     from rotorjax.plot import plot_campbell
 
-    preset = _flexible(presets.get(args.preset), "campbell")
-    params = preset.params(_parse_sets(args.set))
+    preset, params = _preset_and_params(args, "campbell", "flexible")
     rotor = _maybe_reduced(preset.build(params)[0], args.reduce)
     lo, hi = args.range
     if not (0 <= lo < hi):
@@ -812,12 +803,10 @@ def cmd_campbell(args) -> int:
 
 
 def cmd_response(args) -> int:
-    from rotorjax import presets
     from rotorjax.flexible import unbalance_response
     from rotorjax.plot import plot_response
 
-    preset = _flexible(presets.get(args.preset), "response")
-    params = preset.params(_parse_sets(args.set))
+    preset, params = _preset_and_params(args, "response", "flexible")
     rotor = _maybe_reduced(preset.build(params)[0], args.reduce)
     lo, hi = args.range
     if not (0 < lo < hi):
