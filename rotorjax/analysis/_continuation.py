@@ -201,20 +201,21 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     d[n] = direction
     curve = trace_curve(G, np.concatenate([u0, [p0]]), ds=ds, ds_max=ds_max, max_points=max_points, tol=tol,
                         direction=d, bounds=(lo, hi), start_tol=start_tol)
-    Fu = jax.jit(jax.jacfwd(lambda u, p: F(u, p)))
-    Fp = jax.jit(jax.jacfwd(lambda u, p: F(u, p), argnums=1))
+    Jx = jax.jit(jax.jacfwd(G))   # [F_u F_p], one Jacobian per point
+
+    def Fu(u, p):
+        return Jx(jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]
+
     xs = curve.x
-    eig = [np.linalg.eigvals(np.asarray(Fu(x[:n], x[n]))) for x in xs]
+    jacs = [np.asarray(Jx(jnp.asarray(x))) for x in xs]
+    eig = [np.linalg.eigvals(J[:, :n]) for J in jacs]
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
-    tangents = np.array([_tangent(np.hstack([np.asarray(Fu(x[:n], x[n])), np.asarray(Fp(x[:n], x[n]))[:, None]]))
-                         for x in xs])
+    tangents = np.array([_tangent(J) for J in jacs])
     for i in range(1, len(tangents)):
         if tangents[i] @ tangents[i - 1] < 0:
             tangents[i] = -tangents[i]
-    bordered = np.array([np.linalg.det(np.vstack([np.hstack([np.asarray(Fu(x[:n], x[n])),
-                                                             np.asarray(Fp(x[:n], x[n]))[:, None]]), t[None, :]]))
-                         for x, t in zip(xs, tangents)])
+    bordered = np.array([np.linalg.det(np.vstack([J, t[None, :]])) for J, t in zip(jacs, tangents)])
     events = []
     for i in range(len(xs) - 1):
         a, b = xs[i], xs[i + 1]
@@ -231,11 +232,11 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             e0, e1 = eig[i], eig[i + 1]
             crossing = e1[np.argmin(np.abs(e1.real))] if n_unstable[i + 1] > n_unstable[i] else e0[np.argmin(np.abs(e0.real))]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                events.append(_refine_hopf(F, Fu, a, b, n, tangents[i]) | {"between": [i, i + 1]})
+                events.append(_refine_hopf(F, Fu, a, b, n) | {"between": [i, i + 1]})
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=events, curve=curve)
 
 
-def _refine_hopf(F, Fu, a, b, n, t):
+def _refine_hopf(F, Fu, a, b, n):
     """Bisection between two branch points on the real part of the eigenvalue pair
     nearest the imaginary axis, each trial point corrected onto the branch (one
     compiled corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
@@ -330,36 +331,26 @@ def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 
     """Follow a periodic regime's Floquet multipliers along a parameter and find
     where one leaves (or enters) the unit circle: `floquet_fn(p)` returns a
     `FloquetResult` (e.g. `anisotropic_abb.main_motion_floquet` at speed `p`).
-    Each crossing is refined by bisection on `max |mu| - 1` and classified by the
+    Each crossing is located by `critical_speeds` (vmapped scan, bisection) on
+    `max |mu| - 1` and classified by the
     crossing multiplier: at +1 (fold or pitchfork of the periodic regime), at -1
     (period doubling), or a complex pair (Neimark-Sacker: quasi-periodic motion).
     Returns `[{"p", "kind", "multiplier", "residual", "closure", "liouville_error",
     "stable_side"}]`; the checks are those of the Floquet result at the crossing."""
-    f = jax.jit(lambda p: floquet_fn(p))
-    ps = np.linspace(lo, hi, n_scan)
-    m = np.array([float(jnp.max(jnp.abs(f(p).multipliers))) - 1 for p in ps])
+    from ._critical import critical_speeds
+
+    f = jax.jit(floquet_fn)
     out = []
-    for i in range(n_scan - 1):
-        if not (np.isfinite(m[i]) and np.isfinite(m[i + 1])) or np.sign(m[i]) == np.sign(m[i + 1]):
-            continue
-        a, b, ma = ps[i], ps[i + 1], m[i]
-        while b - a > xtol * max(1.0, abs(b)):
-            c = 0.5 * (a + b)
-            mc = float(jnp.max(jnp.abs(f(c).multipliers))) - 1
-            if np.sign(mc) == np.sign(ma):
-                a, ma = c, mc
-            else:
-                b = c
-        p = 0.5 * (a + b)
-        r = f(p)
+    for c in critical_speeds(lambda p: jnp.max(jnp.abs(floquet_fn(p).multipliers)) - 1, lo, hi,
+                             n_scan=n_scan, xtol=xtol):
+        r = f(c.speed)
         mu = np.asarray(r.multipliers)
         k = int(np.argmin(np.abs(np.abs(mu) - 1)))
         ang = abs(np.angle(mu[k]))
         kind = "+1" if ang < 1e-3 else "-1" if abs(ang - np.pi) < 1e-3 else "complex pair"
-        out.append({"p": float(p), "kind": kind, "multiplier": [float(mu[k].real), float(mu[k].imag)],
+        out.append({"p": c.speed, "kind": kind, "multiplier": [float(mu[k].real), float(mu[k].imag)],
                     "residual": float(abs(abs(mu[k]) - 1)), "closure": float(r.closure),
-                    "liouville_error": float(r.liouville_error),
-                    "stable_side": "below" if m[i] < 0 else "above"})
+                    "liouville_error": float(r.liouville_error), "stable_side": c.stable_side})
     return out
 
 
