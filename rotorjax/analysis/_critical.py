@@ -28,12 +28,13 @@ class CriticalSpeed:
 
 
 def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
-                    xtol: float = 1e-10, chunk_size: int = 100) -> list:
+                    xtol: float = 1e-10, chunk_size: int = 100, return_scan: bool = False):
     """Scan `margin(speed)` (a JAX-traceable scalar function) over `[lo, hi]` with a
     vmapped sweep, then refine each sign change by bisection to `xtol`.
 
     A range with no sign change returns `[]`. Non-finite margins at scan points are
-    skipped (and make the bracket around them unusable).
+    skipped (and make the bracket around them unusable). With `return_scan`,
+    returns `(found, (speeds, margins))`, the scan included (for plots).
     """
     if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
         raise ValueError(f"the speed range must be finite and increasing, got ({lo}, {hi})")
@@ -61,7 +62,7 @@ def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
         slope = (mb - ma) / (b - a) if b > a else float("nan")
         out.append(CriticalSpeed(speed=float(speed), stable_side="above" if mb < 0 else "below",
                                  slope=float(slope), bracket=(float(a), float(b))))
-    return out
+    return (out, (speeds, m)) if return_scan else out
 
 
 def critical_speed_gradient(margin2: Callable, speed: float, param: float) -> float:

@@ -32,20 +32,22 @@ def _margin(state_matrix):
 
 
 def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
-                xtol: float = 1e-11) -> list:
+                xtol: float = 1e-11, return_scan: bool = False):
     """All speeds in `[lo, hi]` where the system `x' = A(speed) x` loses stability
     as the speed grows (a complex pair crossing to the right: a Hopf point of the
-    nonlinear system), from a scan of the margin `max Re lambda` and bisection."""
+    nonlinear system), from a scan of the margin `max Re lambda` and bisection.
+    With `return_scan`, returns `(points, (speeds, margins))`."""
     margin = _margin(state_matrix)
     out = []
-    for c in critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8):
+    found, scan = critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True)
+    for c in found:
         if c.stable_side != "below":
             continue
         lam = np.asarray(jnp.linalg.eigvals(state_matrix(jnp.float64(c.speed))))
         k = np.argmax(lam.real)
         out.append(HopfPoint(speed=c.speed, frequency=float(abs(lam[k].imag)), slope=c.slope,
                              margin_at_speed=float(lam[k].real)))
-    return out
+    return (out, scan) if return_scan else out
 
 
 def hopf_speed_gradient(state_matrix2: Callable, speed: float, param: float) -> float:

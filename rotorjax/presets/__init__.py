@@ -6,6 +6,7 @@ from . import _cantilever_limiters as cantilever_limiters
 from . import _flexible_abb as flexible_abb
 from . import _jeffcott_abb as jeffcott_abb
 from . import _ross_compare as ross_compare
+from .._errors import InputError
 from ._base import Preset as Preset
 
 PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross_compare.PRESET,
@@ -16,5 +17,5 @@ PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross
 def get(name: str) -> Preset:
     """The preset called `name`; an unknown name raises, listing the known ones."""
     if name not in PRESETS:
-        raise ValueError(f"unknown preset {name!r}; known: {', '.join(sorted(PRESETS))}")
+        raise InputError(f"unknown preset {name!r}; known: {', '.join(sorted(PRESETS))}")
     return PRESETS[name]

@@ -25,6 +25,7 @@ coordinates are their angles relative to the rotor, `psi_j = phi_j - n tau`.
 import jax
 import numpy as np
 
+from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
 from ..models import balancing_angles
 from ._base import Preset
@@ -62,11 +63,11 @@ def groups_from_si(rotor_mass, imbalance_mass, radius, n_weights, weight_mass, k
 
 def n_weights_from_sigma(sigma) -> int:
     if isinstance(sigma, jax.core.Tracer):
-        raise ValueError("sigma = 1/N sets the number of weights (the topology): it cannot be "
+        raise InputError("sigma = 1/N sets the number of weights (the topology): it cannot be "
                          "swept or differentiated; build one scene per N")
     n = int(round(1.0 / sigma)) if sigma > 0 else 0
     if n < 1 or abs(1.0 / sigma - n) > 1e-9:
-        raise ValueError(f"sigma must be 1/N for an integer number of weights N, got {sigma!r}")
+        raise InputError(f"sigma must be 1/N for an integer number of weights N, got {sigma!r}")
     return n
 
 
@@ -79,7 +80,7 @@ def si_from_groups(groups, K=1.0, Ms=1.0, wx=1.0, L=1.0) -> dict:
     m0 = g["c"] * nm
     M = Ms - nm - m0
     if not isinstance(M, jax.core.Tracer) and M <= 0:
-        raise ValueError(
+        raise InputError(
             f"eps={g['eps']}, c={g['c']}, K={K} leave no rotor mass: need K eps (1 + c) < 1"
         )
     return {
@@ -155,7 +156,7 @@ def _build(p):
     if p["n_dot"] != 0:
         t_end = (p["n_end"] - p["n0"]) / p["n_dot"]
         if t_end <= 0:
-            raise ValueError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
+            raise InputError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
     else:
         t_end = 200.0
     return scene, y0, t_end
@@ -178,6 +179,13 @@ PRESET = Preset(
         "K": "inertia factor (1 pendulum, 1.4 ball, 1.5 roller)",
         "perturbation": "initial deviation of the weights from the main motion (rad)",
     },
+    units={"n_eta": "dimensionless", "mu_xi": "dimensionless", "mu_eta": "dimensionless",
+           "sigma": "dimensionless", "c": "dimensionless", "eps": "dimensionless", "mu_w": "dimensionless",
+           "n": "dimensionless", "n_dot": "dimensionless", "n0": "dimensionless", "n_end": "dimensionless",
+           "K": "dimensionless", "perturbation": "rad"},
+    domains={"n_eta": ">0", "mu_xi": ">=0", "mu_eta": ">=0", "sigma": "(0,1]", "c": ">=0", "eps": "(0,1)",
+             "mu_w": ">=0", "n": ">0", "n_dot": "any", "n0": ">=0", "n_end": ">0", "K": ">0",
+             "perturbation": "any"},
     time_unit="1/wx", length_unit="L = N m R / Ms",
     speed_key="n",
     margin=lambda p: main_motion_floquet({k: p[k] for k in GROUPS}, p["n"], p["K"]).margin,

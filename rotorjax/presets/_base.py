@@ -1,9 +1,74 @@
-"""What a preset is: a published scene with named parameters and defaults."""
+"""What a preset is: a published scene with named parameters, defaults, units and
+valid ranges."""
 
 import dataclasses
+import re
 from typing import Callable
 
 import numpy as np
+
+from .._errors import InputError
+
+_INTERVAL = re.compile(r"^([\[(])\s*([-+.\deE]+|-inf)\s*,\s*([-+.\deE]+|inf)\s*([\])])$")
+_BOUND = re.compile(r"^(>=|>|<=|<)\s*([-+.\deE]+)$")
+
+
+def describe_domain(domain: str) -> str:
+    """A domain in words, e.g. `"int>=1"` -> `"an integer >= 1"`."""
+    if domain == "any":
+        return "any finite number"
+    if domain.startswith("{"):
+        return "one of " + ", ".join(v.strip() for v in domain.strip("{}").split(","))
+    if domain.startswith("int"):
+        rest = domain[3:].strip()
+        if rest == ">=0":
+            return "a non-negative integer"
+        return "an integer" + (f" {_spaced(rest)}" if rest else "")
+    if _INTERVAL.match(domain):
+        return f"in {domain}"
+    return _spaced(domain)
+
+
+def _spaced(bound: str) -> str:
+    m = _BOUND.match(bound)
+    return f"{m.group(1)} {m.group(2)}" if m else bound
+
+
+def _within(value: float, domain: str) -> bool:
+    if domain == "any":
+        return True
+    if domain.startswith("{"):
+        return value in [float(v) for v in domain.strip("{}").split(",")]
+    if domain.startswith("int"):
+        return value == int(value) and _within(value, domain[3:].strip() or "any")
+    m = _INTERVAL.match(domain)
+    if m:
+        lo, hi = float(m.group(2)), float(m.group(3))
+        return (value >= lo if m.group(1) == "[" else value > lo) and (
+            value <= hi if m.group(4) == "]" else value < hi)
+    m = _BOUND.match(domain)
+    if not m:
+        raise ValueError(f"unknown domain {domain!r}")
+    op, b = m.group(1), float(m.group(2))
+    return {">": value > b, ">=": value >= b, "<": value < b, "<=": value <= b}[op]
+
+
+def check_value(key: str, raw, domain: str, meaning: str = "", unit: str = ""):
+    """`raw` (a string or number) as a number in `domain`, or an `InputError`
+    `"key=raw: must be ... (meaning, unit)"` naming the key as the user gave it."""
+    what = ", ".join(s for s in (meaning, unit) if s)
+    where = f" ({what})" if what else ""
+    try:
+        value = float(raw)
+    except (TypeError, ValueError):
+        raise InputError(f"{key}={raw}: must be a number{where}") from None
+    if not np.isfinite(value):
+        raise InputError(f"{key}={raw}: must be finite{where}")
+    if not _within(value, domain):
+        raise InputError(f"{key}={raw}: must be {describe_domain(domain)}{where}")
+    if domain.startswith("int") or domain.startswith("{"):
+        value = int(value)
+    return value
 
 
 @dataclasses.dataclass(frozen=True)
@@ -15,6 +80,10 @@ class Preset:
     - `defaults`: the published parameter set; these names are the `--set` keys.
     - `build(params) -> (scene, y0, t_end)`: the scene in the paper's
       dimensionless units, its initial state and default end time.
+    - `describe_params`, `units`, `domains`: per key, its meaning, its unit
+      (`"dimensionless"`, `"rad"`, `"N/m"`, ...) and its valid values (`"any"`,
+      `">0"`, `">=0"`, `"int>=1"`, `"{0,1}"`, `"(0,1]"`); `params` checks every
+      value against its domain before anything is built.
     - `time_unit`, `length_unit`: what one dimensionless unit is.
     - `speed_key`: the parameter that is the (dimensionless) speed.
     - `margin(params) -> scalar`: stability margin of the preset's reference regime
@@ -36,25 +105,32 @@ class Preset:
     regime: str = ""
     topology_keys: tuple = ()
     kind: str = "planar"  # "planar" (a Scene), "flexible" (a FlexibleRotor) or "modal" (a ModalShaft)
+    units: dict = dataclasses.field(default_factory=dict)
+    domains: dict = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self):
+        missing = [k for k in self.defaults if k not in self.domains or k not in self.units]
+        if missing:
+            raise ValueError(f"preset {self.name!r}: no unit/domain for {missing}")
+
+    def check(self, key: str, raw):
+        """One value for `key`, checked against its domain (see `check_value`)."""
+        if key not in self.defaults:
+            raise InputError(f"unknown parameter {key!r} for preset {self.name!r}; "
+                             f"known: {', '.join(sorted(self.defaults))}")
+        return check_value(key, raw, self.domains[key], self.describe_params.get(key, ""),
+                           self.units[key])
 
     def params(self, overrides=None) -> dict:
-        """Defaults with `overrides` applied; unknown keys and non-numbers raise."""
+        """Defaults with `overrides` applied; unknown keys, non-numbers and values
+        outside a key's domain raise `InputError` naming the key."""
         params = dict(self.defaults)
         for key, value in (overrides or {}).items():
-            if key not in self.defaults:
-                raise ValueError(
-                    f"unknown parameter {key!r} for preset {self.name!r}; "
-                    f"known: {', '.join(sorted(self.defaults))}"
-                )
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"parameter {key!r} must be a number, got {value!r}") from None
-            if not np.isfinite(value):
-                raise ValueError(f"parameter {key!r} must be finite, got {value!r}")
-            if key in self.integer_keys:
-                if value != int(value) or value < 0:
-                    raise ValueError(f"parameter {key!r} must be a non-negative integer, got {value!r}")
-                value = int(value)
-            params[key] = value
+            params[key] = self.check(key, value)
         return params
+
+    def info(self) -> list:
+        """One dict per parameter: key, default, unit, valid values, meaning."""
+        return [{"key": k, "default": v, "unit": self.units[k],
+                 "valid": describe_domain(self.domains[k]), "meaning": self.describe_params.get(k, "")}
+                for k, v in self.defaults.items()]

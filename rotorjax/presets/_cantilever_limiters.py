@@ -9,6 +9,7 @@ groups `mu_R`, `beta`, `d_ratio` come from its geometry (`groups_from_si`).
 
 import numpy as np
 
+from .._errors import InputError
 from ..contact import CantileverScene, Limiters
 from ..flexible._cantilever import PAPER_SI, CantileverRotor, groups_from_si
 from ._base import Preset
@@ -44,9 +45,9 @@ def initial_state(scene, p):
 
 def _build(p):
     if not p["N"] > 0:
-        raise ValueError(f"N (spin speed) must be > 0: runs are measured in revolutions; got {p['N']}")
+        raise InputError(f"N (spin speed) must be > 0: runs are measured in revolutions; got {p['N']}")
     if p["revolutions"] < 1:
-        raise ValueError(f"revolutions must be >= 1, got {p['revolutions']}")
+        raise InputError(f"revolutions must be >= 1, got {p['revolutions']}")
     scene = build_scene(p)
     return scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"]
 
@@ -75,6 +76,18 @@ PRESET = Preset(
         "smoothing": "regularisation length of the smoothed contact (units l)",
         "revolutions": "run length in revolutions", "perturbation": "initial disk velocity kick",
     },
+    units={"N": "dimensionless", "eps": "dimensionless", "phase": "rad", "eta_i": "dimensionless",
+           "eta_e": "dimensionless", "eta_Dxi": "dimensionless", "eta_Dtheta": "dimensionless",
+           "mu_R": "dimensionless", "beta": "dimensionless", "d_ratio": "dimensionless",
+           "gamma": "dimensionless", "chi": "dimensionless", "kappa": "dimensionless",
+           "eta_S": "dimensionless", "f_S": "dimensionless", "n_limiters": "count", "alpha1": "rad",
+           "n_elements": "count", "n_modes": "count", "events": "flag", "smoothing": "dimensionless",
+           "revolutions": "count", "perturbation": "dimensionless"},
+    domains={"N": ">0", "eps": ">=0", "phase": "any", "eta_i": ">=0", "eta_e": ">=0", "eta_Dxi": ">=0",
+             "eta_Dtheta": ">=0", "mu_R": ">=0", "beta": ">=0", "d_ratio": ">0", "gamma": "any", "chi": ">0",
+             "kappa": ">0", "eta_S": ">=0", "f_S": ">=0", "n_limiters": "int>=0", "alpha1": "any",
+             "n_elements": "int>=1", "n_modes": "int>=0", "events": "{0,1}", "smoothing": ">0",
+             "revolutions": "int>=1", "perturbation": "any"},
     time_unit="T* = sqrt(M l^3 / EI) (0.0226 s)", length_unit="l (0.7 m)",
     integer_keys=("n_limiters", "n_elements", "n_modes", "events", "revolutions"),
     speed_key="N",

@@ -7,6 +7,7 @@ Defaults: the published critical-speed case, a point-mass disk (`Jt = Jp = 0`) w
 
 import jax.numpy as jnp
 
+from .._errors import InputError
 from ..flexible import ModalBalancerRotor, ModalShaft
 from ..models import ConstantSpeed
 from ._base import Preset
@@ -29,7 +30,7 @@ def _balanced_margin(p):
     from ..flexible import balanced_regime
 
     if int(p["n_balls"]) < 1:
-        raise ValueError("the balanced regime needs balls: --set n_balls=2")
+        raise InputError("the balanced regime needs balls: --set n_balls=2")
     return balanced_regime(build_balancer_rotor(p)).margin
 
 
@@ -49,6 +50,13 @@ PRESET = Preset(
         "ball_radius": "ball circle radius / r0", "ball_drag": "d_j / (m_j r_j^2 omega_1)",
         "omega": "speed / omega_1 (regimes, maps)",
     },
+    units={"m": "dimensionless", "z0": "dimensionless", "Jt": "dimensionless", "Jp": "dimensionless",
+           "d": "dimensionless", "m0": "dimensionless", "modes": "count", "paper_gyroscopics": "flag",
+           "n_balls": "count", "ball_mass": "dimensionless", "ball_radius": "dimensionless",
+           "ball_drag": "dimensionless", "omega": "dimensionless"},
+    domains={"m": ">0", "z0": "(0,1)", "Jt": ">=0", "Jp": ">=0", "d": ">=0", "m0": ">=0", "modes": "int>=1",
+             "paper_gyroscopics": "{0,1}", "n_balls": "int>=0", "ball_mass": ">0", "ball_radius": ">0",
+             "ball_drag": ">=0", "omega": ">0"},
     time_unit="1/omega_1", length_unit="r0 (lateral), l (axial)",
     integer_keys=("modes", "paper_gyroscopics", "n_balls"),
     speed_key="omega",

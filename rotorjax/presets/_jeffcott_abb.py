@@ -23,6 +23,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports, weights_at
 from ._base import Preset
 
@@ -91,7 +92,7 @@ def scene_from_groups(chi, eps, alpha, rho1, rho2, delta_n, delta_b, nu=1.5, nu_
 
 def _n_balls(n):
     if int(n) != n or n < 1:
-        raise ValueError(f"n_balls must be a positive integer, got {n!r}")
+        raise InputError(f"n_balls must be a positive integer, got {n!r}")
     return int(n)
 
 
@@ -104,12 +105,12 @@ def balanced_regime(p):
 
     rho1, rho2 = p["rho1"], p["rho2"]
     if not isinstance(rho1 - rho2, jax.core.Tracer) and rho1 != rho2:
-        raise ValueError("an elliptic race (rho1 != rho2) has no balanced regime (paper eqs. "
+        raise InputError("an elliptic race (rho1 != rho2) has no balanced regime (paper eqs. "
                          "15-17); use `rotorjax steady` to list its regimes")
     n = int(p["n_balls"])
     c = p["eps"] / (n * p["chi"] * rho1)
     if not isinstance(c, jax.core.Tracer) and c > 1:
-        raise ValueError(f"eps = {p['eps']} exceeds the balls' capacity n chi rho = "
+        raise InputError(f"eps = {p['eps']} exceeds the balls' capacity n chi rho = "
                          f"{n * p['chi'] * rho1}: there is no balanced regime")
     scene = scene_from_groups(p["chi"], p["eps"], p["alpha"], rho1, rho2, p["delta_n"],
                               p["delta_b"], nu=p["nu"], n_balls=n, K=p["K"])
@@ -136,7 +137,7 @@ def _build(p):
     if p["nu_dot"] != 0:
         t_end = (p["nu_end"] - p["nu0"]) / p["nu_dot"]
         if t_end <= 0:
-            raise ValueError(
+            raise InputError(
                 f"nu_end ({p['nu_end']}) must be beyond nu0 ({p['nu0']}) in the direction of nu_dot"
             )
     else:
@@ -163,6 +164,13 @@ PRESET = Preset(
         "psi1": "initial polar angle of ball 1 from the imbalance direction (rad)",
         "psi_spacing": "initial angular spacing of the balls (rad)",
     },
+    units={"chi": "dimensionless", "eps": "dimensionless", "alpha": "rad", "rho1": "dimensionless",
+           "rho2": "dimensionless", "delta_n": "dimensionless", "delta_b": "dimensionless",
+           "nu": "dimensionless", "nu_dot": "dimensionless", "nu0": "dimensionless", "nu_end": "dimensionless",
+           "n_balls": "count", "K": "dimensionless", "psi1": "rad", "psi_spacing": "rad"},
+    domains={"chi": ">0", "eps": ">=0", "alpha": "any", "rho1": ">0", "rho2": ">0", "delta_n": ">=0",
+             "delta_b": ">=0", "nu": ">0", "nu_dot": "any", "nu0": ">=0", "nu_end": ">0", "n_balls": "int>=0",
+             "K": ">0", "psi1": "any", "psi_spacing": "any"},
     time_unit="1/Omega", length_unit="r = (r1+r2)/2",
     integer_keys=("n_balls",),
     speed_key="nu",

@@ -8,11 +8,15 @@ and 6 with kxx = 1e6, kyy = 0.8e6 N/m, no damping. SI units (rad/s, m).
 import numpy as np
 
 from ..flexible import FlexibleRotor
+from .._errors import InputError
 from ._base import Preset
 
 
 def build_rotor(p) -> FlexibleRotor:
     n_el = int(p["n_elements"])
+    for key in ("disk1_node", "disk2_node"):
+        if not 0 <= int(p[key]) <= n_el:
+            raise InputError(f"{key}={p[key]}: the shaft has nodes 0..{n_el} (n_elements={n_el})")
     disk = (p["disk_mass"], p["disk_It"], p["disk_Ip"])
     return FlexibleRotor(
         np.full(n_el, p["shaft_length"] / n_el), p["shaft_diameter"], E=p["E"], G=p["G"],
@@ -39,12 +43,22 @@ PRESET = Preset(
     },
     build=_build,
     describe_params={
-        "shaft_length": "m", "n_elements": "shaft elements", "shaft_diameter": "m",
-        "E": "Pa", "G": "Pa", "rho": "kg/m^3", "disk_mass": "kg (each disk)",
-        "disk_It": "kg m^2", "disk_Ip": "kg m^2", "disk1_node": "node of disk 1",
-        "disk2_node": "node of disk 2", "kxx": "bearing stiffness N/m", "kyy": "N/m",
-        "cxx": "bearing damping N s/m", "cyy": "N s/m", "timoshenko": "1: Timoshenko, 0: Euler-Bernoulli",
+        "shaft_length": "shaft length", "n_elements": "shaft elements (equal lengths)",
+        "shaft_diameter": "shaft outer diameter", "E": "Young's modulus", "G": "shear modulus",
+        "rho": "density", "disk_mass": "mass of each disk", "disk_It": "transverse inertia of each disk",
+        "disk_Ip": "polar inertia of each disk", "disk1_node": "node of disk 1 (0..n_elements)",
+        "disk2_node": "node of disk 2 (0..n_elements)", "kxx": "bearing stiffness, x (both bearings)",
+        "kyy": "bearing stiffness, y", "cxx": "bearing damping, x", "cyy": "bearing damping, y",
+        "timoshenko": "1: Timoshenko, 0: Euler-Bernoulli",
     },
+    units={"shaft_length": "m", "n_elements": "count", "shaft_diameter": "m", "E": "Pa", "G": "Pa",
+           "rho": "kg/m^3", "disk_mass": "kg", "disk_It": "kg m^2", "disk_Ip": "kg m^2", "disk1_node": "node",
+           "disk2_node": "node", "kxx": "N/m", "kyy": "N/m", "cxx": "N s/m", "cyy": "N s/m",
+           "timoshenko": "flag"},
+    domains={"shaft_length": ">0", "n_elements": "int>=1", "shaft_diameter": ">0", "E": ">0", "G": ">0",
+             "rho": ">0", "disk_mass": ">=0", "disk_It": ">=0", "disk_Ip": ">=0", "disk1_node": "int>=0",
+             "disk2_node": "int>=0", "kxx": ">=0", "kyy": ">=0", "cxx": ">=0", "cyy": ">=0",
+             "timoshenko": "{0,1}"},
     time_unit="s", length_unit="m",
     integer_keys=("n_elements", "disk1_node", "disk2_node"),
     speed_key="speed",

@@ -1,0 +1,250 @@
+"""What every command shares: option types that check their values, the range and
+grid checks, output folders, presets with `--set`, progress bars.
+
+Every check raises `InputError` (exit 2) with one line that names the option,
+`--set` key, file, column or row as the user typed it, and what would be valid.
+"""
+
+import argparse
+import math
+import os
+import sys
+
+from .._errors import InputError, NumericalError  # noqa: F401  (re-exported for the commands)
+
+#: Commands that apply to each kind of preset (the message for a mismatch).
+KIND_COMMANDS = {
+    "planar": "a planar rotor: use `simulate`, `steady`, `critical-speeds`, `stability-map`, `continue`",
+    "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`",
+    "modal": "model 003's modal shaft: use `steady`, `critical-speeds`, `stability-map`, `continue`",
+    "contact": "model 004's rotor with limiters: use `simulate`, `hopf`, `bifurcation`, `critical-speeds`, "
+               "`stability-map`, `continue`",
+    "machine": "a balancing machine: use `balance`, `identify`",
+}
+
+
+# ---- option types (argparse reports their errors with the option's name, exit 2) ----
+
+def _number(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
+    return value
+
+
+def finite(text):
+    """A finite float."""
+    return _number(text)
+
+
+def positive(text):
+    """A finite float > 0."""
+    value = _number(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
+    return value
+
+
+def nonnegative(text):
+    """A finite float >= 0."""
+    value = _number(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
+
+
+def tolerance(text):
+    """A relative/absolute tolerance: 0 < tol < 1."""
+    value = _number(text)
+    if not 0 < value < 1:
+        raise argparse.ArgumentTypeError(f"must be in (0, 1), got {text!r}")
+    return value
+
+
+def at_least(lo):
+    """An integer >= `lo`."""
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < lo:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {lo}, got {text!r}")
+        return value
+    parse.__name__ = f"integer >= {lo}"
+    return parse
+
+
+# ---- ranges, grids, lists ----
+
+def check_range(option, lo, hi, positive_lo=False):
+    """`LO HI` of a speed or parameter range: finite, `LO < HI`, and `LO >= 0`
+    (`LO > 0` with `positive_lo`)."""
+    text = f"{option} {lo:g} {hi:g}"
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise InputError(f"{text}: LO and HI must be finite")
+    if positive_lo and not lo > 0:
+        raise InputError(f"{text}: LO must be > 0 (the speed)")
+    if not lo >= 0:
+        raise InputError(f"{text}: LO must be >= 0")
+    if not lo < hi:
+        raise InputError(f"{text}: need LO < HI")
+    return lo, hi
+
+
+def grid_spec(option, spec, preset, params, min_points=2, allowed=None):
+    """`KEY LO HI N` of a grid over one preset parameter: the key exists and can be
+    varied (not structural), `LO < HI` finite and inside the key's valid values,
+    `N >= min_points` an integer."""
+    key, lo, hi, n = spec
+    text = f"{option} {' '.join(spec)}"
+    if key not in preset.defaults:
+        raise InputError(f"{text}: unknown parameter {key!r} for {preset.name}; known: "
+                         f"{', '.join(sorted(preset.defaults))}")
+    if allowed is not None and key not in allowed:
+        raise InputError(f"{text}: {key!r} cannot be varied here; one of {', '.join(allowed)}")
+    if key in preset.topology_keys or key in preset.integer_keys:
+        raise InputError(f"{text}: {key!r} changes the scene's structure and cannot be varied")
+    values = []
+    for what, raw in (("LO", lo), ("HI", hi)):
+        try:
+            values.append(preset.check(key, raw))
+        except InputError as e:
+            raise InputError(f"{text}: {what} {e}") from None
+    lo, hi = values
+    if not lo < hi:
+        raise InputError(f"{text}: need LO < HI")
+    try:
+        n = int(n)
+    except ValueError:
+        raise InputError(f"{text}: the number of points must be an integer, got {spec[3]!r}") from None
+    if n < min_points:
+        raise InputError(f"{text}: the number of points must be >= {min_points}")
+    return key, float(lo), float(hi), n
+
+
+def int_list(option, text, lo=0):
+    """A comma-separated list of distinct integers >= `lo` (`--planes 0,1`)."""
+    try:
+        values = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise InputError(f"{option} {text}: expected comma-separated integers") from None
+    if not values:
+        raise InputError(f"{option} {text!r}: empty list")
+    if any(v < lo for v in values):
+        raise InputError(f"{option} {text}: values must be >= {lo}")
+    if len(set(values)) != len(values):
+        raise InputError(f"{option} {text}: a value is repeated")
+    return values
+
+
+def name_list(option, text, known):
+    """A comma-separated list of distinct names from `known` (`--fit k1,k2`)."""
+    names = [v.strip() for v in text.split(",") if v.strip()]
+    if not names:
+        raise InputError(f"{option} {text!r}: empty list; choose from {', '.join(known)}")
+    unknown = [v for v in names if v not in known]
+    if unknown:
+        raise InputError(f"{option} {text}: unknown {', '.join(map(repr, unknown))}; choose from "
+                         f"{', '.join(known)}")
+    repeated = sorted({v for v in names if names.count(v) > 1})
+    if repeated:
+        raise InputError(f"{option} {text}: {', '.join(repeated)} given more than once")
+    return tuple(names)
+
+
+# ---- output ----
+
+def prepare_out(path, option="--out"):
+    """Create the output folder `path` (before any computing) or say why it cannot be."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise InputError(f"{option} {path}: exists and is not a folder")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"{option} {path}: cannot create the folder ({e.strerror})") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise InputError(f"{option} {path}: the folder is not writable")
+    return path
+
+
+# ---- presets ----
+
+def parse_sets(items):
+    """`--set KEY=VALUE` items as a dict; repeated keys keep the last."""
+    out = {}
+    for item in items or ():
+        if "=" not in item:
+            raise InputError(f"--set expects KEY=VALUE, got {item!r}")
+        key, value = item.split("=", 1)
+        if not key.strip():
+            raise InputError(f"--set {item!r}: empty KEY")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def preset_params(preset, sets, extra=None):
+    """The preset's parameters with `--set` (and `extra`, e.g. `{speed_key: --speed}`)
+    applied, every value checked against its domain."""
+    try:
+        params = preset.params(parse_sets(sets))
+    except InputError as e:
+        raise InputError(f"--set {e}") from None
+    for key, (option, value) in (extra or {}).items():
+        try:
+            params[key] = preset.check(key, value)
+        except InputError as e:
+            raise InputError(f"{option} {value:g}: {str(e).split(': ', 1)[1]}") from None
+    return params
+
+
+def get_preset(name):
+    from .. import presets
+
+    if name not in presets.PRESETS:
+        raise InputError(f"unknown preset {name!r}; known: {', '.join(sorted(presets.PRESETS))} "
+                         "(`rotorjax presets` lists them)")
+    return presets.PRESETS[name]
+
+
+def wrong_kind(preset, command):
+    return InputError(f"`{command}` does not apply to {preset.name!r}, {KIND_COMMANDS[preset.kind]}")
+
+
+def preset_and_params(args, command, kinds, extra=None):
+    """The preset named on the command line, checked to be of one of `kinds`,
+    and its parameters with the `--set` overrides applied."""
+    preset = get_preset(args.preset)
+    if isinstance(kinds, str):
+        kinds = (kinds,)
+    if preset.kind not in kinds:
+        raise wrong_kind(preset, command)
+    return preset, preset_params(preset, args.set, extra)
+
+
+def build(preset, params):
+    """`preset.build(params)`; an invalid combination of values is bad input."""
+    try:
+        return preset.build(params)
+    except ZeroDivisionError:
+        raise InputError(f"{preset.name}: the --set values make a degenerate scene (a division by zero)") \
+            from None
+
+
+# ---- presenting ----
+
+def progress(total, desc, enabled=True):
+    """A tqdm bar on stderr (a no-op object when disabled)."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc=desc, disable=not enabled, file=sys.stderr, leave=False)
+
+
+def write_json(path, obj, **kwargs):
+    import json
+
+    with open(path, "w") as f:
+        json.dump(obj, f, **kwargs)

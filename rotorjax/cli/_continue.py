@@ -1,0 +1,192 @@
+"""`continue`: a branch in one parameter, or a stability boundary in two."""
+
+import json
+import os
+
+import numpy as np
+
+from ._common import InputError, get_preset, preset_params, prepare_out, write_json
+
+
+def _branch_problem(preset, params, key):
+    """`(F(u, v), u0)` of the preset's stationary reference regime, for
+    one-parameter continuation in `key` (elliptic-abb: the balanced regime of a
+    circular race, in the rotating frame); None for presets without one."""
+    if preset.name != "elliptic-abb":
+        return None
+    from rotorjax.analysis import rotating_field
+    from rotorjax.presets import jeffcott_abb as ja
+
+    regime = ja.balanced_regime(params)
+    if not bool(regime.converged):
+        raise InputError(f"no balanced regime at the starting parameters (residual {float(regime.residual):.2e})")
+
+    def F(u, v):
+        q = dict(params, **{key: v})
+        scene = ja.scene_from_groups(q["chi"], q["eps"], q["alpha"], q["rho1"], q["rho2"], q["delta_n"],
+                                     q["delta_b"], nu=q["nu"], n_balls=params["n_balls"], K=q["K"])
+        return rotating_field(scene, 0.0, u)
+
+    return F, np.asarray(regime.z)
+
+
+def _check_key(preset, option, key):
+    if key not in preset.defaults:
+        raise InputError(f"{option} {key}: unknown parameter for {preset.name}; known: "
+                         f"{', '.join(sorted(preset.defaults))}")
+    if key in preset.topology_keys + preset.integer_keys:
+        raise InputError(f"{option} {key}: {key!r} changes the scene's structure: it cannot be continued")
+
+
+def _direction(text):
+    return {"both": None, "up": 1.0, "+1": 1.0, "1": 1.0, "down": -1.0, "-1": -1.0}[text]
+
+
+def _box(preset, args, key, key2, start):
+    """The parameter box of a boundary: `--box`, or by default from the start
+    halved/doubled within each key's valid values."""
+    if args.box is not None:
+        lo1, hi1, lo2, hi2 = args.box
+        for option_part, lo, hi, k in (("LO1 HI1", lo1, hi1, key), ("LO2 HI2", lo2, hi2, key2)):
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+                raise InputError(f"--box {' '.join(f'{v:g}' for v in args.box)}: {option_part} ({k}) need "
+                                 "finite LO < HI")
+            for v in (lo, hi):
+                try:
+                    preset.check(k, v)
+                except InputError as e:
+                    raise InputError(f"--box: {e}") from None
+        return [lo1, hi1, lo2, hi2], "--box"
+    box = []
+    for k, v in ((key, start[0]), (key2, start[1])):
+        lo, hi = (0.5 * v, 2.0 * v) if v > 0 else (v - 1.0, v + 1.0) if v != 0 else (-1.0, 1.0)
+        if preset.domains[k] in (">0", ">=0") and lo < 0:
+            lo = 0.0
+        box += [lo, hi]
+    return box, "default (start halved and doubled)"
+
+
+def _param_range(preset, key, to, start):
+    """`--to LO HI` checked (finite, LO < HI, inside the key's valid values), or
+    by default the start halved and doubled."""
+    if to is None:
+        lo, hi = sorted((0.5 * start, 2.0 * start)) if start != 0 else (-1.0, 1.0)
+        return (lo, hi), "default (start halved and doubled)"
+    lo, hi = to
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise InputError(f"--to {lo:g} {hi:g}: need finite LO < HI")
+    for v in (lo, hi):
+        try:
+            preset.check(key, v)
+        except InputError as e:
+            raise InputError(f"--to {lo:g} {hi:g}: {e}") from None
+    return (lo, hi), "--to"
+
+
+def cmd_continue(args) -> int:
+    from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundary
+    from rotorjax.plot import plot_curves
+
+    preset = get_preset(args.preset)
+    params = preset_params(preset, args.set)
+    key, key2 = args.param, args.param2
+    _check_key(preset, "--param", key)
+    if key2 is not None:
+        _check_key(preset, "--param2", key2)
+        if key2 == key:
+            raise InputError(f"--param {key} --param2 {key2}: the two parameters must differ")
+    n_start = 2 if key2 else 1
+    if args.start is not None and len(args.start) != n_start:
+        raise InputError(f"--from needs {n_start} value(s): {key}" + (f" {key2}" if key2 else "")
+                         + f"; got {len(args.start)}")
+    start = list(args.start) if args.start else [params[key]] + ([params[key2]] if key2 else [])
+    for k, v in zip((key, key2), start):
+        try:
+            preset.check(k, v)
+        except InputError as e:
+            raise InputError(f"--from: {e}") from None
+    if args.ds_max < args.ds:
+        raise InputError(f"--ds {args.ds:g} --ds-max {args.ds_max:g}: need DS <= DS_MAX")
+    if key2 and args.to is not None:
+        raise InputError("--to is for one-parameter continuation; a boundary takes --box")
+    if not key2 and args.box is not None:
+        raise InputError("--box is for a boundary (--param2); one-parameter continuation takes --to")
+    direction = _direction(args.direction)
+    prepare_out(args.out)
+    stem = os.path.join(args.out, f"continue_{preset.name}_{key}" + (f"_{key2}" if key2 else ""))
+    out = {"preset": preset.name, "param": key, "param2": key2, "start": start}
+    if key2:
+        if preset.margin is None:
+            raise InputError(f"{preset.name!r} has no reference regime whose boundary could be traced")
+        gradient = args.gradient if args.gradient != "auto" else (
+            "fd" if preset.name == "anisotropic-abb" else "autodiff")
+        box, box_source = _box(preset, args, key, key2, start)
+
+        def sigma(a, b):
+            return preset.margin(dict(params, **{key: a, key2: b}))
+
+        curve = trace_boundary(sigma, start, bounds=(np.array([box[0], box[2]]), np.array([box[1], box[3]])),
+                               ds=args.ds, ds_max=args.ds_max, max_points=args.max_points, gradient=gradient,
+                               direction=None if direction is None else (0.0, direction))
+        out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime,
+                    "box": box, "box_source": box_source,
+                    key: curve.x[:, 0].tolist(), key2: curve.x[:, 1].tolist(),
+                    "residuals": curve.residuals.tolist(), "steps": curve.steps.tolist(),
+                    "stopped": curve.stopped, "stops": list(getattr(curve, "stops", ()) or ()),
+                    "gradient": gradient})
+        np.savetxt(stem + ".csv", np.column_stack([curve.x, curve.residuals]), delimiter=",",
+                   header=f"{key},{key2},residual", comments="")
+        plot_curves(curve.x[:, 0], {"boundary": curve.x[:, 1]}, stem + ".png", key, key2,
+                    title=f"{preset.name}: stability boundary of {preset.regime}")
+    elif preset.name == "anisotropic-abb":
+        from rotorjax.presets import anisotropic_abb as ab
+
+        (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
+
+        def fl(v):
+            q = dict(params, **{key: v})
+            return ab.main_motion_floquet({k: q[k] for k in ab.GROUPS}, q["n"], q["K"])
+
+        found = floquet_crossings(fl, lo, hi, n_scan=args.max_points if args.max_points < 400 else 60)
+        out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi], "crossings": found})
+        with open(stem + ".csv", "w") as f:
+            f.write(f"{key},kind,residual\n")
+            for c in found:
+                f.write(f"{c['p']},{c['kind']},{c['residual']}\n")
+    else:
+        prob = _branch_problem(preset, params, key)
+        if prob is None:
+            raise InputError(f"{preset.name!r} has no stationary branch to continue in one parameter; trace a "
+                             "boundary with --param2, or use `critical-speeds` / `hopf`")
+        F, u0 = prob
+        (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
+        if not lo <= start[0] <= hi:
+            raise InputError(f"--to {lo:g} {hi:g}: the start {key} = {start[0]:g} lies outside")
+        out["range"] = [lo, hi]
+        br = continue_branch(F, u0, start[0], p_bounds=(lo, hi), ds=args.ds, ds_max=args.ds_max,
+                             max_points=args.max_points, direction=direction)
+        out.update({"kind": "branch of the balanced regime (rotating frame)", **br.as_dict(),
+                    "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()})
+        np.savetxt(stem + ".csv", np.column_stack([br.p, br.margin, br.curve.residuals]), delimiter=",",
+                   header=f"{key},margin,residual", comments="")
+        plot_curves(br.p, {"largest real part": br.margin}, stem + ".png", key, "margin",
+                    title=f"{preset.name}: branch in {key}")
+    out["files"] = {"data": stem + ".csv", "summary": stem + ".json"}
+    if os.path.exists(stem + ".png"):
+        out["files"]["plot"] = stem + ".png"
+    write_json(stem + ".json", out, indent=2)
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    print(f"{preset.name}: {out['kind']}; wrote {stem}.csv, .json")
+    if "range" in out:
+        print(f"  {key} in [{out['range'][0]:g}, {out['range'][1]:g}] ({out['range_source']})")
+    if "box" in out:
+        b = out["box"]
+        print(f"  box {key} in [{b[0]:g}, {b[1]:g}], {key2} in [{b[2]:g}, {b[3]:g}] ({out['box_source']})")
+        print(f"  {len(out[key])} points")
+    for c in out.get("crossings", []) + out.get("events", []):
+        print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e})")
+    if "stopped" in out:
+        print(f"  stopped: {out['stopped']}")
+    return 0

@@ -1,0 +1,237 @@
+"""The parser and the exit codes: 0 success, 2 bad input, 3 numerical failure,
+1 an unexpected internal error (one line; `--debug` shows the traceback)."""
+
+import argparse
+import sys
+
+from ._balance import FITTABLE, cmd_balance, cmd_identify
+from ._common import InputError, NumericalError, at_least, finite, nonnegative, positive, tolerance
+from ._contact import SWEEPABLE, cmd_bifurcation
+from ._continue import cmd_continue
+from ._flexible import cmd_campbell, cmd_response
+from ._info import cmd_data, cmd_demo, cmd_presets
+from ._simulate import cmd_simulate
+from ._stability import HOPF_RANGE, cmd_critical_speeds, cmd_hopf, cmd_stability_map, cmd_steady
+
+PRESET_NAMES = ("elliptic-abb", "anisotropic-abb", "ross-compare", "flexible-abb", "cantilever-limiters",
+                "balancing-machine")
+SOLVERS = ("auto", "dopri8", "dopri5", "tsit5", "kvaerno5", "kvaerno3")
+
+
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    """Helps with each option's default appended (when it has one)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if "%(default)" not in text and action.default not in (None, False, argparse.SUPPRESS) \
+                and action.option_strings:
+            text += " (default: %(default)s)"
+        return text
+
+
+def _debug_flag(p):
+    p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                   help="show the Python traceback of an internal error")
+
+
+def _common_flags(p, out=True, json_help="print the result as JSON on stdout"):
+    p.add_argument("--json", action="store_true", help=json_help)
+    if out:
+        p.add_argument("--out", default="rotorjax-out", metavar="DIR",
+                       help="folder for the plots and data files (created if absent)")
+    _debug_flag(p)
+
+
+def _command(sub, name, help, fn, flags=(), kinds="", description=None):
+    """A subcommand on a preset, with the shared `--set`, `--json`, `--out`."""
+    p = sub.add_parser(name, help=help, formatter_class=_Formatter,
+                       description=(description or help) + (f"\n\nApplies to: {kinds}." if kinds else "")
+                       + "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
+    p.add_argument("preset", metavar="PRESET",
+                   help=f"one of: {', '.join(PRESET_NAMES)} (`rotorjax presets NAME` lists its --set keys)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a preset parameter, in the preset's units (repeatable); "
+                        "`rotorjax presets PRESET` lists the keys, units and valid values")
+    _common_flags(p)
+    for args, kwargs in flags:
+        p.add_argument(*args, **kwargs)
+    p.set_defaults(fn=fn)
+    return p
+
+
+def _range(required=True, help="speed range"):
+    return (("--range",), dict(type=finite, nargs=2, metavar=("LO", "HI"), required=required,
+                               default=None, help=help))
+
+
+def _integration(max_steps):
+    return [
+        (("--solver",), dict(default="auto", choices=SOLVERS,
+                             help="ODE solver; auto picks Dopri8, or Kvaerno5 for stiff scenes")),
+        (("--rtol",), dict(type=tolerance, default=1e-8, help="relative tolerance of the step-size control")),
+        (("--atol",), dict(type=tolerance, default=1e-10, help="absolute tolerance (state units)")),
+        (("--max-steps",), dict(type=at_least(1), default=max_steps,
+                                help="step budget; reaching it is reported as a failure (exit 3)")),
+    ]
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(
+        prog="rotorjax", formatter_class=_Formatter,
+        description="Differentiable rotordynamics: published rotor models, their stationary regimes, "
+                    "stability, simulation, balancing and identification.\n\n`rotorjax presets` lists the "
+                    "presets; `rotorjax COMMAND --help` explains a command's options.",
+        epilog="Exit codes: 0 success, 2 bad input, 3 numerical failure, 1 internal error.")
+    parser.add_argument("--debug", action="store_true", help="show the Python traceback of an internal error")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _command(sub, "simulate", "simulate a preset scene in time", cmd_simulate, [
+        (("--t-end",), dict(type=positive, default=None,
+                            help="end time in the preset's time unit (default: the preset's)")),
+        *_integration(500_000),
+        (("--n-save",), dict(type=at_least(2), default=None,
+                             help="saved states (default 4000; cantilever-limiters: 40 per revolution)")),
+    ], kinds="elliptic-abb, anisotropic-abb, cantilever-limiters")
+    _command(sub, "steady", "all stationary regimes at a speed (rotating frame)", cmd_steady, [
+        (("--speed",), dict(type=finite, required=True,
+                            help="the preset's (dimensionless) speed: nu, n or omega")),
+        (("--n-angles",), dict(type=at_least(1), default=16, help="starting guesses per weight angle")),
+    ], kinds="elliptic-abb, flexible-abb (with --set n_balls=2)")
+    _command(sub, "critical-speeds", "speeds where stability changes (planar, contact) or 1x crossings "
+             "(flexible)", cmd_critical_speeds, [
+                 _range(help="speed range, in the preset's speed unit (rad/s for ross-compare)"),
+                 (("--n-scan",), dict(type=at_least(2), default=200,
+                                      help="scan points before bisection (roots closer than a scan step "
+                                           "may be missed)")),
+                 (("--modes",), dict(type=at_least(1), default=None,
+                                     help="modes tracked (ross-compare, default 8) or shaft modes "
+                                          "(flexible-abb)")),
+                 (("--exact",), dict(action="store_true", help="flexible-abb: the closed-form equation (17)")),
+             ], kinds="elliptic-abb, anisotropic-abb, ross-compare, flexible-abb, cantilever-limiters")
+    _command(sub, "stability-map", "stability margin over a 2-D parameter grid", cmd_stability_map, [
+        (("--x",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NX"), required=True,
+                        help="the x axis: a --set key, its range and number of points (>= 2)")),
+        (("--y",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NY"), required=True,
+                        help="the y axis: a --set key, its range and number of points (>= 2)")),
+        (("--chunk",), dict(type=at_least(1), default=32, help="grid points per vmapped call")),
+    ], kinds="elliptic-abb, anisotropic-abb, flexible-abb, cantilever-limiters")
+    _command(sub, "campbell", "Campbell diagram of a flexible rotor", cmd_campbell, [
+        _range(help="speed range, rad/s (LO >= 0)"),
+        (("--n-speeds",), dict(type=at_least(2), default=100, help="speeds in the range")),
+        (("--modes",), dict(type=at_least(1), default=8, help="modes shown")),
+        (("--reduce",), dict(type=int, default=None, metavar="N",
+                             help="reduce to the N lowest undamped modes first (ReducedRotor)")),
+    ], kinds="ross-compare")
+    _command(sub, "response", "unbalance response of a flexible rotor", cmd_response, [
+        _range(help="speed range, rad/s (LO > 0)"),
+        (("--n",), dict(type=at_least(2), default=2000, help="number of speeds")),
+        (("--node",), dict(type=at_least(0), default=2, help="node of the unbalance")),
+        (("--probe",), dict(type=at_least(0), default=2, help="node where the response is read")),
+        (("--unbalance",), dict(type=positive, default=1e-3, help="unbalance magnitude, kg m")),
+        (("--phase",), dict(type=finite, default=0.0, help="unbalance phase, rad")),
+        (("--reduce",), dict(type=int, default=None, metavar="N",
+                             help="reduce to the N lowest undamped modes first (ReducedRotor)")),
+    ], kinds="ross-compare")
+    _command(sub, "hopf", "Hopf point of straight-line rotation (internal friction)", cmd_hopf, [
+        _range(required=False, help=f"spin-speed range N, units 1/T* (default: {HOPF_RANGE[0]:g} "
+                                    f"{HOPF_RANGE[1]:g})"),
+        (("--n-scan",), dict(type=at_least(2), default=80, help="scan points before bisection")),
+    ], kinds="cantilever-limiters")
+    _command(sub, "bifurcation", "extrema diagram over a swept parameter (vmapped)", cmd_bifurcation, [
+        (("--param",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NP"), required=True,
+                            help=f"the swept --set key (one of {', '.join(SWEEPABLE)}), its range and number "
+                                 "of points (>= 2)")),
+        *_integration(1_000_000),
+        (("--chunk",), dict(type=at_least(1), default=None,
+                            help="lanes per vmapped call (default: up to 16, so that progress shows)")),
+    ], kinds="cantilever-limiters")
+    _command(sub, "continue", "continuation: a branch in one parameter, or a stability boundary in two",
+             cmd_continue, [
+                 (("--param",), dict(required=True, metavar="KEY", help="the continued --set key")),
+                 (("--param2",), dict(default=None, metavar="KEY",
+                                      help="second --set key: trace the stability boundary in (KEY, KEY2)")),
+                 (("--from",), dict(dest="start", type=finite, nargs="+", default=None, metavar="VALUE",
+                                    help="starting value(s) of --param (and --param2) (default: the preset's)")),
+                 (("--to",), dict(type=finite, nargs=2, default=None, metavar=("LO", "HI"),
+                                  help="range of --param, one-parameter continuation (default: the start "
+                                       "halved and doubled)")),
+                 (("--box",), dict(type=finite, nargs=4, default=None, metavar=("LO1", "HI1", "LO2", "HI2"),
+                                   help="parameter box of a boundary (default: the start halved and doubled)")),
+                 (("--ds",), dict(type=positive, default=0.02, help="first arclength step (parameter units)")),
+                 (("--ds-max",), dict(type=positive, default=0.2, help="largest arclength step")),
+                 (("--max-points",), dict(type=at_least(2), default=200, help="points per direction at most")),
+                 (("--direction",), dict(default="both", choices=("both", "up", "down", "+1", "-1", "1"),
+                                         help="trace from the start both ways, or towards increasing (up) "
+                                              "or decreasing (down) --param2 (--param for a branch)")),
+                 (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"),
+                                        help="tangents by autodiff or central differences (Floquet margins)")),
+             ], kinds="all presets with a reference regime")
+    bal = sub.add_parser("balance", help="correction weights from runs with trial weights",
+                         formatter_class=_Formatter,
+                         description="Influence-coefficient balancing at one speed from a measurement file "
+                                     "(time, tacho, x1, x2, ..., run, trial_plane, trial_unbalance, trial_angle)."
+                                     "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
+    bal.add_argument("--runs", default=None, metavar="FILE",
+                     help="CSV/.npz of runs, or a shipped dataset name (`rotorjax data list`; "
+                          "default: balancing-runs)")
+    bal.add_argument("--planes", default=None, help="comma-separated plane numbers (default: all trial planes)")
+    bal.add_argument("--radius", type=positive, default=0.01, help="correction radius, m")
+    bal.add_argument("--holes", type=int, default=None, metavar="N",
+                     help="split each correction onto the two nearest of N equally spaced holes (N >= 2)")
+    bal.add_argument("--rotor-mass", type=positive, default=10.0, help="rotor mass for the ISO grade, kg")
+    _common_flags(bal)
+    bal.set_defaults(fn=cmd_balance)
+    _command(sub, "identify", "identify support stiffness/damping from measured vibration", cmd_identify, [
+        (("--data",), dict(default=None, metavar="FILE",
+                           help="run-up CSV/.npz, or a shipped dataset name (`rotorjax data list`; default: "
+                                "runup)")),
+        (("--fit",), dict(default="k1,k2,c1,c2", help=f"comma-separated parameters to fit, from "
+                                                      f"{', '.join(FITTABLE)}; the others stay at --set values")),
+        (("--fit-unbalance",), dict(action="store_true", help="also fit the unbalances (else the preset's)")),
+        (("--block",), dict(type=at_least(1), default=1, help="revolutions per 1x estimate")),
+        (("--min-speed",), dict(type=nonnegative, default=0.0, help="drop revolutions below this speed, rad/s")),
+    ], kinds="balancing-machine")
+    data = sub.add_parser("data", help="the shipped measurement datasets", formatter_class=_Formatter,
+                          description="`rotorjax data list` lists the shipped datasets; `rotorjax data path NAME` "
+                                      "prints a dataset's file path. `--data NAME` / `--runs NAME` take the "
+                                      "names directly.")
+    data.add_argument("action", choices=("list", "path"), help="list the datasets, or print one's path")
+    data.add_argument("name", nargs="?", default=None, help="dataset name (for `path`)")
+    _debug_flag(data)
+    data.set_defaults(fn=cmd_data)
+    demo = sub.add_parser("demo", help="a short representative study with plots", formatter_class=_Formatter)
+    demo.add_argument("--out", default="rotorjax-out", metavar="DIR", help="folder for the plots and summary")
+    _debug_flag(demo)
+    demo.set_defaults(fn=cmd_demo)
+    pre = sub.add_parser("presets", help="list presets, or one preset's --set keys", formatter_class=_Formatter)
+    pre.add_argument("name", nargs="?", default=None, metavar="PRESET",
+                     help=f"one of: {', '.join(PRESET_NAMES)} (default: all, briefly)")
+    pre.add_argument("--json", action="store_true", help="print the listing as JSON")
+    _debug_flag(pre)
+    pre.set_defaults(fn=cmd_presets)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # --help (0) or a usage error argparse has printed (2)
+        return e.code if isinstance(e.code, int) else 2
+    try:
+        return args.fn(args)
+    except NumericalError as e:
+        print(f"rotorjax: numerical failure: {e}", file=sys.stderr)
+        return 3
+    except (InputError, ValueError) as e:
+        print(f"rotorjax: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("rotorjax: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - the last line of defence: no traceback reaches a user
+        if getattr(args, "debug", False):
+            raise
+        first = str(e).strip().splitlines()[0] if str(e).strip() else ""
+        print(f"rotorjax: internal error: {type(e).__name__}: {first[:300]} (rerun with --debug for the "
+              "traceback, and please report it)", file=sys.stderr)
+        return 1

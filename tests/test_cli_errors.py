@@ -1,0 +1,292 @@
+"""Every command meets bad input with exit 2 and one line naming the culprit
+(option, `--set` key, file, column or row), never a traceback; numerical failures
+exit 3; an unexpected internal error is one line with a `--debug` hint.
+
+One table: (argv, exit code, a regex the error line must match). Files are made in
+a temporary folder; `{d}` in an argument is that folder."""
+
+import re
+
+import numpy as np
+import pytest
+
+from rotorjax.cli import main
+from rotorjax.identify import BALANCING_RUNS
+
+S, A, R, F, C, B = ("simulate", "elliptic-abb"), ("anisotropic-abb",), ("ross-compare",), ("flexible-abb",), \
+    ("cantilever-limiters",), ("balancing-machine",)
+
+CASES = [
+    # --- simulate: presets and --set ---
+    (["simulate", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
+    ([*S, "--set", "zeta=1"], 2, r"unknown parameter 'zeta'"),
+    ([*S, "--set", "chi"], 2, r"--set expects KEY=VALUE, got 'chi'"),
+    ([*S, "--set", "=1"], 2, r"--set '=1': empty KEY"),
+    ([*S, "--set", "chi=abc"], 2, r"--set chi=abc: must be a number"),
+    ([*S, "--set", "chi=nan"], 2, r"--set chi=nan: must be finite"),
+    ([*S, "--set", "chi=inf"], 2, r"--set chi=inf: must be finite"),
+    ([*S, "--set", "chi=-1"], 2, r"--set chi=-1: must be > 0 \(ball mass / disk mass"),
+    ([*S, "--set", "chi=0"], 2, r"--set chi=0: must be > 0"),
+    ([*S, "--set", "rho1=-1"], 2, r"--set rho1=-1: must be > 0"),
+    ([*S, "--set", "delta_n=-1"], 2, r"--set delta_n=-1: must be >= 0"),
+    ([*S, "--set", "n_balls=1.5"], 2, r"--set n_balls=1.5: must be a non-negative integer"),
+    ([*S, "--set", "n_balls=-1"], 2, r"--set n_balls=-1"),
+    ([*S, "--set", "nu=0"], 2, r"--set nu=0: must be > 0"),
+    ([*S, "--set", "nu_dot=-0.1"], 2, r"nu_end .* must be beyond nu0"),
+    (["simulate", *A, "--set", "eps=0"], 2, r"--set eps=0: must be in \(0,1\)"),
+    (["simulate", *A, "--set", "n_eta=-1"], 2, r"--set n_eta=-1: must be > 0"),
+    (["simulate", *A, "--set", "sigma=0.4"], 2, r"sigma must be 1/N"),
+    (["simulate", *A, "--set", "eps=0.5", "--set", "c=1"], 2, r"eps=0.5, c=1.0, K=1.0 leave no rotor mass"),
+    (["simulate", *C, "--set", "revolutions=0"], 2, r"--set revolutions=0: must be an integer >= 1"),
+    (["simulate", *C, "--set", "chi=0"], 2, r"--set chi=0: must be > 0 \(limiter clearance"),
+    (["simulate", *C, "--set", "events=2"], 2, r"--set events=2: must be one of 0, 1"),
+    (["simulate", *C, "--set", "n_modes=-1"], 2, r"--set n_modes=-1"),
+    (["simulate", *C, "--set", "smoothing=0"], 2, r"--set smoothing=0"),
+    (["simulate", *R], 2, r"`simulate` does not apply to 'ross-compare'"),
+    (["simulate", *B], 2, r"`simulate` does not apply to 'balancing-machine'.*use `balance`, `identify`"),
+    # --- simulate: options ---
+    ([*S, "--t-end", "-3"], 2, r"argument --t-end: must be > 0"),
+    ([*S, "--t-end", "nan"], 2, r"argument --t-end: must be finite"),
+    ([*S, "--t-end", "abc"], 2, r"argument --t-end: expected a number"),
+    ([*S, "--n-save", "0"], 2, r"argument --n-save: must be an integer >= 2"),
+    ([*S, "--n-save", "1.5"], 2, r"argument --n-save: expected an integer"),
+    ([*S, "--rtol", "0"], 2, r"argument --rtol: must be in \(0, 1\)"),
+    ([*S, "--rtol", "2"], 2, r"argument --rtol"),
+    ([*S, "--atol", "-1"], 2, r"argument --atol"),
+    ([*S, "--max-steps", "0"], 2, r"argument --max-steps: must be an integer >= 1"),
+    ([*S, "--solver", "rk99"], 2, r"argument --solver: invalid choice: 'rk99'"),
+    ([*S, "--out", "{d}/afile"], 2, r"--out .*afile: exists and is not a folder"),
+    # --- steady ---
+    (["steady", "elliptic-abb"], 2, r"the following arguments are required: --speed"),
+    (["steady", "elliptic-abb", "--speed", "-1"], 2, r"--speed -1: must be > 0"),
+    (["steady", "elliptic-abb", "--speed", "nan"], 2, r"argument --speed: must be finite"),
+    (["steady", "elliptic-abb", "--speed", "abc"], 2, r"argument --speed: expected a number"),
+    (["steady", "elliptic-abb", "--speed", "1", "--n-angles", "0"], 2, r"argument --n-angles"),
+    (["steady", *R, "--speed", "1"], 2, r"`steady` does not apply to 'ross-compare'"),
+    (["steady", *A, "--speed", "3"], 2, r"Floquet"),
+    (["steady", *F, "--speed", "1.2"], 2, r"--set n_balls=0: .*need balls"),
+    (["steady", *F, "--speed", "1.2", "--set", "ball_mass=-1"], 2, r"--set ball_mass=-1: must be > 0"),
+    # --- critical-speeds ---
+    (["critical-speeds", *A, "--range", "0", "0"], 2, r"--range 0 0: LO must be > 0"),
+    (["critical-speeds", *A, "--range", "5", "4"], 2, r"--range 5 4: need LO < HI"),
+    (["critical-speeds", *A, "--range", "nan", "4"], 2, r"argument --range: must be finite"),
+    (["critical-speeds", *R, "--range", "-1", "4"], 2, r"--range -1 4: LO must be >= 0"),
+    (["critical-speeds", *R, "--range", "1000", "10"], 2, r"--range 1000 10: need LO < HI"),
+    (["critical-speeds", *R, "--range", "0", "0"], 2, r"--range 0 0: need LO < HI"),
+    (["critical-speeds", *B, "--range", "10", "400"], 2, r"`critical-speeds` does not apply to 'balancing-machine'"),
+    (["critical-speeds", *A, "--range", "1", "4", "--n-scan", "1"], 2, r"argument --n-scan"),
+    (["critical-speeds", *R, "--range", "1", "4", "--modes", "0"], 2, r"argument --modes"),
+    (["critical-speeds", *R, "--range", "1", "4", "--modes", "500"], 2, r"--modes 500: the rotor has 56 modes"),
+    (["critical-speeds", *A, "--range", "1", "4", "--exact"], 2, r"--exact"),
+    (["critical-speeds", *A], 2, r"required: --range"),
+    (["critical-speeds", *R, "--range", "1", "4", "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),
+    (["critical-speeds", *R, "--range", "1", "4", "--set", "timoshenko=2"], 2, r"--set timoshenko=2"),
+    # --- stability-map ---
+    (["stability-map", *A, "--x", "zz", "0", "1", "3", "--y", "mu_w", "0.2", "0.6", "2"], 2,
+     r"--x zz 0 1 3: unknown parameter 'zz'"),
+    (["stability-map", *A, "--x", "sigma", "0.2", "0.5", "3", "--y", "n", "1", "2", "2"], 2,
+     r"--x sigma .*changes the scene's structure"),
+    (["stability-map", *A, "--x", "n", "2", "1", "3", "--y", "mu_w", "0.2", "0.6", "2"], 2, r"--x n 2 1 3: need LO < HI"),
+    (["stability-map", *A, "--x", "n", "1", "2", "1", "--y", "mu_w", "0.2", "0.6", "2"], 2,
+     r"--x n 1 2 1: the number of points must be >= 2"),
+    (["stability-map", *A, "--x", "n", "1", "2", "abc", "--y", "mu_w", "0.2", "0.6", "2"], 2,
+     r"--x n 1 2 abc: the number of points must be an integer"),
+    (["stability-map", *A, "--x", "n", "0", "2", "3", "--y", "mu_w", "0.2", "0.6", "2"], 2, r"--x n 0 2 3: LO n=0"),
+    (["stability-map", *A, "--x", "n", "1", "2", "3", "--y", "n", "1", "2", "3"], 2, r"need different parameters"),
+    (["stability-map", *A, "--x", "n", "1", "2", "3", "--y", "mu_w", "nan", "1", "3"], 2, r"--y mu_w nan 1 3: LO"),
+    (["stability-map", *A, "--x", "n", "1", "2", "3", "--y", "mu_w", "0.2", "1", "3", "--chunk", "0"], 2,
+     r"argument --chunk"),
+    (["stability-map", *R, "--x", "kxx", "1", "2", "3", "--y", "kyy", "1", "2", "3"], 2,
+     r"`stability-map` does not apply to 'ross-compare'"),
+    # --- campbell ---
+    (["campbell", *R, "--range", "-1", "10"], 2, r"--range -1 10: LO must be >= 0"),
+    (["campbell", *R, "--range", "10", "10"], 2, r"--range 10 10: need LO < HI"),
+    (["campbell", *R, "--range", "0", "10", "--n-speeds", "1"], 2, r"argument --n-speeds"),
+    (["campbell", *R, "--range", "0", "10", "--modes", "0"], 2, r"argument --modes"),
+    (["campbell", *R, "--range", "0", "10", "--modes", "100"], 2, r"--modes 100: the rotor has 56 modes"),
+    (["campbell", *R, "--range", "0", "10", "--reduce", "0"], 2, r"--reduce 0: n_modes \(reduction\)"),
+    (["campbell", *R, "--range", "0", "10", "--reduce", "1000"], 2, r"--reduce 1000"),
+    (["campbell", "elliptic-abb", "--range", "0", "10"], 2, r"`campbell` does not apply to 'elliptic-abb'"),
+    (["campbell", *R, "--range", "0", "1000", "--set", "n_elements=0"], 2, r"--set n_elements=0"),
+    (["campbell", *R, "--range", "0", "1000", "--set", "shaft_diameter=0"], 2, r"--set shaft_diameter=0"),
+    (["campbell", *R, "--range", "0", "1000", "--set", "E=-1"], 2, r"--set E=-1"),
+    # --- response ---
+    (["response", *R, "--range", "0", "100"], 2, r"--range 0 100: LO must be > 0"),
+    (["response", *R, "--range", "10", "100", "--node", "9"], 2, r"--node 9: the rotor has nodes 0..6"),
+    (["response", *R, "--range", "10", "100", "--probe", "-1"], 2, r"argument --probe"),
+    (["response", *R, "--range", "10", "100", "--unbalance", "0"], 2, r"argument --unbalance: must be > 0"),
+    (["response", *R, "--range", "10", "100", "--n", "1"], 2, r"argument --n"),
+    (["response", *R, "--range", "10", "100", "--phase", "inf"], 2, r"argument --phase: must be finite"),
+    # --- hopf ---
+    (["hopf", *R], 2, r"`hopf` does not apply to 'ross-compare'"),
+    (["hopf", *C, "--range", "0", "10"], 2, r"--range 0 10: LO must be > 0"),
+    (["hopf", *C, "--range", "20", "10"], 2, r"--range 20 10: need LO < HI"),
+    (["hopf", *C, "--n-scan", "1"], 2, r"argument --n-scan"),
+    (["hopf", *C, "--set", "eta_i=-1"], 2, r"--set eta_i=-1: must be >= 0"),
+    # --- bifurcation ---
+    (["bifurcation", *C, "--param", "mu_R", "0", "1", "2"], 2, r"--param mu_R 0 1 2: 'mu_R' cannot be varied here"),
+    (["bifurcation", *C, "--param", "eps", "0.002", "0.001", "4"], 2, r"--param eps 0.002 0.001 4: need LO < HI"),
+    (["bifurcation", *C, "--param", "eps", "0", "0.001", "1"], 2, r"--param eps 0 0.001 1: the number of points"),
+    (["bifurcation", *C, "--param", "eps", "-1", "0", "3"], 2, r"--param eps -1 0 3: LO eps=-1: must be >= 0"),
+    (["bifurcation", *C, "--param", "chi", "0.01", "0.02", "3", "--set", "n_limiters=0"], 2,
+     r"--param chi: needs limiters"),
+    (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--set", "events=1"], 2, r"--set events=1"),
+    (["bifurcation", *C, "--param", "eps", "0", "0.001", "x"], 2, r"the number of points must be an integer"),
+    (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--chunk", "0"], 2, r"argument --chunk"),
+    (["bifurcation", "elliptic-abb", "--param", "eps", "0", "0.001", "3"], 2,
+     r"`bifurcation` does not apply to 'elliptic-abb'"),
+    # --- continue ---
+    (["continue", *A, "--param", "zz"], 2, r"--param zz: unknown parameter"),
+    (["continue", *A, "--param", "n", "--param2", "mu_w", "--from", "5"], 2, r"--from needs 2 value\(s\)"),
+    (["continue", *R, "--param", "kxx"], 2, r"'ross-compare' has no stationary branch"),
+    (["continue", *A, "--param", "sigma"], 2, r"--param sigma: .*structure"),
+    (["continue", *A, "--param", "n", "--param2", "n"], 2, r"the two parameters must differ"),
+    (["continue", *A, "--param", "n", "--to", "6", "4"], 2, r"--to 6 4: need finite LO < HI"),
+    (["continue", *A, "--param", "n", "--to", "-1", "4"], 2, r"--to -1 4: n=-1"),
+    (["continue", *A, "--param", "n", "--param2", "mu_w", "--box", "1", "0.5", "0.3", "1"], 2, r"--box 1 0.5 0.3 1"),
+    (["continue", *A, "--param", "n", "--ds", "0"], 2, r"argument --ds: must be > 0"),
+    (["continue", *A, "--param", "n", "--ds", "0.5", "--ds-max", "0.1"], 2, r"--ds 0.5 --ds-max 0.1"),
+    (["continue", *A, "--param", "n", "--max-points", "1"], 2, r"argument --max-points"),
+    (["continue", *A, "--param", "n", "--direction", "sideways"], 2, r"argument --direction: invalid choice"),
+    (["continue", *A, "--param", "n", "--param2", "mu_w", "--to", "1", "2"], 2, r"--to is for one-parameter"),
+    (["continue", *A, "--param", "n", "--from", "nan"], 2, r"argument --from: must be finite"),
+    (["continue", *A, "--param", "n", "--from", "-2"], 2, r"--from: n=-2"),
+    # --- balance ---
+    (["balance", "--runs", "{d}/empty.csv"], 2, r"empty\.csv"),
+    (["balance", "--runs", "{d}/missing.csv"], 2, r"missing\.csv"),
+    (["balance", "--runs", "{d}/corrupt.npz"], 2, r"corrupt\.npz"),
+    (["balance", "--runs", "{d}/nox2.csv"], 2, r"nox2\.csv has 1 sensor column \(x1\) but 2 trial planes"),
+    (["balance", "--runs", "{d}/binary.csv"], 2, r"binary\.csv"),
+    (["balance", "--runs", "{d}/latin1.csv"], 2, r"latin1\.csv"),
+    (["balance", "--runs", "{d}/runs.txt"], 2, r"runs\.txt"),
+    (["balance", "--runs", "{d}/nan.csv"], 2, r"nan\.csv.*x1.*row"),
+    (["balance", "--radius", "-1"], 2, r"argument --radius: must be > 0"),
+    (["balance", "--radius", "0"], 2, r"argument --radius: must be > 0"),
+    (["balance", "--holes", "0"], 2, r"--holes 0"),
+    (["balance", "--holes", "1"], 2, r"--holes 1"),
+    (["balance", "--planes", "5"], 2, r"plane\(s\) \[5\]"),
+    (["balance", "--planes", "0,0"], 2, r"--planes 0,0: a value is repeated"),
+    (["balance", "--planes", "a"], 2, r"--planes a: expected comma-separated integers"),
+    (["balance", "--rotor-mass", "0"], 2, r"argument --rotor-mass"),
+    (["balance", "--out", "{d}/afile"], 2, r"--out .*afile: exists and is not a folder"),
+    # --- identify ---
+    (["identify", *B, "--fit", "k1,k1"], 2, r"--fit k1,k1: k1 given more than once"),
+    (["identify", *B, "--fit", "k1,zz"], 2, r"--fit k1,zz: unknown 'zz'"),
+    (["identify", *B, "--fit", ","], 2, r"--fit ',': empty list"),
+    (["identify", *B, "--data", "{d}/empty.csv"], 2, r"empty\.csv"),
+    (["identify", *B, "--data", "{d}/missing.csv"], 2, r"missing\.csv"),
+    (["identify", *B, "--data", "{d}/corrupt.npz"], 2, r"corrupt\.npz"),
+    (["identify", *B, "--block", "0"], 2, r"argument --block"),
+    (["identify", *B, "--min-speed", "-1"], 2, r"argument --min-speed: must be >= 0"),
+    (["identify", *B, "--min-speed", "1e9"], 2, r"above --min-speed 1e\+09"),
+    (["identify", *B, "--set", "k1=-1"], 2, r"--set k1=-1: must be > 0"),
+    (["identify", *R], 2, r"`identify` does not apply to 'ross-compare'"),
+    (["identify", *B, "--data", "{d}/nox2.csv"], 2, r"two sensor columns"),
+    (["identify", *B, "--set", "a1=0.5", "--set", "a2=0.5"], 2, r"a1=0.5, a2=0.5"),
+    # --- data, presets, the command line itself ---
+    (["data", "path", "nosuch"], 2, r"nosuch"),
+    (["data", "bogus"], 2, r"invalid choice: 'bogus'"),
+    (["data", "path"], 2, r"needs a NAME"),
+    (["presets", "nosuch"], 2, r"unknown preset 'nosuch'"),
+    ([], 2, r"required: COMMAND"),
+    (["frobnicate"], 2, r"invalid choice: 'frobnicate'"),
+]
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad")
+    (d / "empty.csv").write_bytes(b"")
+    (d / "corrupt.npz").write_bytes(b"PK\x03\x04 not really a zip")
+    (d / "binary.csv").write_bytes(bytes(range(256)) * 4)
+    (d / "latin1.csv").write_bytes("time,tacho,x1,x2,d\xe9bit\n0,0,0,0,0\n".encode("latin-1"))
+    (d / "runs.txt").write_text("time,tacho,x1\n0,0,0\n")
+    (d / "afile").write_text("")
+    lines = open(BALANCING_RUNS).read().splitlines()
+    header = lines[0].split(",")
+    keep = [i for i, h in enumerate(header) if h != "x2"]
+    (d / "nox2.csv").write_text("\n".join(",".join(r.split(",")[i] for i in keep) for r in lines) + "\n")
+    rows = lines[:10] + [lines[10].replace(lines[10].split(",")[2], "nan", 1)] + lines[11:20]
+    (d / "nan.csv").write_text("\n".join(rows) + "\n")
+    return d
+
+
+@pytest.mark.parametrize("argv,code,match", CASES, ids=[" ".join(c[0])[:60] for c in CASES])
+def test_bad_input(argv, code, match, files, capsys, tmp_path):
+    argv = [a.replace("{d}", str(files)) for a in argv]
+    if argv and argv[0] not in ("data", "presets", "frobnicate") and "--out" not in argv:
+        argv = argv + ["--out", str(tmp_path / "out")]
+    rc = main(argv)
+    cap = capsys.readouterr()
+    assert rc == code, cap.err
+    assert "Traceback" not in cap.err + cap.out
+    assert re.search(match, cap.err), cap.err
+    last = [line for line in cap.err.splitlines() if line.strip()][-1]
+    assert re.search(match, last) or re.search(match, cap.err.split("error:", 1)[-1])
+
+
+def test_enough_cases_per_command():
+    per = {}
+    for argv, _, _ in CASES:
+        per[argv[0] if argv else "(none)"] = per.get(argv[0] if argv else "(none)", 0) + 1
+    assert len(CASES) >= 80
+    for command in ("simulate", "steady", "critical-speeds", "stability-map", "campbell", "response", "hopf",
+                    "bifurcation", "continue", "balance", "identify"):
+        assert per.get(command, 0) >= 5, command
+
+
+def test_numerical_failure_exits_3_without_a_final_state(tmp_path, capsys):
+    rc = main(["simulate", "anisotropic-abb", "--t-end", "1e9", "--max-steps", "10", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert rc == 3 and "max_steps" in out and "final whirl amplitude" not in out
+    assert "no final state" in out
+
+
+def test_internal_error_is_one_line_with_a_debug_hint(monkeypatch, capsys, tmp_path):
+    from rotorjax.cli import _info
+
+    def boom(args):
+        raise KeyError("surprise")
+
+    monkeypatch.setattr(_info, "run_demo", boom, raising=False)
+    import rotorjax.demo
+
+    monkeypatch.setattr(rotorjax.demo, "run_demo", boom)
+    assert main(["demo", "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "internal error: KeyError" in err and "--debug" in err and "Traceback" not in err
+    with pytest.raises(KeyError):
+        main(["demo", "--out", str(tmp_path), "--debug"])
+
+
+def test_help_lists_every_option_with_meaning(capsys):
+    from rotorjax.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    for name, p in sub.choices.items():
+        for action in p._actions:
+            if action.option_strings and action.dest != "help":
+                assert action.help, f"{name} {action.option_strings} has no help"
+        assert main([name, "--help"]) == 0
+        text = capsys.readouterr().out
+        if "PRESET" in text and name not in ("presets",):
+            assert "elliptic-abb" in text  # the preset positional lists its choices
+
+
+def test_presets_name_lists_keys_units_and_ranges(capsys):
+    assert main(["presets", "cantilever-limiters"]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"chi\s+0.0107\s+dimensionless\s+> 0\s+limiter clearance", out)
+    assert re.search(r"n_limiters\s+3\s+count\s+a non-negative integer", out)
+    assert main(["presets", "ross-compare"]) == 0
+    assert re.search(r"kxx\s+1e\+06\s+N/m\s+>= 0", capsys.readouterr().out)
+
+
+def test_shipped_data_by_name(capsys, tmp_path):
+    assert main(["data", "list"]) == 0
+    out = capsys.readouterr().out
+    assert "runup" in out and "balancing-runs" in out
+    assert main(["data", "path", "runup"]) == 0
+    assert capsys.readouterr().out.strip().endswith("runup.csv")
+    assert main(["balance", "--runs", "balancing-runs", "--json", "--out", str(tmp_path)]) == 0
