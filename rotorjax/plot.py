@@ -104,9 +104,10 @@ def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
     return path
 
 
-def plot_campbell(speeds, frequencies, forward, path, critical=(), title=""):
+def plot_campbell(speeds, frequencies, forward, path, critical=(), title="", unit="rad/s"):
     """Campbell diagram: damped natural frequencies against speed, forward whirl
-    solid red, backward dashed blue, with the 1x line and the critical speeds."""
+    solid red, backward dashed blue, with the 1x line and the critical speeds
+    (`unit`: of both axes)."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 5))
     f, fw = np.asarray(frequencies), np.asarray(forward)
@@ -116,11 +117,11 @@ def plot_campbell(speeds, frequencies, forward, path, critical=(), title=""):
         ax.plot(speeds, np.where(~fw[:, k], f[:, k], np.nan), "--", color="tab:blue", lw=1.2,
                 label="backward" if k == 0 else None)
     ax.plot(speeds, speeds, "k:", lw=1, label="1x")
-    for c in critical:
-        ax.plot([c], [c], "ko", ms=4)
-    ax.set_xlabel("speed (rad/s)")
-    ax.set_ylabel("damped natural frequency (rad/s)")
-    ax.set_ylim(0, np.nanmax(f) * 1.05)
+    for i, c in enumerate(critical):
+        ax.plot([c], [c], "ko", ms=4, label="critical speed (1x crossing)" if i == 0 else None)
+    ax.set_xlabel(f"speed ({unit})")
+    ax.set_ylabel(f"damped natural frequency ({unit})")
+    ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
     ax.set_title(title)
     return _save(fig, path, [ax])
 
@@ -186,3 +187,287 @@ def plot_bifurcation(values, extrema, mean_lambda, path, param, title=""):
     axes[1].set_ylabel("<Lambda>")
     fig.suptitle(title)
     return _save(fig, path, axes[1:])
+
+
+# --- one picture per CLI analysis ------------------------------------------------------
+
+#: How a regime's verdict is drawn: filled for stable, hollow red for unstable.
+_VERDICT_STYLE = {
+    "stable": dict(marker="o", color="tab:blue", mfc="tab:blue", label="stable"),
+    "unstable": dict(marker="o", color="tab:red", mfc="none", label="unstable"),
+    "marginal": dict(marker="D", color="tab:orange", mfc="none", label="marginal"),
+}
+
+
+def _verdict_style(verdict):
+    return _VERDICT_STYLE.get(verdict, dict(marker="s", color="tab:gray", mfc="none", label=str(verdict)))
+
+
+def plot_steady_regimes(path, regimes, title, x_label="weight angle relative to the rotor (rad)",
+                        y_label="whirl amplitude (dimensionless)"):
+    """Stationary regimes of a rotor with an automatic balancer on the plane (weight
+    angle, whirl amplitude): a regime is one marker per weight at
+    `(weight_angles[j], whirl_amplitude)`, the markers of one regime joined by a
+    thin line and numbered as in `regimes`; filled markers for stable regimes,
+    hollow red for unstable ones. A regime without weights is drawn as a
+    horizontal line at its amplitude.
+
+    **Arguments:**
+
+    - `regimes`: dicts with `weight_angles` (rad, possibly empty), `whirl_amplitude`
+      (float), `verdict` ("stable", "unstable", "marginal") and `kind`, e.g. the
+      `regimes` of `rotorjax steady --json`. For regimes without weight angles
+      (the modal model 003) use `plot_regime_amplitudes`.
+    - `title`: the run's parameters.
+
+    **Returns:** `path`.
+    """
+    missing = [i + 1 for i, r in enumerate(regimes) if "weight_angles" not in r]
+    if missing:
+        raise ValueError(f"regimes {missing} have no 'weight_angles'; plot regimes given by kind and "
+                         "amplitude with plot_regime_amplitudes")
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    seen = set()
+    for i, r in enumerate(regimes):
+        st = dict(_verdict_style(r["verdict"]))
+        label = st.pop("label")
+        amp = float(r["whirl_amplitude"])
+        ang = np.asarray(r["weight_angles"], dtype=float).ravel()
+        if ang.size == 0:
+            ax.axhline(amp, color=st["color"], lw=1.0, ls="-" if r["verdict"] == "stable" else "--",
+                       label=f"{label} (no weights)" if (label, 0) not in seen else None)
+            seen.add((label, 0))
+            continue
+        ax.plot(ang, np.full(ang.size, amp), "-", color=st["color"], lw=0.6, alpha=0.6)
+        ax.plot(ang, np.full(ang.size, amp), ls="none", ms=8, mew=1.5,
+                label=label if (label, 1) not in seen else None, **st)
+        seen.add((label, 1))
+        ax.annotate(str(i + 1), (ang[0], amp), textcoords="offset points", xytext=(6, 6), fontsize=8)
+    ax.set_xlim(-np.pi - 0.2, np.pi + 0.2)
+    ax.set_xticks(np.arange(-1, 1.01, 0.5) * np.pi, ["-pi", "-pi/2", "0", "pi/2", "pi"])
+    top = max([float(r["whirl_amplitude"]) for r in regimes] + [0.0])
+    ax.set_ylim(-0.05 * top if top > 0 else -1, 1.12 * top if top > 0 else 1)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(title + "\n(numbers: regime index; one marker per weight, a line joins one regime)",
+                 fontsize=10)
+    if not regimes:
+        ax.text(0.5, 0.5, "no stationary regime found", transform=ax.transAxes, ha="center")
+    return _save(fig, path, [ax], legend=bool(regimes))
+
+
+def plot_regime_amplitudes(path, regimes, title, y_label="disk amplitude (dimensionless)",
+                           amplitude_key="disk_amplitude"):
+    """Stationary regimes given by kind and amplitude (model 003: "C", "PS", "NS1",
+    ...): the amplitude of each regime over a categorical axis of kinds (in order
+    of first appearance; several regimes of one kind side by side), filled for
+    stable, hollow red for unstable.
+
+    **Arguments:**
+
+    - `regimes`: dicts with `kind`, `verdict` and the amplitude under
+      `amplitude_key` (e.g. the `regimes` of `rotorjax steady flexible-abb --json`);
+      an optional `sigma` is written next to the marker.
+    - `title`: the run's parameters.
+
+    **Returns:** `path`.
+    """
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    kinds = list(dict.fromkeys(str(r["kind"]) for r in regimes))
+    count = {k: sum(str(r["kind"]) == k for r in regimes) for k in kinds}
+    placed = {k: 0 for k in kinds}
+    seen = set()
+    for r in regimes:
+        k = str(r["kind"])
+        j = placed[k]
+        placed[k] += 1
+        x = kinds.index(k) + (j - (count[k] - 1) / 2) * min(0.6 / count[k], 0.2)
+        st = dict(_verdict_style(r["verdict"]))
+        label = st.pop("label")
+        amp = float(r[amplitude_key])
+        ax.plot([x], [amp], ls="none", ms=9, mew=1.5, label=label if label not in seen else None, **st)
+        seen.add(label)
+        if r.get("sigma") is not None:
+            ax.annotate(f"sigma={r['sigma']:g}", (x, amp), textcoords="offset points", xytext=(6, 4),
+                        fontsize=7)
+    amps = [float(r[amplitude_key]) for r in regimes if np.isfinite(float(r[amplitude_key]))]
+    top = max(amps + [0.0])
+    if top > 0:
+        ax.set_ylim(min(amps + [0.0]) - 0.05 * top, 1.12 * top)     # room for the sigma labels
+    ax.set_xticks(range(len(kinds)), kinds)
+    ax.set_xlim(-0.6, max(len(kinds), 1) - 0.4)
+    ax.set_xlabel("regime kind")
+    ax.set_ylabel(y_label)
+    ax.set_title(title, fontsize=10)
+    if not regimes:
+        ax.text(0.5, 0.5, "no stationary regime found", transform=ax.transAxes, ha="center")
+    return _save(fig, path, [ax], legend=bool(regimes))
+
+
+def plot_margin(path, speeds, margin, roots, title, speed_label, margin_label, root_label="critical speed",
+                extra_roots=None, extra_label=None):
+    """Stability margin against speed (largest real part of the eigenvalues, or
+    largest Floquet exponent): the curve, the zero line, the stable region
+    (margin < 0) shaded, the located `roots` as dots on the zero line with dotted
+    verticals, and optionally a second set `extra_roots` (e.g. an empirical
+    criterion's roots) as crosses.
+
+    **Arguments:**
+
+    - `speeds`, `margin`: 1-D arrays of one length (non-finite margins are gaps).
+    - `roots`, `extra_roots`: speeds (floats) where the margin is zero.
+    - `speed_label`, `margin_label`: axis labels with units (or "dimensionless").
+    - `title`: the run's parameters.
+
+    **Returns:** `path`.
+    """
+    plt = _plt()
+    speeds = np.asarray(speeds, dtype=float)
+    m = np.asarray(margin, dtype=float)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    stable = np.isfinite(m) & (m < 0)
+    ax.fill_between(speeds, 0, 1, where=stable, color="tab:green", alpha=0.12, step="mid",
+                    transform=ax.get_xaxis_transform(), label="stable (margin < 0)")
+    ax.plot(speeds, m, color="k", lw=1.2, label="margin")
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    roots = [] if roots is None else [float(r) for r in np.ravel(roots)]
+    for r in roots:
+        ax.axvline(r, color="tab:red", ls=":", lw=0.9)
+    if roots:
+        ax.plot(roots, np.zeros(len(roots)), "o", color="tab:red", ms=6, ls="none",
+                label=f"{root_label}: " + ", ".join(f"{r:.4g}" for r in roots))
+    extra = [] if extra_roots is None else [float(r) for r in np.ravel(extra_roots)]
+    if extra:
+        ax.plot(extra, np.zeros(len(extra)), "x", color="tab:purple", ms=9, mew=2, ls="none",
+                label=f"{extra_label or 'other roots'}: " + ", ".join(f"{r:.4g}" for r in extra))
+    if not np.any(np.isfinite(m)):
+        ax.text(0.5, 0.5, "no finite margin", transform=ax.transAxes, ha="center", color="red")
+    ax.set_xlabel(speed_label)
+    ax.set_ylabel(margin_label)
+    ax.set_title(title, fontsize=10)
+    return _save(fig, path, [ax])
+
+
+def _arrow(ax, angle, radius, color, ls="-", lw=1.6):
+    ax.annotate("", xy=(angle, radius), xytext=(0.0, 0.0),
+                arrowprops=dict(arrowstyle="-|>", color=color, lw=lw, ls=ls, shrinkA=0, shrinkB=0))
+
+
+def plot_balance(path, before, after, corrections, title, unit="m", planes=None, mass_unit="g"):
+    """Two-plane (or more) balancing on polar axes. Left: the 1x vibration phasors
+    per sensor, measured before (solid) and predicted after the correction
+    (dashed). Right: the correction per plane, a mass at an angle. Angles are
+    measured from the once-per-revolution mark in the direction of rotation
+    (counter-clockwise on the plot).
+
+    **Arguments:**
+
+    - `before`, `after`: complex phasors, one per sensor (in `unit`).
+    - `corrections`: complex correction masses, one per plane: `|c|` in
+      `mass_unit` at the angle `arg c` (e.g. `W / radius * 1e3` for `W` in kg m
+      and grams).
+    - `planes`: the plane numbers (default 1, 2, ...).
+    - `title`: the run's parameters.
+
+    **Returns:** `path`.
+    """
+    plt = _plt()
+    before = np.atleast_1d(np.asarray(before, dtype=complex))
+    after = np.atleast_1d(np.asarray(after, dtype=complex))
+    corr = np.atleast_1d(np.asarray(corrections, dtype=complex))
+    planes = list(range(1, corr.size + 1)) if planes is None else list(planes)
+    fig = plt.figure(figsize=(11, 5.5))
+    a1 = fig.add_subplot(1, 2, 1, projection="polar")
+    a2 = fig.add_subplot(1, 2, 2, projection="polar")
+    from matplotlib.lines import Line2D
+
+    rmax = max(float(np.max(np.abs(np.concatenate([before, after])))), 1e-300)
+    # radii in a power of ten of `unit` named in the title, not as an offset text that
+    # polar axes put on top of the angle labels
+    e = int(np.floor(np.log10(rmax)))
+    scale, scaled_unit = (1.0, unit) if -2 <= e <= 2 else (10.0**-e, f"1e{e} {unit}")
+    rmax *= scale
+    before, after = before * scale, after * scale
+    for i, (b, a) in enumerate(zip(before, after)):
+        _arrow(a1, np.angle(b), abs(b), "tab:blue")
+        _arrow(a1, np.angle(a), abs(a), "tab:green", ls="--")
+        a1.annotate(f"S{i + 1}", (np.angle(b), abs(b)), textcoords="offset points", xytext=(4, 4),
+                    fontsize=8, color="tab:blue")
+        a1.annotate(f"S{i + 1}", (np.angle(a), abs(a)), textcoords="offset points", xytext=(4, -10),
+                    fontsize=8, color="tab:green")
+    a1.set_rmax(1.1 * rmax)
+    a1.legend([Line2D([], [], color="tab:blue"), Line2D([], [], color="tab:green", ls="--")],
+              ["measured before: " + ", ".join(f"{abs(b) / scale:.3g}" for b in before) + f" {unit}",
+               "predicted after: " + ", ".join(f"{abs(a) / scale:.3g}" for a in after) + f" {unit}"],
+              fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1))
+    a1.set_title(f"1x vibration per sensor S1, S2, ... (radius: amplitude, {scaled_unit})", fontsize=9, pad=18)
+    a1.set_xlabel("phase from the once-per-revolution mark (deg)", fontsize=8)
+    cmax = max(float(np.max(np.abs(corr))) if corr.size else 0.0, 1e-300)
+    handles, labels = [], []
+    for k, (p, c) in enumerate(zip(planes, corr)):
+        color = f"C{(k + 3) % 10}"
+        _arrow(a2, np.angle(c), abs(c), color, lw=2.0)
+        a2.plot([np.angle(c)], [abs(c)], "o", color=color, ms=7)
+        handles.append(Line2D([], [], color=color, marker="o"))
+        labels.append(f"plane {p}: {abs(c):.1f} {mass_unit} at {np.degrees(np.angle(c)) % 360:.0f} deg")
+    a2.set_rmax(1.15 * cmax)
+    a2.legend(handles, labels, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.1))
+    a2.set_title(f"correction masses (radius: mass, {mass_unit})", fontsize=9, pad=18)
+    a2.set_xlabel("angle from the once-per-revolution mark (deg)", fontsize=8)
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3)
+    fig.suptitle(title + "\nangles from the once-per-revolution mark, positive in the direction of "
+                 "rotation (counter-clockwise here)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def _break_wraps(x, deg):
+    """A gap (NaN) where a phase in degrees wraps past +-180, instead of a vertical line."""
+    cut = np.flatnonzero(np.abs(np.diff(deg)) > 180) + 1
+    return np.insert(np.asarray(x, dtype=float), cut, np.nan), np.insert(deg, cut, np.nan)
+
+
+def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="m",
+                        speed_label="speed (rad/s)", level=0.95):
+    """Identification on a Bode plot: measured 1x phasors (dots) against the fitted
+    model (lines), amplitude (log scale) above and phase below, with the model's
+    confidence band on the amplitude (from `rotorjax.identify.response_band`) shaded.
+
+    **Arguments:**
+
+    - `speeds`: shape `(n,)` (rad/s).
+    - `data`, `fit`: complex, shape `(n, c)`: measured and model phasors (in `unit`).
+    - `lo`, `hi`: the band's edges on `|fit|`, shape `(n, c)`.
+    - `channels`: `c` names (e.g. `["x1", "x2"]`).
+    - `title`: the run's parameters.
+
+    **Returns:** `path`.
+    """
+    plt = _plt()
+    w = np.asarray(speeds, dtype=float)
+    data, fit = (np.asarray(v, dtype=complex).reshape(w.size, -1) for v in (data, fit))
+    lo, hi = (np.asarray(v, dtype=float).reshape(w.size, -1) for v in (lo, hi))
+    order = np.argsort(w)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for j, name in enumerate(channels):
+        c = f"C{j}"
+        a1.fill_between(w[order], np.maximum(lo[order, j], 1e-300), hi[order, j], color=c, alpha=0.25,
+                        lw=0, label=f"{name} model {100 * level:.0f} % band")
+        a1.plot(w, np.abs(data[:, j]), ".", color=c, ms=3, alpha=0.6, label=f"{name} measured")
+        a1.plot(w[order], np.abs(fit[order, j]), "-", color=c, lw=1.3, label=f"{name} model")
+        a2.plot(w, np.degrees(np.angle(data[:, j])), ".", color=c, ms=3, alpha=0.6, label=f"{name} measured")
+        a2.plot(*_break_wraps(w[order], np.degrees(np.angle(fit[order, j]))), "-", color=c, lw=1.3,
+                label=f"{name} model")
+    a1.set_yscale("log")
+    a1.set_ylabel(f"1x amplitude ({unit})")
+    a2.set_ylabel("phase (deg, from the once-per-rev mark)")
+    a2.set_ylim(-180, 180)
+    a2.set_yticks(np.arange(-180, 181, 90))
+    a2.set_xlabel(speed_label)
+    a1.set_title(title, fontsize=10)
+    return _save(fig, path, [a1, a2])

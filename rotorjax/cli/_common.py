@@ -189,8 +189,9 @@ def parse_sets(items):
 def preset_params(preset, sets, extra=None):
     """The preset's parameters with `--set` (and `extra`, e.g. `{speed_key: --speed}`)
     applied, every value checked against its domain."""
+    sets = parse_sets(sets)
     try:
-        params = preset.params(parse_sets(sets))
+        params = preset.params(sets)
     except InputError as e:
         raise InputError(f"--set {e}") from None
     for key, (option, value) in (extra or {}).items():

@@ -201,10 +201,11 @@ def _modal_critical_speeds(preset, params, lo, hi, args) -> int:
         speeds = [float(v) for v, e in zip(f, excited) if e and lo <= v <= hi]
         method = f"modal model, {shaft.n_modes} modes"
     grid = np.linspace(lo, hi, 2)
-    shown = f[(f <= 1.2 * hi)] if np.any(f <= 1.2 * hi) else f[:1]
+    excited_f = f[excited.astype(bool)]
+    shown = excited_f[excited_f <= 1.2 * hi] if np.any(excited_f <= 1.2 * hi) else excited_f[:1]
     stem = os.path.join(args.out, f"critical_speeds_{preset.name}")
     plot_campbell(grid, np.tile(shown, (2, 1)), np.ones((2, shown.size), bool), stem + ".png",
-                  critical=list(speeds), title=f"{preset.name}: natural frequencies and critical speeds ({method})",
+                  critical=list(speeds), title=f"{preset.name}: natural frequencies excited by the disk's unbalance, critical speeds ({method})",
                   unit="omega_1 (dimensionless)")
     out = {"preset": preset.name, "range": [lo, hi], "params": params, "method": method,
            "unit": "omega_1 (first pinned-pinned frequency of the bare shaft)",

@@ -1,7 +1,5 @@
 """Balancing and identification from measured vibration (model 002)."""
 
-import os
-
 from ._machine import BalancingMachine as BalancingMachine
 from ._machine import scalar_influence_matrix as scalar_influence_matrix
 from ._signals import Phasors as Phasors
@@ -10,6 +8,12 @@ from ._signals import phasors as phasors
 from ._signals import pulse_times as pulse_times
 from ._signals import read_signals as read_signals
 from ._signals import runs_from_signals as runs_from_signals
+from ._signals import BalancingData as BalancingData
+from ._signals import balancing_runs as balancing_runs
+from ._datasets import DATA_DIR as DATA_DIR
+from ._datasets import DATASETS as DATASETS
+from ._datasets import dataset_path as dataset_path
+from ._datasets import resolve_data as resolve_data
 from ._balance import BalancingRun as BalancingRun
 from ._balance import ISO_GRADES as ISO_GRADES
 from ._balance import grade_reached as grade_reached
@@ -24,8 +28,8 @@ from ._fit import identify as identify
 from ._fit import levenberg_marquardt as levenberg_marquardt
 from ._fit import optax_fit as optax_fit
 from ._fit import residual_fn as residual_fn
+from ._fit import response_band as response_band
 
-#: The shipped synthetic measurements (see `rotorjax.identify._make_data`).
-DATA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
-BALANCING_RUNS = os.path.join(DATA_DIR, "balancing_runs.csv")
-RUNUP = os.path.join(DATA_DIR, "runup.csv")
+#: The shipped synthetic measurements (see `rotorjax.identify._make_data`; by name: `DATASETS`).
+BALANCING_RUNS = dataset_path("balancing-runs")
+RUNUP = dataset_path("runup")

@@ -11,23 +11,37 @@ import dataclasses
 
 import numpy as np
 
+from ..models._validate import InputError, as_count, as_numpy, check_choice, check_type
+from ._machine import BalancingMachine
+
 
 def influence_from_trials(X0, X_trials, trials):
     """Influence matrix from a run without and one run per trial weight (eqs. 20,
     22): `K[:, j] = (X_j - X0) / T_j`. `X0`: `(n_sensors,)`; `X_trials`:
     `(n_planes, n_sensors)`; `trials`: `(n_planes,)` complex trial unbalances."""
-    X0, X_trials, trials = (np.asarray(a, dtype=complex) for a in (X0, X_trials, trials))
-    if X_trials.ndim != 2 or X_trials.shape[0] != trials.shape[0] or X_trials.shape[1] != X0.shape[0]:
-        raise ValueError(f"trial runs {X_trials.shape} do not match {trials.shape[0]} trial weights and "
-                         f"{X0.shape[0]} sensors")
+    X0 = as_numpy("X0", X0, dtype=np.complex128, ndim=1)
+    X_trials = as_numpy("X_trials", X_trials, dtype=np.complex128, ndim=2)
+    trials = as_numpy("trials", trials, dtype=np.complex128, ndim=1)
+    if X0.size < 1 or trials.size < 1:
+        raise InputError(f"X0 and trials need >= 1 sensor and >= 1 trial weight, got X0 shape {X0.shape}, "
+                         f"trials shape {trials.shape}")
+    if X_trials.shape != (trials.shape[0], X0.shape[0]):
+        raise InputError(f"X_trials must have shape (n_planes, n_sensors) = ({trials.shape[0]}, {X0.shape[0]}) "
+                         f"to match {trials.shape[0]} trial weights and {X0.shape[0]} sensors, got shape "
+                         f"{X_trials.shape}")
     if np.any(trials == 0):
-        raise ValueError("a trial weight is zero")
+        raise InputError(f"trials: trial weight {int(np.argmax(trials == 0))} is zero (every trial must "
+                         f"add a non-zero unbalance)")
     return ((X_trials - X0[None, :]) / trials[:, None]).T
 
 
 def unbalance_from_vibration(K, X):
     """The unbalances that explain `X` (eq. 23 with square `K`; least squares otherwise)."""
-    K, X = np.asarray(K, dtype=complex), np.asarray(X, dtype=complex)
+    K = as_numpy("K", K, dtype=np.complex128, ndim=2)
+    X = as_numpy("X", X, dtype=np.complex128)
+    if K.shape[0] < 1 or K.shape[1] < 1 or X.shape[:1] != (K.shape[0],) or X.ndim > 2:
+        raise InputError(f"K must be (n_measurements, n_planes) and X (n_measurements,) or "
+                         f"(n_measurements, k), got K shape {K.shape}, X shape {X.shape}")
     if K.shape[0] == K.shape[1]:
         return np.linalg.solve(K, X)
     return np.linalg.lstsq(K, X, rcond=None)[0]
@@ -38,12 +52,20 @@ def least_squares_correction(K, X, weights=None):
     `W = -(K^H Q K)^-1 K^H Q X` with `Q = diag(weights)` (Goodman's method).
     `K`: `(n_measurements, n_planes)` stacked over speeds and sensors; `X`:
     `(n_measurements,)`. Minimises `sum Q |X + K W|^2`."""
-    K, X = np.asarray(K, dtype=complex), np.asarray(X, dtype=complex)
-    if K.ndim != 2 or X.shape != (K.shape[0],):
-        raise ValueError(f"K {K.shape} and X {X.shape}: K must be (measurements, planes), X (measurements,)")
-    q = np.ones(K.shape[0]) if weights is None else np.asarray(weights, dtype=float)
-    if q.shape != (K.shape[0],) or np.any(q < 0):
-        raise ValueError("weights must be one non-negative number per measurement")
+    K = as_numpy("K", K, dtype=np.complex128, ndim=2)
+    X = as_numpy("X", X, dtype=np.complex128)
+    if K.shape[0] < 1 or K.shape[1] < 1 or X.shape != (K.shape[0],):
+        raise InputError(f"K {K.shape} and X {X.shape}: K must be (measurements, planes), X (measurements,)")
+    if weights is None:
+        q = np.ones(K.shape[0])
+    else:
+        q = as_numpy("weights", weights, sign="nonnegative")
+        if q.shape != (K.shape[0],):
+            raise InputError(f"weights must be one non-negative number per measurement ({K.shape[0]}), "
+                             f"got shape {q.shape}")
+    if np.count_nonzero(q) < K.shape[1]:
+        raise InputError(f"weights: {np.count_nonzero(q)} measurement(s) with a non-zero weight cannot "
+                         f"determine {K.shape[1]} plane corrections")
     KhQ = K.conj().T * q[None, :]
     return -np.linalg.solve(KhQ @ K, KhQ @ X)
 
@@ -52,16 +74,18 @@ def split_onto_holes(W, hole_angles):
     """Split a correction `W` (complex) onto the two neighbouring holes of a plane
     (angles in rad): non-negative masses `(m_a, m_b)` at `(angle_a, angle_b)` whose
     vector sum is `W` (same units as `W`)."""
-    W = complex(W)
-    h = np.sort(np.mod(np.asarray(hole_angles, dtype=float), 2 * np.pi))
+    W = complex(as_numpy("W", W, dtype=np.complex128, shape=()))
+    h = np.sort(np.mod(as_numpy("hole_angles", hole_angles, ndim=1), 2 * np.pi))
     if h.size < 2:
-        raise ValueError("need at least two hole positions")
+        raise InputError(f"hole_angles: need at least two hole positions, got {h.size}")
     a = np.mod(np.angle(W), 2 * np.pi)
     i = np.searchsorted(h, a) % h.size
     lo, hi = h[i - 1], h[i]
     span = np.mod(hi - lo, 2 * np.pi)
     if span == 0 or span >= np.pi:
-        raise ValueError("neighbouring holes are pi or more apart: the split is not unique/positive")
+        raise InputError(f"hole_angles: the holes around the correction's angle ({float(a):.4g} rad) are at "
+                         f"{float(lo):.4g} and {float(hi):.4g} rad, pi or more apart (or coincide): the "
+                         f"split is not unique/positive")
     # W = m_a e^{i lo} + m_b e^{i hi}
     M = np.array([[np.cos(lo), np.cos(hi)], [np.sin(lo), np.sin(hi)]])
     m = np.linalg.solve(M, [W.real, W.imag])
@@ -72,8 +96,7 @@ def permissible_unbalance(G, mass, omega):
     """ISO 21940-11 permissible residual unbalance `U_per = 1000 G m / Omega` in
     g mm, for grade `G` (mm/s), rotor mass `m` (kg), speed `Omega` (rad/s)."""
     for name, v in (("G", G), ("mass", mass), ("omega", omega)):
-        if not np.all(np.asarray(v) > 0):
-            raise ValueError(f"{name} must be > 0, got {v}")
+        as_numpy(name, v, sign="positive")
     return 1000.0 * G * mass / omega
 
 
@@ -82,6 +105,9 @@ ISO_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.
 
 def grade_reached(residual_gmm, mass, omega):
     """The finest ISO grade whose permissible unbalance holds the residual (g mm)."""
+    as_numpy("residual_gmm", residual_gmm, sign="nonnegative", shape=())
+    for name, v in (("mass", mass), ("omega", omega)):
+        as_numpy(name, v, sign="positive", shape=())
     for G in ISO_GRADES:
         if residual_gmm <= permissible_unbalance(G, mass, omega):
             return G
@@ -110,12 +136,17 @@ def simulate_balancing(machine, planes, speed, unbalance, tolerance, method="vec
     - "scalar": real coefficients `|K|` (eq. 4) and the unbalance taken along the
       measured vibration (model (1)): each correction uses `(|K|^-1 |X|) e^{i arg X}`.
     Sensor noise: complex Gaussian, `noise` times the initial vibration amplitude."""
-    if method not in ("vector", "scalar"):
-        raise ValueError(f"method must be 'vector' or 'scalar', got {method!r}")
+    check_type("machine", machine, BalancingMachine, "a rotorjax.identify.BalancingMachine")
+    check_choice("method", method, ("vector", "scalar"))
+    planes = as_numpy("planes", planes, shape=(2,))
+    as_numpy("speed", speed, sign="positive", shape=())
+    U = as_numpy("unbalance", unbalance, dtype=np.complex128, shape=(2,)).copy()
+    tolerance = float(as_numpy("tolerance", tolerance, sign="positive", shape=()))
+    noise = float(as_numpy("noise", noise, sign="nonnegative", shape=()))
+    max_runs = as_count("max_runs", max_runs, minimum=1)
     rng = np.random.default_rng(seed)
     K_true = np.asarray(machine.influence_matrix(speed, planes))
-    K = K_true if K_known is None else np.asarray(K_known)
-    U = np.asarray(unbalance, dtype=complex).copy()
+    K = K_true if K_known is None else as_numpy("K_known", K_known, dtype=np.complex128, shape=(2, 2))
     scale = np.max(np.abs(K_true @ U))
     history = []
     for run in range(1, max_runs + 1):

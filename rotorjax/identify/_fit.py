@@ -207,3 +207,112 @@ def identify(base, speeds, X, planes, fit=("k1", "k2", "c1", "c2"), sigma=None, 
     return Identification(names=names, estimates=est, intervals=ints, std=std, unbalances=D,
                           rms_residual=float(np.sqrt(np.mean(res**2)) * s), iterations=info["iterations"],
                           converged=info["converged"], warnings=warnings, history=info["history"])
+
+
+def _fitted_theta(result, unbalances):
+    """`theta` of a fit (log-parameters, then Re and Im of fitted unbalances) and
+    the unbalances to use when they were known."""
+    fitted = result.unbalances is not None
+    if fitted and unbalances is not None:
+        raise ValueError("the unbalances were fitted (result.unbalances): pass unbalances only when they "
+                         "were known in the fit")
+    if not fitted and unbalances is None:
+        raise ValueError("the unbalances were known in the fit: pass them as unbalances")
+    logp = np.log([result.estimates[k] for k in result.names])
+    if fitted:
+        D = np.asarray(result.unbalances, dtype=complex)
+        return jnp.asarray(np.concatenate([logp, D.real, D.imag])), None
+    return jnp.asarray(logp), jnp.asarray(unbalances, dtype=jnp.complex128)
+
+
+def _response_of_theta(machine, names, planes, known):
+    """`X(theta, speeds)`: the model's complex support amplitudes, shape (n, 2)."""
+    n, n_planes = len(names), planes.shape[0]
+
+    def response(theta, speeds):
+        m = _machine_with(machine, names, theta[:n])
+        D = theta[n:n + n_planes] + 1j * theta[n + n_planes:] if known is None else known
+        return jax.vmap(lambda w: m.response(w, planes, D))(speeds)
+
+    return response
+
+
+@eqx.filter_jit
+def _response_jacobian(machine, names, planes, known, theta, speeds):
+    """The model response at `theta` and its Jacobian d X / d theta, (n, 2) and (n, 2, p)."""
+    response = _response_of_theta(machine, names, planes, known)
+    return response(theta, speeds), jax.jacfwd(lambda th: response(th, speeds))(theta)
+
+
+def fit_covariance(result, machine, fit_speeds, planes, unbalances=None):
+    """The covariance of `theta` (the fit's log-parameters, then Re and Im of the
+    fitted unbalances) as `identify` forms it: `s^2 (J^T J)^+` with `J` the
+    Jacobian of the model's Re/Im responses at `fit_speeds` and `s^2` the residual
+    variance rebuilt from `result.rms_residual` (the scale `sigma` cancels)."""
+    theta, known = _fitted_theta(result, unbalances)
+    planes = jnp.asarray(planes, dtype=jnp.float64)
+    ws = jnp.atleast_1d(jnp.asarray(fit_speeds, dtype=jnp.float64))
+    Jc = np.asarray(_response_jacobian(machine, tuple(result.names), planes, known, theta, ws)[1])
+    J = np.concatenate([Jc.real.reshape(-1, theta.size), Jc.imag.reshape(-1, theta.size)])
+    n_res = J.shape[0]
+    s2 = n_res * result.rms_residual**2 / max(n_res - theta.size, 1)
+    return s2 * np.linalg.pinv(J.T @ J)
+
+
+def response_band(result: Identification, machine: BalancingMachine, speeds, planes, unbalances=None,
+                  level=0.95, *, fit_speeds=None, covariance=None):
+    """The fitted model's 1x response and a confidence band on its amplitude.
+
+    The band comes from the delta method: with `theta` the fitted parameters (the
+    logarithms of `result.names`, then Re and Im of the unbalances when they were
+    fitted) and `Sigma` their covariance, `sd|X| = sqrt(g^T Sigma g)` with
+    `g = d|X|/d theta` (from `jax.jacfwd` of `X`), and the band is `|X| +- z sd|X|`
+    (`z` the normal quantile of `level`; the lower edge is clipped at 0). It is the
+    band of the fitted response, from the parameters' uncertainty only; a new
+    measurement scatters around it by the sensor noise besides.
+
+    `Identification` keeps the intervals, not the covariance, so by default the
+    covariance is rebuilt exactly as `identify` formed it: `s^2 (J^T J)^+` at the
+    optimum, `J` the Jacobian of the residuals at the speeds of the fit and `s^2`
+    their variance (from `result.rms_residual`; independent of `sigma`).
+
+    **Arguments:**
+
+    - `result`: what `identify` returned.
+    - `machine`: the `BalancingMachine` passed to `identify` as `base` (the known
+      values; the fitted ones are replaced by `result.estimates`).
+    - `speeds`: the speeds (rad/s) at which to evaluate the band.
+    - `planes`: the correction planes of the fit (m from support 1).
+    - `unbalances`: the known unbalances (kg m, complex) when they were not fitted;
+      leave out when `result.unbalances` holds fitted ones.
+    - `level`: the band's coverage (0.95: a 95 % band).
+    - `fit_speeds`: the speeds of the measurements used in the fit (default
+      `speeds`); needed only to rebuild the covariance.
+    - `covariance`: the covariance of `theta` (rebuilt when None).
+
+    **Returns:** `(X_fit, amp_lo, amp_hi)`: the complex support amplitudes of the
+    fitted model, shape `(len(speeds), 2)`, and the lower and upper edges of the
+    band on `|X_fit|` (same shape, m).
+    """
+    from jax.scipy.special import ndtri
+
+    if not 0 < level < 1:
+        raise ValueError(f"level must lie in (0, 1), got {level}")
+    theta, known = _fitted_theta(result, unbalances)
+    planes = jnp.asarray(planes, dtype=jnp.float64)
+    speeds = jnp.atleast_1d(jnp.asarray(speeds, dtype=jnp.float64))
+    if covariance is None:
+        covariance = fit_covariance(result, machine, speeds if fit_speeds is None else fit_speeds, planes,
+                                    unbalances)
+    covariance = np.asarray(covariance, dtype=float)
+    if covariance.shape != (theta.size, theta.size):
+        raise ValueError(f"covariance must have shape ({theta.size}, {theta.size}) (log-parameters, then Re "
+                         f"and Im of fitted unbalances), got {covariance.shape}")
+    X, dX = (np.asarray(v) for v in _response_jacobian(machine, tuple(result.names), planes, known, theta,
+                                                           speeds))
+    amp = np.abs(X)
+    # d|X| = Re(conj(X) dX) / |X|: the chain rule through |.| (0 where X = 0)
+    g = np.real(np.conj(X)[..., None] * dX) / np.where(amp > 0, amp, 1.0)[..., None]   # (n, 2, p)
+    sd = np.sqrt(np.maximum(np.einsum("scp,pq,scq->sc", g, covariance, g), 0.0))
+    z = float(ndtri(0.5 + level / 2))
+    return X, np.maximum(amp - z * sd, 0.0), amp + z * sd

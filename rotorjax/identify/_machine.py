@@ -23,8 +23,9 @@ from the once-per-revolution mark in the direction of rotation; a vibration
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
-from ..models._validate import as_param
+from ..models._validate import InputError, as_numpy, as_param, is_concrete
 
 
 class BalancingMachine(eqx.Module):
@@ -65,10 +66,14 @@ class BalancingMachine(eqx.Module):
 
     def influence_matrix(self, w, planes):
         """`K[i, j]`: support `i`, plane `j` at `planes[j]` (distances from support 1)."""
+        _check_planes(planes)
         return jax.vmap(lambda a: self.influence(w, a), out_axes=1)(jnp.asarray(planes, dtype=jnp.float64))
 
     def response(self, w, planes, unbalances):
         """Complex support amplitudes `X = K(w) D` for unbalances `D` (kg m, complex)."""
+        n = _check_planes(planes)
+        if is_concrete(unbalances):
+            as_numpy("unbalances", unbalances, shape=(n,), dtype=np.complex128)
         return self.influence_matrix(w, planes) @ jnp.asarray(unbalances, dtype=jnp.complex128)
 
     def vector_field(self, t, y, theta, theta_d, theta_dd, planes, unbalances):
@@ -84,10 +89,24 @@ class BalancingMachine(eqx.Module):
         return jnp.concatenate([v, jnp.linalg.solve(A, f - B @ v - C @ x)])
 
 
+def _check_planes(planes):
+    """Plane distances from support 1: a 1-D array of >= 1 finite values; returns their count."""
+    if is_concrete(planes):
+        as_numpy("planes", planes, ndim=1)
+    n = np.shape(planes)
+    if len(n) != 1 or n[0] < 1:
+        raise InputError(f"planes must be a 1-D array of >= 1 plane distances, got shape {n}")
+    return n[0]
+
+
 def scalar_influence_matrix(l, planes_a):
     """The static "scalar" coefficients of eq. (3), for two planes at `A` from
     support 1 and `C` from support 2: `(l - A - C)^-1 [[l - A, A], [C, l - C]]`
     (the distribution of a plane's unbalance between the supports, without
     the machine's dynamics)."""
-    A, C = planes_a
+    l = float(as_numpy("l (support span)", l, sign="positive", shape=()))
+    A, C = (float(v) for v in as_numpy("planes_a (plane distances A, C)", planes_a, shape=(2,)))
+    if abs(l - A - C) <= 1e-12 * l:
+        raise InputError(f"planes_a (plane distances A, C): the two planes coincide (A + C = l), so the "
+                         f"coefficients are singular; got A = {A}, C = {C}, l = {l}")
     return jnp.array([[l - A, A], [C, l - C]]) / (l - A - C)
