@@ -209,7 +209,10 @@ def test_continue_command(tmp_path, capsys):
                  "--box", "1", "40", "0", "0.03", "--ds", "0.002", "--max-points", "6", "--out", str(tmp_path),
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert abs(out["N"][0] - 13.904126) < 1e-5 and max(out["residuals"]) < 1e-8
+    # traced both ways from the corrected start (N = 13.904126 at eta_e = 0.025)
+    start = out["stops"] and np.argmin(np.abs(np.asarray(out["eta_e"]) - 0.025))
+    assert abs(out["N"][start] - 13.904126) < 1e-5 and max(out["residuals"]) < 1e-8
+    assert min(out["eta_e"]) < 0.025 < max(out["eta_e"])
     assert (tmp_path / "continue_cantilever-limiters_N_eta_e.csv").exists()
     assert main(["continue", "elliptic-abb", "--param", "nu", "--set", "eps=0.03", "--set", "rho2=1.28",
                  "--to", "1.4", "1.8", "--ds", "0.05", "--out", str(tmp_path), "--json"]) == 0

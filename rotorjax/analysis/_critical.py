@@ -28,27 +28,35 @@ class CriticalSpeed:
 
 
 def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
-                    xtol: float = 1e-10, chunk_size: int = 100, return_scan: bool = False):
+                    xtol: float = 1e-10, chunk_size: int = 100, return_scan: bool = False,
+                    progress: bool = False):
     """Scan `margin(speed)` (a JAX-traceable scalar function) over `[lo, hi]` with a
     vmapped sweep, then refine each sign change by bisection to `xtol`.
 
     A range with no sign change returns `[]`. Non-finite margins at scan points are
     skipped (and make the bracket around them unusable). With `return_scan`,
-    returns `(found, (speeds, margins))`, the scan included (for plots).
+    returns `(found, (speeds, margins))`, the scan included (for plots). With
+    `progress`, a bar shows the scan (in at least 8 chunks) and the bisections.
     """
     if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
         raise ValueError(f"the speed range must be finite and increasing, got ({lo}, {hi})")
     if n_scan < 2:
         raise ValueError(f"n_scan must be >= 2, got {n_scan}")
+    if progress:
+        chunk_size = max(1, min(chunk_size, -(-n_scan // 8)))
     scan = sweep(lambda p: margin(p["speed"]), {"speed": np.linspace(lo, hi, n_scan)},
-                 chunk_size=chunk_size, progress=False)
+                 chunk_size=chunk_size, progress=progress)
     speeds, m = scan.axes["speed"], np.asarray(scan.values)
     one = eqx.filter_jit(margin)
     out = []
-    for i in range(n_scan - 1):
+    brackets = [i for i in range(n_scan - 1) if np.isfinite(m[i]) and np.isfinite(m[i + 1])
+                and np.sign(m[i]) != np.sign(m[i + 1]) and m[i] != 0]
+    if progress and brackets:
+        from tqdm.auto import tqdm
+
+        brackets = tqdm(brackets, desc="bisection", unit="root", leave=False)
+    for i in brackets:
         a, b, ma, mb = speeds[i], speeds[i + 1], m[i], m[i + 1]
-        if not (np.isfinite(ma) and np.isfinite(mb)) or np.sign(ma) == np.sign(mb) or ma == 0:
-            continue
         while b - a > xtol:
             c = 0.5 * (a + b)
             mc = float(one(jnp.float64(c)))

@@ -32,14 +32,15 @@ def _margin(state_matrix):
 
 
 def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
-                xtol: float = 1e-11, return_scan: bool = False):
+                xtol: float = 1e-11, return_scan: bool = False, progress: bool = False):
     """All speeds in `[lo, hi]` where the system `x' = A(speed) x` loses stability
     as the speed grows (a complex pair crossing to the right: a Hopf point of the
     nonlinear system), from a scan of the margin `max Re lambda` and bisection.
     With `return_scan`, returns `(points, (speeds, margins))`."""
     margin = _margin(state_matrix)
     out = []
-    found, scan = critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True)
+    found, scan = critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True,
+                                  progress=progress)
     for c in found:
         if c.stable_side != "below":
             continue

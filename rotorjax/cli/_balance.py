@@ -5,7 +5,7 @@ import os
 
 import numpy as np
 
-from ._common import InputError, name_list, preset_and_params, prepare_out, int_list
+from ._common import InputError, Stages, name_list, preset_and_params, prepare_out, int_list
 
 
 def cmd_balance(args) -> int:
@@ -84,11 +84,14 @@ def cmd_identify(args) -> int:
     fit = name_list("--fit", args.fit, FITTABLE)
     path = idf.resolve_data(args.data) if args.data else idf.RUNUP
     prepare_out(args.out)
+    stages = Stages("identify", 4, enabled=not args.json)
+    stages("reading the signals")
     cols = idf.read_signals(path)
     if len(cols["sensors"]) < 2:
         raise InputError(f"{path}: the balancing machine needs two sensor columns (x1, x2), found "
                          f"{', '.join(cols['sensors'])}")
     x = np.stack([cols[s] for s in cols["sensors"][:2]], axis=1)
+    stages("order tracking (1x phasors per revolution)")
     speeds, X = idf.order_track(cols["time"], x, tacho=cols["tacho"], revolutions_per_block=args.block)
     keep = speeds >= args.min_speed
     if keep.sum() < max(4, len(fit)):
@@ -96,16 +99,19 @@ def cmd_identify(args) -> int:
                          f"need at least {max(4, len(fit))}")
     base, planes, U = preset.build(params)
     unb = None if args.fit_unbalance else U
+    stages("Levenberg-Marquardt fit (autodiff Jacobians)")
     res = idf.identify(base, speeds[keep], X[keep], planes, fit=fit, unbalances=unb)
     out = {"preset": preset.name, "data": path, "fit": list(fit), "n_points": int(keep.sum()),
            "speed_range_rad_s": [float(speeds[keep].min()), float(speeds[keep].max())],
            "start": {k: params[k] for k in fit}, **res.as_dict()}
     stem = os.path.join(args.out, "identify_" + preset.name)
+    stages("the model's 95% band, plot")
     Xf, lo, hi = idf.response_band(res, base, speeds[keep], planes, unbalances=unb)
     plot_identification(stem + ".png", speeds[keep], X[keep], Xf, lo, hi,
                         title=f"{preset.name}: fit of {', '.join(fit)} to {os.path.basename(path)}",
                         channels=list(cols["sensors"][:2]))
     out["files"] = {"plot": stem + ".png"}
+    stages.close()
     if args.json:
         print(json.dumps(out, indent=2))
     else:

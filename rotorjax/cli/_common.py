@@ -244,6 +244,26 @@ def progress(total, desc, enabled=True):
     return tqdm(total=total, desc=desc, disable=not enabled, file=sys.stderr, leave=False)
 
 
+class Stages:
+    """Progress through the named stages of a command whose work is a few long
+    compiled calls (a bar on stderr that advances as each stage starts; silent when
+    `enabled` is false, e.g. with `--json`)."""
+
+    def __init__(self, command, n_stages, enabled=True):
+        self.bar = progress(n_stages, command, enabled)
+        self.started = False
+
+    def __call__(self, stage):
+        if self.started:
+            self.bar.update(1)
+        self.started = True
+        self.bar.set_postfix_str(stage, refresh=True)
+
+    def close(self):
+        self.bar.update(self.bar.total - self.bar.n)
+        self.bar.close()
+
+
 def write_json(path, obj, **kwargs):
     import json
 

@@ -83,6 +83,19 @@ def _param_range(preset, key, to, start):
     return (lo, hi), "--to"
 
 
+def _start_on_boundary(sigma, key, key2, start, box, progress):
+    """Without `--from`: the boundary's crossings along `key` at the start's `key2`
+    (scan and bisection over the box); the first starts the trace, the others
+    are returned."""
+    from rotorjax.analysis import critical_speeds
+
+    found = critical_speeds(lambda a: sigma(a, start[1]), box[0], box[1], n_scan=40, progress=progress)
+    if not found:
+        raise InputError(f"no stability boundary crosses {key2} = {start[1]:g} for {key} in [{box[0]:g}, "
+                         f"{box[1]:g}]: give --from {key.upper()} {key2.upper()} near one, or a wider --box")
+    return [found[0].speed, start[1]], [c.speed for c in found[1:]]
+
+
 def cmd_continue(args) -> int:
     from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundary
     from rotorjax.plot import plot_curves
@@ -114,7 +127,8 @@ def cmd_continue(args) -> int:
     direction = _direction(args.direction)
     prepare_out(args.out)
     stem = os.path.join(args.out, f"continue_{preset.name}_{key}" + (f"_{key2}" if key2 else ""))
-    out = {"preset": preset.name, "param": key, "param2": key2, "start": start}
+    out = {"preset": preset.name, "param": key, "param2": key2, "start": start,
+           "start_source": "--from" if args.start else "the preset's values"}
     if key2:
         if preset.margin is None:
             raise InputError(f"{preset.name!r} has no reference regime whose boundary could be traced")
@@ -125,10 +139,15 @@ def cmd_continue(args) -> int:
         def sigma(a, b):
             return preset.margin(dict(params, **{key: a, key2: b}))
 
+        if args.start is None:
+            start, out["other_crossings"] = _start_on_boundary(sigma, key, key2, start, box, not args.json)
+            out["start_source"] = f"the first crossing along {key} at {key2} = {start[1]:g}"
+
         curve = trace_boundary(sigma, start, bounds=(np.array([box[0], box[2]]), np.array([box[1], box[3]])),
                                ds=args.ds, ds_max=args.ds_max, max_points=args.max_points, gradient=gradient,
-                               direction=None if direction is None else (0.0, direction))
-        out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime,
+                               direction=None if direction is None else (0.0, direction), names=(key, key2),
+                               progress=not args.json)
+        out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime, "start": start,
                     "box": box, "box_source": box_source,
                     key: curve.x[:, 0].tolist(), key2: curve.x[:, 1].tolist(),
                     "residuals": curve.residuals.tolist(), "steps": curve.steps.tolist(),
@@ -147,7 +166,8 @@ def cmd_continue(args) -> int:
             q = dict(params, **{key: v})
             return ab.main_motion_floquet({k: q[k] for k in ab.GROUPS}, q["n"], q["K"])
 
-        found = floquet_crossings(fl, lo, hi, n_scan=args.max_points if args.max_points < 400 else 60)
+        found = floquet_crossings(fl, lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
+                                  progress=not args.json)
         out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi], "crossings": found})
         with open(stem + ".csv", "w") as f:
             f.write(f"{key},kind,residual\n")
@@ -164,7 +184,8 @@ def cmd_continue(args) -> int:
             raise InputError(f"--to {lo:g} {hi:g}: the start {key} = {start[0]:g} lies outside")
         out["range"] = [lo, hi]
         br = continue_branch(F, u0, start[0], p_bounds=(lo, hi), ds=args.ds, ds_max=args.ds_max,
-                             max_points=args.max_points, direction=direction)
+                             max_points=args.max_points, direction=direction, name=key,
+                             progress=not args.json)
         out.update({"kind": "branch of the balanced regime (rotating frame)", **br.as_dict(),
                     "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()})
         np.savetxt(stem + ".csv", np.column_stack([br.p, br.margin, br.curve.residuals]), delimiter=",",
@@ -181,6 +202,9 @@ def cmd_continue(args) -> int:
     print(f"{preset.name}: {out['kind']}; wrote {stem}.csv, .json")
     if "range" in out:
         print(f"  {key} in [{out['range'][0]:g}, {out['range'][1]:g}] ({out['range_source']})")
+    if out.get("other_crossings"):
+        print(f"  traced from {key} = {out['start'][0]:.6g} ({out['start_source']}); other crossings at "
+              + ", ".join(f"{v:.6g}" for v in out["other_crossings"]) + " (trace them with --from)")
     if "box" in out:
         b = out["box"]
         print(f"  box {key} in [{b[0]:g}, {b[1]:g}], {key2} in [{b[2]:g}, {b[3]:g}] ({out['box_source']})")

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from ._common import (InputError, build, check_range, get_preset, grid_spec, preset_and_params, preset_params,
+from ._common import (InputError, Stages, build, check_range, get_preset, grid_spec, preset_and_params, preset_params,
                       prepare_out, wrong_kind, write_json)
 
 
@@ -34,10 +34,15 @@ def cmd_steady(args) -> int:
     if preset.kind == "modal":
         return _modal_steady(preset, params, args)
     params["n_dot" if preset.speed_key == "n" else "nu_dot"] = 0.0
+    stages = Stages("steady", 3, enabled=not args.json)
+    stages("building the scene")
     scene, _, _ = build(preset, params)
+    stages(f"Newton from {args.n_angles} starts per weight angle, stability by autodiff (one compiled call)")
     regimes = steady_states(scene, n_angles=args.n_angles)
     rows = [_regime_dict(r) for r in regimes]
     stem = os.path.join(args.out, f"steady_{preset.name}")
+    stages("plot")
+    stages.close()
     plot_steady_regimes(stem + ".png", rows, title=f"{preset.name}: stationary regimes at "
                         f"{preset.speed_key} = {params[preset.speed_key]:g}")
     out = {"preset": preset.name, "speed": params[preset.speed_key], "params": params,
@@ -63,7 +68,10 @@ def _modal_steady(preset, params, args) -> int:
 
     if params["n_balls"] < 1:
         raise InputError("--set n_balls=0: flexible-abb regimes need balls, e.g. --set n_balls=2")
+    stages = Stages("steady", 3, enabled=not args.json)
+    stages("building the rotor")
     rotor = flexible_abb.build_balancer_rotor(params)
+    stages("balanced and unbalanced regimes")
     regimes = []
     try:
         regimes.append(balanced_regime(rotor))
@@ -74,6 +82,8 @@ def _modal_steady(preset, params, args) -> int:
              "disk_amplitude": float(r.disk_amplitude), "max_eigenvalue_real_part": float(r.margin),
              "verdict": "stable" if float(r.margin) < -1e-9 else "unstable",
              "residual": float(r.residual)} for r in regimes]
+    stages("plot")
+    stages.close()
     stem = os.path.join(args.out, f"steady_{preset.name}")
     plot_regime_amplitudes(stem + ".png", rows, title=f"{preset.name}: stationary regimes at omega = "
                            f"{params['omega']:g}, {params['n_balls']} balls")
@@ -106,7 +116,7 @@ def cmd_critical_speeds(args) -> int:
     key = preset.speed_key
     preset.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
     found, (scan_x, scan_m) = critical_speeds(lambda v: preset.margin(dict(params, **{key: v})), lo, hi,
-                                              n_scan=args.n_scan, return_scan=True)
+                                              n_scan=args.n_scan, return_scan=True, progress=not args.json)
     out = {"preset": preset.name, "regime": preset.regime, "range": [lo, hi], "params": params,
            "critical_speeds": [c.as_dict() for c in found]}
     extra = None
@@ -266,7 +276,8 @@ def cmd_hopf(args) -> int:
     lo, hi = check_range("--range", *(args.range or HOPF_RANGE), positive_lo=True)
     prepare_out(args.out)
     rotor = cl.build_rotor(params)
-    points, (scan_x, scan_m) = hopf_points(rotor.state_matrix, lo, hi, n_scan=args.n_scan, return_scan=True)
+    points, (scan_x, scan_m) = hopf_points(rotor.state_matrix, lo, hi, n_scan=args.n_scan, return_scan=True,
+                                             progress=not args.json)
     out = {"preset": preset.name, "params": params, "range": [lo, hi],
            "range_source": "--range" if args.range else "default",
            "unit": "speed N and whirl frequency in 1/T*", "hopf_points": []}

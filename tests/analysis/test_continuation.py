@@ -1,12 +1,13 @@
 """Continuation: branches with folds and Hopf points, fold curves, stability
-boundaries of models 001 and 004, batched boundary solves, bad input."""
+boundaries of models 001 and 004, batched boundary solves, bad input; curves in
+closed form traced both ways to the box edges, closed loops, and every stop reason."""
 
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from rotorjax.analysis import (boundary_points, boundary_sensitivity, continue_branch, critical_speeds,
-                               floquet_crossings, fold_curve, hopf_points, trace_boundary)
+                               floquet_crossings, fold_curve, hopf_points, trace_boundary, trace_curve)
 from rotorjax.presets import anisotropic_abb as ab
 from rotorjax.presets import cantilever_limiters as cl
 
@@ -42,7 +43,9 @@ def test_duffing_branch_folds_and_fold_curve_match_the_closed_form():
     br = continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0), ds=0.02, ds_max=0.05,
                          max_points=400)
     folds = [e for e in br.events if e["kind"] == "fold"]
-    assert len(folds) == 2 and br.curve.stopped == "left the parameter box"
+    # traced both ways from the box's lower edge: that end stops at once, the other lands on p = 2
+    assert len(folds) == 2 and br.stops == ("box edge (p = 0.5)", "box edge (p = 2.0)")
+    assert br.curve.start == 0 and br.p[-1] == 2.0
     for e in folds:
         assert e["residual"] < 1e-12
         assert min(abs(f0 / v - 1) for v in duffing_fold_forcing(e["p"])) < 1e-9
@@ -78,7 +81,8 @@ def test_model_004_hopf_curve_matches_pointwise_solves_and_its_sensitivity():
     curve = trace_boundary(lambda N, r: rotor(r).stability_margin(N), (4.0, 1.0),
                            bounds=(np.array([0.5, 0.5]), np.array([30.0, 4.0])), ds=0.2, ds_max=1.0,
                            direction=(0.0, 1.0), tol=1e-10)
-    assert curve.stopped == "left the parameter box" and curve.x.shape[0] >= 8
+    assert curve.stopped == "box edge (p2 = 4.0)" and curve.x.shape[0] >= 8 and curve.x[-1, 1] == 4.0
+    assert curve.stops[0] == "start" and np.all(curve.x[0] == curve.x[curve.start])
     for N, r in curve.x[::3]:
         h = hopf_points(rotor(r).state_matrix, N - 0.5, N + 0.5, n_scan=5, xtol=1e-13)[0]
         assert abs(h.speed - N) < 1e-8 * N
@@ -128,4 +132,120 @@ def test_bad_starts_and_boxes():
     with pytest.raises(ValueError, match="outside the bounds"):
         continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(1.5, 3.0))
     br = continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(0.5, 1.3), ds=0.05)
-    assert br.curve.stopped == "left the parameter box" and br.p.max() <= 1.3
+    assert br.stopped == "low end: box edge (p = 0.5); high end: box edge (p = 1.3)"
+    assert br.p[0] == 0.5 and br.p[-1] == 1.3 and np.all(np.diff(br.p) > 0)
+    with pytest.raises(ValueError, match="empty box"):
+        trace_curve(circle, [1.0, 0.0], bounds=([0.0, 0.5], [2.0, -0.5]))
+
+
+# curves in closed form
+
+
+def circle(x):
+    return jnp.atleast_1d(x[0] ** 2 + x[1] ** 2 - 1.0)
+
+
+def parabola(x):            # x = y^2: a turning point in x at the origin, curvature 2 there
+    return jnp.atleast_1d(x[0] - x[1] ** 2)
+
+
+def chord_turns(x):
+    d = np.diff(x, axis=0)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return np.arccos(np.clip(np.sum(d[1:] * d[:-1], axis=1), -1.0, 1.0))
+
+
+def test_circle_traced_both_ways_lands_on_both_box_edges():
+    """From (1, 0) inside the box y in [-0.5, 0.8]: the arc from (sqrt(3)/2, -0.5) to (0.6, 0.8), in order,
+    the start once; with a lower bound on x instead, the upper end lands on x = 0.3."""
+    c = trace_curve(circle, [1.0, 0.0], bounds=(np.array([np.nan, -0.5]), np.array([np.nan, 0.8])), ds=0.05,
+                    names=("x", "y"))
+    assert c.stops == ("box edge (y = -0.5)", "box edge (y = 0.8)")
+    assert c.stopped == "low end: box edge (y = -0.5); high end: box edge (y = 0.8)"
+    np.testing.assert_allclose(c.x[0], [np.sqrt(0.75), -0.5], atol=1e-8)
+    np.testing.assert_allclose(c.x[-1], [0.6, 0.8], atol=1e-8)
+    np.testing.assert_array_equal(c.x[c.start], [1.0, 0.0])
+    angle = np.arctan2(c.x[:, 1], c.x[:, 0])
+    assert np.all(np.diff(angle) > 0) and c.residuals.max() < 1e-12
+    assert c.steps[0] == 0 and np.all(c.steps[1:] > 0) and c.x.shape[0] == c.steps.size
+    c = trace_curve(circle, [1.0, 0.0], bounds=(np.array([0.3, -0.5]), np.array([np.nan, np.nan])), ds=0.05,
+                    ds_max=0.5, names=("x", "y"))
+    assert c.stops == ("box edge (y = -0.5)", "box edge (x = 0.3)")
+    np.testing.assert_allclose(c.x[-1], [0.3, np.sqrt(1 - 0.09)], atol=1e-8)
+    # one way: the start is the first point, the old behaviour
+    c = trace_curve(circle, [1.0, 0.0], bounds=(np.array([np.nan, -0.5]), np.array([np.nan, 0.8])), ds=0.05,
+                    direction=(0.0, -1.0), names=("x", "y"))
+    assert c.stops == ("start", "box edge (y = -0.5)") and c.stopped == "box edge (y = -0.5)"
+    assert c.start == 0 and c.x[-1, 1] == -0.5
+
+
+def test_parabola_through_its_turning_point_to_both_edges_without_kinks():
+    """x = y^2 from (1, 1) in x <= 2: both ends on x = 2 (y = -+sqrt 2); through the turning point the
+    chord turns at most about max_turn per point although ds_max allows 0.4 rad there."""
+    c = trace_curve(parabola, [1.0, 1.0], bounds=(np.array([np.nan, np.nan]), np.array([2.0, np.nan])),
+                    ds=0.1, ds_max=0.2, names=("x", "y"))
+    assert c.stops == ("box edge (x = 2.0)", "box edge (x = 2.0)")
+    np.testing.assert_allclose(c.x[[0, -1]], [[2.0, -np.sqrt(2)], [2.0, np.sqrt(2)]], atol=1e-8)
+    assert np.all(np.diff(c.x[:, 1]) > 0) and c.residuals.max() < 1e-12
+    assert chord_turns(c.x).max() < 0.25
+    assert c.steps[np.argmin(np.abs(c.x[:, 1]))] < 0.15      # shorter steps at the turning point
+
+
+def test_closed_loop_inside_the_box_and_max_points():
+    c = trace_curve(circle, [1.0, 0.0], bounds=(np.array([-2.0, -2.0]), np.array([2.0, 2.0])), ds=0.05)
+    assert c.stopped == "closed loop" and c.stops == ("closed loop", "closed loop")
+    np.testing.assert_array_equal(c.x[0], c.x[-1])
+    angle = np.unwrap(np.arctan2(c.x[:, 1], c.x[:, 0]))
+    assert angle[-1] - angle[0] == pytest.approx(2 * np.pi, abs=1e-12) and np.all(np.diff(angle) > 0)
+    assert c.residuals.max() < 1e-12 and chord_turns(c.x).max() < 0.25
+    c = trace_curve(circle, [1.0, 0.0], ds=0.05, direction=(0.0, 1.0))
+    assert c.stops == ("start", "closed loop") and np.all(c.x[-1] == c.x[0])
+    c = trace_curve(circle, [1.0, 0.0], ds=0.05, max_points=15)
+    assert c.x.shape[0] == 15 and c.start == 7
+    assert c.stops == ("max_points reached (no parameter box given)",) * 2
+    c = trace_curve(circle, [1.0, 0.0], bounds=(np.array([-2.0, -2.0]), np.array([2.0, 2.0])), ds=0.05,
+                    max_points=15)
+    assert c.x.shape[0] == 15 and c.stops == ("max_points reached",) * 2
+
+
+def test_stops_inside_the_box_say_why():
+    """A function undefined above y = 0.6, and a cusp (y^2 = x^3, where the corrector cannot converge)."""
+    def undefined_above(x):
+        return jnp.atleast_1d(jnp.where(x[1] > 0.6, jnp.nan, x[0] ** 2 + x[1] ** 2 - 1.0))
+
+    c = trace_curve(undefined_above, [1.0, 0.0], bounds=(np.array([np.nan, -0.5]), np.array([np.nan, 0.9])),
+                    ds=0.05, names=("x", "y"))
+    assert c.stops[0] == "box edge (y = -0.5)" and c.stops[1].startswith("non-finite G at (x = ")
+    assert 0.55 < c.x[-1, 1] <= 0.6 and c.x.shape[0] < 30
+
+    def cusp(x):
+        return jnp.atleast_1d(x[1] ** 2 - x[0] ** 3)
+
+    c = trace_curve(cusp, [1.0, 1.0], bounds=(np.array([np.nan, np.nan]), np.array([2.0, np.nan])), ds=0.05,
+                    names=("x", "y"))
+    assert c.stops[0].startswith("corrector failed (step below ds_min) at (x = ")
+    assert c.stops[1] == "box edge (x = 2.0)" and np.abs(c.x[0]).max() < 1e-3
+    np.testing.assert_allclose(c.x[-1], [2.0, np.sqrt(8.0)], atol=1e-8)
+
+
+def test_branch_with_two_folds_traced_both_ways():
+    """p = u^3 - u from the middle (unstable) equilibrium u = 0, p in [-1, 1]: folds at u = -+1/sqrt 3,
+    p = +-2/(3 sqrt 3); towards increasing p at the start the branch turns at the upper fold and ends on
+    p = -1 (u = -1.3247..., the plastic number), the other way on p = 1."""
+    def F(u, p):
+        return jnp.atleast_1d(p + u[0] - u[0] ** 3)
+
+    br = continue_branch(F, np.array([0.0]), 0.0, p_bounds=(-1.0, 1.0), ds=0.05, name="p")
+    assert br.stops == ("box edge (p = 1.0)", "box edge (p = -1.0)")
+    plastic = 1.324717957244746
+    np.testing.assert_allclose(br.u[[0, -1], 0], [plastic, -plastic], atol=1e-8)
+    assert br.p[0] == 1.0 and br.p[-1] == -1.0 and br.u[br.curve.start, 0] == 0.0
+    assert np.all(np.diff(br.u[:, 0]) < 0)                      # one ordered curve, the start once
+    folds = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    np.testing.assert_allclose(folds, [-2 / (3 * np.sqrt(3)), 2 / (3 * np.sqrt(3))], atol=1e-12)
+    assert list(br.stable[[0, br.curve.start, -1]]) == [True, False, True]
+    assert chord_turns(np.column_stack([br.u, br.p])).max() < 0.25
+    d = br.as_dict()
+    assert d["stops"] == list(br.stops) and d["start"] == br.curve.start
+    one = continue_branch(F, np.array([0.0]), 0.0, p_bounds=(-1.0, 1.0), ds=0.05, direction=1.0)
+    assert one.stops == ("start", "box edge (p = -1.0)") and one.p[0] == 0.0
