@@ -9,6 +9,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .models._validate import InputError, as_count, check_choice, show
+
 
 @dataclasses.dataclass(frozen=True)
 class SweepResult:
@@ -31,30 +33,35 @@ class SweepResult:
 
 
 def _grid(grid: dict, mode: str):
+    check_choice("mode", mode, ("product", "zip"))
     if not isinstance(grid, dict) or not grid:
-        raise ValueError("grid must be a non-empty dict {name: array of values}")
+        raise InputError(f"grid must be a non-empty dict {{name: array of values}}, got {show(grid)}")
     arrays = {}
     for name, v in grid.items():
-        a = np.asarray(v, dtype=np.float64)
+        if not isinstance(name, str):
+            raise InputError(f"grid names must be strings, got {name!r}")
+        try:
+            a = np.asarray(v, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"grid[{name!r}] must be an array of numbers, got {show(v)}") from None
         if mode == "product" and a.ndim != 1:
-            raise ValueError(f"grid[{name!r}] must be 1-D for a product grid, got shape {a.shape}")
+            raise InputError(f"grid[{name!r}] must be 1-D for a product grid, got shape {a.shape}")
         if a.ndim == 0 or a.shape[0] == 0:
-            raise ValueError(f"grid[{name!r}] must hold at least one value, got shape {a.shape}")
+            raise InputError(f"grid[{name!r}] must hold at least one value, got shape {a.shape}")
         if not np.all(np.isfinite(a)):
-            raise ValueError(f"grid[{name!r}] must be finite")
+            bad = np.flatnonzero(~np.isfinite(a.reshape(-1)))
+            raise InputError(f"grid[{name!r}] must be finite, got {a.reshape(-1)[bad[0]]} at index {int(bad[0])}")
         arrays[name] = a
     if mode == "product":
         shape = tuple(a.shape[0] for a in arrays.values())
         mesh = np.meshgrid(*arrays.values(), indexing="ij")
         points = {k: m for k, m in zip(arrays, mesh)}
         return arrays, points, shape
-    if mode == "zip":
-        shapes = {k: a.shape[0] for k, a in arrays.items()}
-        if len(set(shapes.values())) != 1:
-            raise ValueError(f"zipped grid arrays must have equal length, got {shapes}")
-        n = next(iter(shapes.values()))
-        return {"point": np.arange(n)}, arrays, (n,)
-    raise ValueError(f"mode must be 'product' or 'zip', got {mode!r}")
+    shapes = {k: a.shape[0] for k, a in arrays.items()}
+    if len(set(shapes.values())) != 1:
+        raise InputError(f"zipped grid arrays must have equal length, got {shapes}")
+    n = next(iter(shapes.values()))
+    return {"point": np.arange(n)}, arrays, (n,)
 
 
 def sweep(
@@ -82,14 +89,13 @@ def sweep(
 
     **Returns:** a `SweepResult` whose `values` leaves have the grid's shape in front.
     """
+    if not callable(fn):
+        raise InputError(f"fn must be a function of one grid point, got {fn!r}")
     axes, points, shape = _grid(grid, mode)
     total = math.prod(shape)
     flat = {k: jnp.asarray(v.reshape(-1)) for k, v in points.items()}
-    if chunk_size is None:
-        chunk_size = total
-    if int(chunk_size) < 1:
-        raise ValueError(f"chunk_size must be >= 1, got {chunk_size}")
-    chunk = min(int(chunk_size), total)
+    chunk_size = total if chunk_size is None else as_count("chunk_size", chunk_size, minimum=1)
+    chunk = min(chunk_size, total)
     sharding = None
     if shard:
         devices = jax.local_devices()

@@ -47,7 +47,7 @@ def test_failure_is_reported_with_nonzero_exit(tmp_path, capsys):
     (["simulate", "elliptic-abb", "--set", "rho1=-1"], "rho1=-1: must be > 0"),
     (["simulate", "elliptic-abb", "--set", "chi=-0.1"], "chi=-0.1: must be > 0"),
     (["simulate", "anisotropic-abb", "--set", "sigma=0.4"], "sigma must be 1/N"),
-    (["simulate", "elliptic-abb", "--set", "n_balls=1.5"], "non-negative integer"),
+    (["simulate", "elliptic-abb", "--set", "n_balls=1.5"], "n_balls=1.5: must be an integer"),
     (["simulate", "elliptic-abb", "--t-end", "-3"], "--t-end: must be > 0"),
 ])
 def test_bad_input_gets_a_clear_error(argv, match, capsys, tmp_path):

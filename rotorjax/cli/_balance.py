@@ -5,7 +5,7 @@ import os
 
 import numpy as np
 
-from ._common import InputError, Stages, name_list, preset_and_params, prepare_out, int_list
+from ._common import InputError, NumericalError, Stages, name_list, preset_and_params, prepare_out, int_list
 
 
 def cmd_balance(args) -> int:
@@ -22,7 +22,15 @@ def cmd_balance(args) -> int:
     X0 = data.X0
     K = idf.influence_from_trials(X0, data.X_trials, data.trial_unbalances)
     W = -idf.unbalance_from_vibration(K, X0) if K.shape[0] == K.shape[1] else idf.least_squares_correction(K, X0)
+    if not np.all(np.isfinite(W)):
+        raise NumericalError("balance: the corrections are not finite (a singular influence matrix: do two trial "
+                             "planes act alike?)")
     predicted = X0 + K @ W
+    warnings = []
+    cond = float(np.linalg.cond(K))
+    if cond > 1e6:
+        warnings.append(f"the influence matrix is ill-conditioned (condition number {cond:.2g}): the planes act "
+                        "almost alike on the sensors, so the corrections are uncertain")
     speed = data.speed
     # residual unbalance from the phasors' noise: sigma_X = rms residual * sqrt(2 / samples)
     sigma_X = np.asarray(data.base["residual_rms"]) * np.sqrt(2.0 / max(data.n_samples_base, 1))
@@ -36,7 +44,7 @@ def cmd_balance(args) -> int:
                                  for k in row] for row in K],
            "corrections": [], "vibration_before": [float(abs(x)) for x in X0],
            "predicted_vibration_after": [float(abs(x)) for x in predicted],
-           "residual_unbalance_g_mm": residual_gmm}
+           "residual_unbalance_g_mm": residual_gmm, "influence_condition_number": cond, "warnings": warnings}
     for p, w in zip(planes, W):
         c = {"plane": p, "unbalance_kg_m": float(abs(w)), "angle_deg": float(np.degrees(np.angle(w)) % 360),
              "mass_g": float(abs(w) / args.radius * 1e3), "radius_m": args.radius}
@@ -68,6 +76,8 @@ def cmd_balance(args) -> int:
           + " m; predicted after " + ", ".join(f"{v:.3g}" for v in out["predicted_vibration_after"]) + " m")
     print(f"  ISO 21940-11 grade reached: G{out['iso_grade_reached']} (before: G{out['iso_grade_before']}), "
           f"rotor mass {args.rotor_mass:g} kg")
+    for w in warnings:
+        print(f"  warning: {w}")
     print(f"  wrote {stem}.png")
     return 0
 

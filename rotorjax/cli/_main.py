@@ -222,6 +222,10 @@ def main(argv=None) -> int:
     except NumericalError as e:
         print(f"rotorjax: numerical failure: {e}", file=sys.stderr)
         return 3
+    except (OverflowError, ZeroDivisionError, FloatingPointError) as e:
+        print(f"rotorjax: numerical failure: {type(e).__name__}: {e} (are the --set values within a physical "
+              "range? `rotorjax presets PRESET` lists them)", file=sys.stderr)
+        return 3
     except (InputError, ValueError) as e:
         print(f"rotorjax: error: {e}", file=sys.stderr)
         return 2

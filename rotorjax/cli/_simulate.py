@@ -87,7 +87,7 @@ def cmd_simulate(args) -> int:
     if args.t_end is not None:
         t_end = args.t_end
     result = rj.simulate(scene, y0, (0.0, t_end), saveat=args.n_save or 4000, solver=args.solver,
-                         rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
+                         rtol=args.rtol, atol=args.atol, max_steps=args.max_steps, progress=not args.json)
     summary = summarize(result, scene, params, preset.name, t_end)
     stem = os.path.join(args.out, preset.name)
     run_up = bool(params.get("nu_dot", 0) or params.get("n_dot", 0))
@@ -123,7 +123,7 @@ def contact_run(params, scene, y0, t_end, args, n_save):
         return simulate_events(scene, y0, (0.0, t_end), saveat=n_save, solver=solver, rtol=args.rtol,
                                atol=args.atol, max_steps=args.max_steps)
     return rj.simulate(scene, y0, (0.0, t_end), saveat=n_save, solver=args.solver, rtol=args.rtol,
-                       atol=args.atol, max_steps=args.max_steps)
+                       atol=args.atol, max_steps=args.max_steps, progress=not args.json)
 
 
 def window(params, t_end):

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from ._common import (InputError, Stages, build, check_range, get_preset, grid_spec, preset_and_params, preset_params,
+from ._common import (InputError, NumericalError, Stages, build, check_range, get_preset, grid_spec, preset_and_params, preset_params,
                       prepare_out, wrong_kind, write_json)
 
 
@@ -132,6 +132,9 @@ def cmd_critical_speeds(args) -> int:
                 margin_label="margin: largest Re(lambda) or Floquet exponent (dimensionless)",
                 extra_roots=extra, extra_label="paper's criterion p(n) = 0 (eq. 18)")
     out["files"] = {"plot": stem + ".png"}
+    if not np.any(np.isfinite(scan_m)):
+        raise NumericalError(f"critical-speeds: the margin could not be computed at any of the {args.n_scan} scan "
+                             f"points in [{lo:g}, {hi:g}]")
     if not np.all(np.isfinite(scan_m)):
         out["failed_scan_points"] = int(np.sum(~np.isfinite(scan_m)))
     if args.json:
@@ -246,18 +249,22 @@ def cmd_stability_map(args) -> int:
     res = sweep(lambda pt: preset.margin(dict(params, **pt)), grid, chunk_size=args.chunk,
                 progress=not args.json)
     margin = np.asarray(res.values)
+    ok = np.isfinite(margin)
+    if not ok.any():
+        raise NumericalError(f"stability-map: the margin could not be computed at any of the {nx}x{ny} points")
     stem = os.path.join(args.out, f"stability_map_{preset.name}")
     plot_stability_map(grid[xk], grid[yk], margin, stem + ".png", xk, yk,
                        title=f"{preset.name}: stability of {preset.regime}")
     np.savez(stem + ".npz", **{xk: grid[xk], yk: grid[yk]}, margin=margin)
     out = {"preset": preset.name, "regime": preset.regime, "x": xk, "y": yk,
-           "shape": [nx, ny], "stable_fraction": float(np.mean(margin < 0)),
+           "shape": [nx, ny], "stable_fraction": float(np.mean(margin[ok] < 0)),
            "failed_points": int(np.sum(~np.isfinite(margin))),
            "files": {"plot": stem + ".png", "data": stem + ".npz"}}
     if args.json:
         print(json.dumps(out, indent=2))
     else:
-        print(f"stable at {100 * out['stable_fraction']:.1f}% of {nx}x{ny} points; wrote {stem}.png")
+        print(f"stable at {100 * out['stable_fraction']:.1f}% of the {int(ok.sum())} computed points of the "
+              f"{nx}x{ny} grid; wrote {stem}.png")
         if out["failed_points"]:
             print(f"  warning: the margin could not be computed at {out['failed_points']} points (blank on the map)")
     return 0

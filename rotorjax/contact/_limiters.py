@@ -29,7 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_param
+from ..models._validate import as_param, as_vector, per_item
 
 
 class Limiters(eqx.Module):
@@ -49,25 +49,15 @@ class Limiters(eqx.Module):
     slip_regularisation: float = eqx.field(static=True, default=1e-6)
 
     def __init__(self, angles, clearance, stiffness, damping=0.0, friction=0.0, smoothing=1e-6):
-        angles = as_param("limiter angles", angles)
-        if angles.ndim != 1 or angles.shape[0] < 1:
-            raise ValueError(f"limiter angles must be a 1-D array of >= 1 angles, got shape {angles.shape}")
+        angles = as_vector("limiter angles", angles, what="angles (at least one limiter)")
         n = angles.shape[0]
-
-        def per_limiter(name, v, sign):
-            v = as_param(name, v, sign=sign)
-            if v.ndim == 0:
-                return jnp.full(n, v)
-            if v.shape != (n,):
-                raise ValueError(f"{name} must be a scalar or one value per limiter ({n}), got shape {v.shape}")
-            return v
-
         self.angles = angles
-        self.clearance = per_limiter("limiter clearance chi", clearance, "positive")
-        self.stiffness = per_limiter("limiter stiffness kappa", stiffness, "nonnegative")
-        self.damping = per_limiter("limiter damping eta", damping, "nonnegative")
-        self.friction = per_limiter("limiter friction f_S", friction, "nonnegative")
-        self.smoothing = as_param("contact smoothing length", smoothing, sign="positive", shape=())
+        self.clearance = per_item("limiter clearance chi", clearance, n, sign="positive", what="limiter")
+        self.stiffness = per_item("limiter stiffness kappa", stiffness, n, sign="nonnegative", what="limiter")
+        self.damping = per_item("limiter damping eta", damping, n, sign="nonnegative", what="limiter")
+        self.friction = per_item("limiter friction f_S", friction, n, sign="nonnegative", what="limiter")
+        self.smoothing = as_param("smoothing (contact regularisation length)", smoothing, sign="positive",
+                                  shape=())
 
     @property
     def n(self) -> int:

@@ -15,7 +15,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..models._speed import ConstantSpeed
-from ..models._validate import as_param
+from ..flexible._cantilever import CantileverRotor
+from ..models._validate import InputError, as_param, check_type
+from ._limiters import Limiters
 
 
 class CantileverScene(eqx.Module):
@@ -41,6 +43,10 @@ class CantileverScene(eqx.Module):
     disk: jax.Array         # rows of the basis at the disk's x, y, sx, sy
 
     def __init__(self, rotor, N, eps=0.0, phase=0.0, gamma=0.0, limiters=None, n_modes=None):
+        check_type("rotor", rotor, CantileverRotor, "a rotorjax.flexible.CantileverRotor")
+        if limiters is not None and not isinstance(limiters, Limiters):
+            raise InputError(f"limiters must be a rotorjax.contact.Limiters or None, got "
+                             f"{type(limiters).__name__}")
         self.rotor, self.limiters = rotor, limiters
         self.N = as_param("N (spin speed)", N, shape=())
         self.eps = as_param("eps (eccentricity)", eps, sign="nonnegative", shape=())
@@ -101,6 +107,8 @@ class CantileverScene(eqx.Module):
         return self.limiters.force(pos, vel, self.N, self.disk_radius, active)
 
     def contact_indicator(self, t, y):
+        if self.limiters is None:
+            return jnp.zeros(0)
         pos, vel = self.disk_state(y)
         return self.limiters.indicator(pos, vel)
 

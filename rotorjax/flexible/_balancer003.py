@@ -27,7 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..models._speed import AbstractSpeedProfile
-from ..models._validate import as_param
+from ..models._validate import InputError, as_count, as_param, check_span, check_type, is_concrete, per_item
 from ._modal import ModalShaft
 
 
@@ -44,18 +44,16 @@ class ModalBalancerRotor(eqx.Module):
     speed: AbstractSpeedProfile
 
     def __init__(self, shaft, ball_mass, ball_radius, ball_drag, speed):
-        if not isinstance(shaft, ModalShaft):
-            raise ValueError("shaft must be a ModalShaft")
+        check_type("shaft", shaft, ModalShaft, "a rotorjax.flexible.ModalShaft")
         self.shaft = shaft
-        self.ball_mass = as_param("ball mass", ball_mass, sign="positive")
-        n = self.ball_mass.shape[0] if self.ball_mass.ndim == 1 else -1
-        if n < 0:
-            raise ValueError("ball mass must be a 1-D array with one entry per ball "
-                             "(empty: the shaft without a balancer)")
-        self.ball_radius = jnp.broadcast_to(as_param("ball radius", ball_radius, sign="positive"), (n,))
-        self.ball_drag = jnp.broadcast_to(as_param("ball drag", ball_drag, sign="nonnegative"), (n,))
-        if not isinstance(speed, AbstractSpeedProfile):
-            raise ValueError("speed must be a speed profile")
+        self.ball_mass = as_param("ball_mass", ball_mass, sign="positive")
+        if self.ball_mass.ndim != 1:
+            raise InputError(f"ball_mass must be a 1-D array with one entry per ball (empty: the shaft "
+                             f"without a balancer), got shape {self.ball_mass.shape}")
+        n = self.ball_mass.shape[0]
+        self.ball_radius = per_item("ball_radius", ball_radius, n, sign="positive", what="ball")
+        self.ball_drag = per_item("ball_drag", ball_drag, n, sign="nonnegative", what="ball")
+        check_type("speed", speed, AbstractSpeedProfile, "a speed profile (ConstantSpeed, RunUp, ...)")
         self.speed = speed
 
     @property
@@ -167,15 +165,16 @@ def balanced_regime(rotor):
     """Regime C: shaft straight, two (or more, fanned) balls cancelling the imbalance."""
     from ..models import balancing_angles
 
+    check_type("rotor", rotor, ModalBalancerRotor, "a ModalBalancerRotor")
     mr = rotor.ball_mass * rotor.ball_radius
     if rotor.n_balls < 1:
-        raise ValueError("a rotor without balls has no balanced regime")
+        raise InputError("rotor: a rotor without balls has no balanced regime")
     c = rotor.shaft.m0 / (rotor.n_balls * mr[0])
     if not isinstance(c, jax.core.Tracer):
         if not np.allclose(np.asarray(mr), float(mr[0])):
-            raise ValueError("the balanced regime is built for identical balls")
+            raise InputError("rotor: the balanced regime is built for identical balls")
         if c > 1:
-            raise ValueError(f"the balls cannot cancel the imbalance: m0 = {float(rotor.shaft.m0)} > "
+            raise InputError(f"rotor: the balls cannot cancel the imbalance: m0 = {float(rotor.shaft.m0)} > "
                              f"sum m_j r_j = {rotor.n_balls * float(mr[0])}")
     alpha = balancing_angles(rotor.n_balls, c)
     return _regime(rotor, "C", float("nan"), jnp.zeros(rotor.shaft.n_modes, dtype=complex), alpha)
@@ -185,7 +184,11 @@ def unbalanced_regimes(rotor):
     """All NS regimes (eqs. 28-30): for every assignment `delta_j` of the balls to the
     disk-centre ray (0) or its opposite (1), `sigma = sum m_j r_j (-1)^delta_j / m0`, and
     the roots `rho > 0` of eq. (30)."""
+    check_type("rotor", rotor, ModalBalancerRotor, "a ModalBalancerRotor")
     s = rotor.shaft
+    if not is_concrete(s.m0) or not float(s.m0) > 0:
+        raise InputError(f"rotor.shaft.m0 (imbalance mass) must be > 0 for the unbalanced regimes "
+                         f"(sigma = sum m_j r_j (-1)^delta_j / m0), got {s.m0}")
     omega = float(rotor.speed.speed(0.0))
     R = _dynamic_matrix(rotor, omega)
     a, _, _ = s.mode_vectors()
@@ -220,8 +223,12 @@ def pseudo_balanced_speeds(shaft, lo, hi, n_scan=4000):
     (closed-form sums). PS exists only without damping."""
     from ._modal import closed_form_sums
 
+    check_type("shaft", shaft, ModalShaft, "a rotorjax.flexible.ModalShaft")
+    lo, hi = check_span("lo", lo, "hi", hi)
+    n_scan = as_count("n_scan", n_scan, minimum=2)
     if float(shaft.d) != 0:
-        raise ValueError("the pseudo-balanced regime PS exists only without damping (d = 0)")
+        raise InputError("shaft: the pseudo-balanced regime PS exists only without damping (d = 0), "
+                         f"got d = {float(shaft.d)}")
     z0, J = float(shaft.z0), float(shaft.J)
 
     def f(w):

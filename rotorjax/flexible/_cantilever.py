@@ -28,7 +28,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_param
+from ..models._validate import as_count, as_param
 from ._reduction import undamped_modes
 from ._rotor import DOFS_PER_NODE, FlexibleRotor
 
@@ -43,6 +43,7 @@ def groups_from_si(l, d, D, a, E, rho, g=9.81):
     `T_star` (s), `M` (kg), `EI` (N m^2), `l` (m)."""
     for name, v in (("l", l), ("d", d), ("D", D), ("a", a), ("E", E), ("rho", rho)):
         as_param(name, v, sign="positive", shape=())
+    as_param("g (gravity)", g, sign="nonnegative", shape=())
     M = rho * np.pi * D**2 / 4 * a
     EI = E * np.pi * d**4 / 64
     m_R = rho * np.pi * d**2 / 4
@@ -54,6 +55,9 @@ def limiter_groups_from_si(k, h, d_S, l, M, EI):
     """Limiter stiffness `kappa = k l^3 / EI`, clearance `chi = h / l` and damping
     `eta = d_S sqrt(l^3 / (M EI))` (eq. 7; the paper prints `k l / EI`, a typo: its
     `k_S = 4.087e6 N/m` gives the stated `kappa = 850` only with `l^3`)."""
+    for name, v, sign in (("k", k, "nonnegative"), ("h", h, "positive"), ("d_S", d_S, "nonnegative"),
+                          ("l", l, "positive"), ("M", M, "positive"), ("EI", EI, "positive")):
+        as_param(name, v, sign=sign, shape=())
     return {"kappa": k * l**3 / EI, "chi": h / l, "eta": d_S * np.sqrt(l**3 / (M * EI))}
 
 
@@ -92,9 +96,7 @@ class CantileverRotor(eqx.Module):
         self.eta_Dxi = as_param("eta_Dxi (disk damping)", eta_Dxi, sign="nonnegative", shape=())
         self.eta_Dtheta = as_param("eta_Dtheta (disk angular damping)", eta_Dtheta, sign="nonnegative",
                                    shape=())
-        if int(n_elements) != n_elements or n_elements < 1:
-            raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
-        self.n_elements = int(n_elements)
+        self.n_elements = as_count("n_elements", n_elements, minimum=1)
 
     @classmethod
     def from_si(cls, l, d, D, a, E, rho, T_V=0.0, d_e=0.0, d_Dr=0.0, d_Dtheta=0.0, n_elements=8):
@@ -102,6 +104,8 @@ class CantileverRotor(eqx.Module):
         time `T_V` (s), external damping per unit length `d_e` (N s/m^2), disk
         translational `d_Dr` (N s/m) and angular `d_Dtheta` (N m s) damping, by eq. (7)."""
         g = groups_from_si(l, d, D, a, E, rho)
+        for name, v in (("T_V", T_V), ("d_e", d_e), ("d_Dr", d_Dr), ("d_Dtheta", d_Dtheta)):
+            as_param(name, v, sign="nonnegative", shape=())
         root = np.sqrt(g["M"] * l**3 * g["EI"])
         return cls(g["mu_R"], g["beta"], g["d_ratio"], eta_i=T_V / 2 * np.sqrt(g["EI"] / (g["M"] * l**3)),
                    eta_e=d_e * l**4 / (2 * root), eta_Dxi=d_Dr * l**3 / (2 * root),
@@ -154,11 +158,10 @@ class CantileverRotor(eqx.Module):
     def modal_basis(self, n_modes):
         """The `n_modes` lowest undamped non-rotating modes (mass-normalised), for a
         reduced-order simulation; held fixed under differentiation."""
+        n_free = DOFS_PER_NODE * self.n_elements  # node 0 is clamped
+        n_modes = as_count("n_modes", n_modes, minimum=1, maximum=n_free)
         M, _, _, K, _, _ = self.matrices()
-        n_free = M.shape[0]
-        if int(n_modes) != n_modes or not 1 <= n_modes <= n_free:
-            raise ValueError(f"n_modes must be an integer in 1..{n_free}, got {n_modes!r}")
-        return jax.lax.stop_gradient(undamped_modes(M, K)[1][:, : int(n_modes)])
+        return jax.lax.stop_gradient(undamped_modes(M, K)[1][:, :n_modes])
 
     def unbalance_response(self, N, eps, phase=0.0):
         """Steady response to the unbalance at speed `N` (no contact, no gravity):

@@ -7,7 +7,29 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
+                               check_span, is_concrete)
 from ._rotor import DOFS_PER_NODE
+
+
+def _check_rotor(rotor):
+    if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand", "n_nodes")):
+        raise InputError(f"rotor must be a FlexibleRotor or ReducedRotor, got {type(rotor).__name__}")
+    return len(rotor.free_dofs) if not hasattr(rotor, "basis") else rotor.n_modes
+
+
+def _check_n_modes(name, n_modes, rotor, allow_none=True, bounded=False):
+    """`n_modes` >= 1; `bounded`: also at most the rotor's number of coordinates
+    (where the modes are indexed; elsewhere a larger count keeps them all)."""
+    n = _check_rotor(rotor)
+    if n_modes is None and allow_none:
+        return None
+    return as_count(name, n_modes, minimum=1, maximum=n if bounded else None)
+
+
+def _check_speed(name, speed):
+    if is_concrete(speed):
+        as_param(name, speed, shape=())
 
 
 class Modes(eqx.Module):
@@ -38,6 +60,8 @@ def state_matrix(rotor, speed):
 
 def modes(rotor, speed, n_modes=None) -> Modes:
     """Damped eigen-analysis at spin speed `speed` (rad/s)."""
+    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    _check_speed("speed", speed)
     a = state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64))
     lam, vec = jnp.linalg.eig(a)
     n = a.shape[0] // 2
@@ -61,6 +85,8 @@ def modes(rotor, speed, n_modes=None) -> Modes:
 def damped_frequencies(rotor, speed, n_modes=None):
     """Damped natural frequencies (rad/s) at `speed`, sorted, from the eigenvalues
     only: differentiable with respect to the rotor's parameters and the speed."""
+    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    _check_speed("speed", speed)
     lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
     f = jnp.sort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
     return f if n_modes is None else f[:n_modes]
@@ -68,6 +94,9 @@ def damped_frequencies(rotor, speed, n_modes=None):
 
 def campbell(rotor, speeds, n_modes=8):
     """Damped natural frequencies and whirl directions over `speeds` (vmapped)."""
+    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    if is_concrete(speeds):
+        as_numpy("speeds", speeds, ndim=1)
     return jax.vmap(lambda s: modes(rotor, s, n_modes))(jnp.asarray(speeds, dtype=jnp.float64))
 
 
@@ -77,8 +106,11 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     `whirl="forward"` keeps the forward-whirl branches only (those an unbalance
     excites); "all" also the backward ones (as ROSS reports them).
     Returns `[(speed, mode index)]` in rad/s, sorted."""
-    if whirl not in ("all", "forward"):
-        raise ValueError(f"whirl must be 'all' or 'forward', got {whirl!r}")
+    check_choice("whirl", whirl, ("all", "forward"))
+    lo, hi = check_span("lo", lo, "hi", hi)
+    n_scan = as_count("n_scan", n_scan, minimum=2)
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, allow_none=False, bounded=True)
+    as_param("xtol", xtol, sign="positive", shape=())
     speeds = np.linspace(lo, hi, n_scan)
     camp = jax.jit(lambda s: campbell(rotor, s, n_modes))(speeds)
     freq = np.asarray(camp.frequencies)
@@ -107,6 +139,10 @@ def critical_speed(rotor, k, guess, iters=6):
     residual `omega_k(Omega) - Omega` is returned to check it). Pure JAX, vmappable
     over designs; differentiate with the implicit function theorem on
     `omega_k(Omega) - Omega = 0`."""
+    n = _check_rotor(rotor)
+    k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
+    iters = as_count("iters", iters, minimum=1)
+    _check_speed("guess", guess)
     w = jnp.float64(guess)
     for _ in range(iters):  # unrolled: a few iterations, no while loop around LAPACK calls
         w = damped_frequencies(rotor, w, k + 1)[k]
@@ -122,12 +158,27 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
     so `F_x = U Omega^2 e^{i phase}` and `F_y = -i F_x`; the response solves
     `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F`.
     """
+    _check_rotor(rotor)
+    node = check_node("node", node, rotor.n_nodes, "unbalance")
+    if probe_nodes is None:
+        probe = np.arange(rotor.n_nodes)
+    else:
+        probe_nodes = np.atleast_1d(as_numpy("probe_nodes", probe_nodes))
+        if probe_nodes.ndim != 1 or probe_nodes.size < 1:
+            raise InputError(f"probe_nodes must be a node or a 1-D list of >= 1 nodes, got shape "
+                             f"{probe_nodes.shape}")
+        probe = np.array([check_node(f"probe_nodes[{i}]", p, rotor.n_nodes, "probe")
+                          for i, p in enumerate(probe_nodes)], dtype=int)
+    for name, v in (("unbalance", unbalance), ("phase", phase)):
+        if is_concrete(v):
+            as_param(name, v, shape=())
+    if is_concrete(speeds):
+        as_numpy("speeds", speeds, ndim=1)
     M, C, G1, K = rotor.reduced_matrices()
     f = rotor.free_dofs
-    b = DOFS_PER_NODE * int(node)
+    b = DOFS_PER_NODE * node
     if b not in f or b + 1 not in f:
-        raise ValueError(f"the unbalance node {node} has fixed translation dofs")
-    probe = np.arange(rotor.n_nodes) if probe_nodes is None else np.asarray(probe_nodes, dtype=int)
+        raise InputError(f"node: the unbalance node {node} has fixed translation dofs")
     pos = {dof: i for i, dof in enumerate(f)}
     ix, iy = pos[b], pos[b + 1]
 
@@ -160,12 +211,15 @@ def synchronous_critical_speeds(rotor, n_speeds=None):
     keeps the first ones. Requires an undamped rotor with symmetric stiffness
     (damping moves the roots off the real axis: use `critical_speeds_1x`).
     """
+    n = _check_rotor(rotor)
+    if n_speeds is not None:
+        n_speeds = as_count("n_speeds", n_speeds, minimum=1, maximum=n)
     M, C, G1, K = rotor.reduced_matrices()
     if not isinstance(C, jax.core.Tracer) and np.any(np.asarray(C) != 0):
-        raise ValueError("synchronous_critical_speeds needs an undamped rotor (C = 0); "
+        raise InputError("synchronous_critical_speeds needs an undamped rotor (C = 0); "
                          "use critical_speeds_1x with damping")
     if not isinstance(K, jax.core.Tracer) and _asymmetry(K) > 1e-9:
-        raise ValueError("synchronous_critical_speeds needs a symmetric stiffness (no kxy != kyx)")
+        raise InputError("synchronous_critical_speeds needs a symmetric stiffness (no kxy != kyx)")
     L = jnp.linalg.cholesky(0.5 * (K + K.T))
     Linv = jax.scipy.linalg.solve_triangular(L, jnp.eye(K.shape[0]), lower=True)
     H = Linv @ (M - 1j * G1) @ Linv.T

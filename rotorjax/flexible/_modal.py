@@ -24,7 +24,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_param
+from ..models._validate import as_count, as_param, check, check_choice, check_span
 
 
 class ModalShaft(eqx.Module):
@@ -46,19 +46,15 @@ class ModalShaft(eqx.Module):
     gyroscopic: str = eqx.field(static=True)
 
     def __init__(self, n_modes, m, z0, Jt=0.0, Jp=0.0, d=0.0, m0=0.0, gyroscopic="paper"):
-        if int(n_modes) != n_modes or n_modes < 1:
-            raise ValueError(f"n_modes must be an integer >= 1, got {n_modes!r}")
-        self.n_modes = int(n_modes)
+        self.n_modes = as_count("n_modes", n_modes, minimum=1)
         self.m = as_param("m (disk mass)", m, sign="nonnegative", shape=())
         self.z0 = as_param("z0 (disk position)", z0, shape=())
-        if not isinstance(self.z0, jax.core.Tracer) and not 0 < float(self.z0) < 1:
-            raise ValueError(f"z0 (disk position) must be in (0, 1), got {float(self.z0)}")
+        check("z0 (disk position)", z0, lambda a: (0 < a) & (a < 1), "in (0, 1) (a fraction of the span)")
         self.Jt = as_param("Jt", Jt, sign="nonnegative", shape=())
         self.Jp = as_param("Jp", Jp, sign="nonnegative", shape=())
         self.d = as_param("d (external damping)", d, sign="nonnegative", shape=())
         self.m0 = as_param("m0 (imbalance mass)", m0, sign="nonnegative", shape=())
-        if gyroscopic not in ("paper", "standard"):
-            raise ValueError(f"gyroscopic must be 'paper' or 'standard', got {gyroscopic!r}")
+        check_choice("gyroscopic", gyroscopic, ("paper", "standard"))
         self.gyroscopic = gyroscopic
 
     @property
@@ -126,6 +122,13 @@ def exact_critical_speeds(m, z0, J=0.0, lo=0.05, hi=30.0, n_scan=3000, xtol=1e-1
     """Roots of eq. (17) in `[lo, hi]` (units of omega_1): scan + bisection, with the
     sign changes at the poles of the sums (the bare shaft's frequencies `k^2`)
     rejected by the size of `G` after refinement."""
+    as_param("m (disk mass)", m, sign="nonnegative", shape=())
+    as_param("z0 (disk position)", z0, shape=())
+    check("z0 (disk position)", z0, lambda a: (0 < a) & (a < 1), "in (0, 1) (a fraction of the span)")
+    as_param("J (disk rotary inertia)", J, shape=())
+    lo, hi = check_span("lo", lo, "hi", hi)
+    n_scan = as_count("n_scan", n_scan, minimum=2)
+    as_param("xtol", xtol, sign="positive", shape=())
     g = jax.jit(lambda v: critical_speed_function(v, m, z0, J))
     nus = np.linspace(lo, hi, n_scan)
     vals = np.asarray(jax.vmap(g)(jnp.asarray(nus)))

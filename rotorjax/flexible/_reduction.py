@@ -19,6 +19,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..models._validate import InputError, as_count
+
 
 def undamped_modes(M, K):
     """Eigenpairs of the symmetric pencil `(K_s, M)`, ascending, mass-normalised."""
@@ -37,13 +39,14 @@ class ReducedRotor(eqx.Module):
     basis: jax.Array  # (n_free_dofs, n_modes)
 
     def __init__(self, rotor, n_modes):
+        if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand")):
+            raise InputError(f"rotor must be a FlexibleRotor, got {type(rotor).__name__}")
         n_free = len(rotor.free_dofs)
-        if int(n_modes) != n_modes or not 1 <= n_modes <= n_free:
-            raise ValueError(f"n_modes (reduction) must be an integer in 1..{n_free}, got {n_modes!r}")
+        n_modes = as_count("n_modes (reduction)", n_modes, minimum=1, maximum=n_free)
         M, _, _, K = rotor.reduced_matrices()
         _, phi = undamped_modes(M, K)
         self.rotor = rotor
-        self.basis = jax.lax.stop_gradient(phi[:, : int(n_modes)])
+        self.basis = jax.lax.stop_gradient(phi[:, :n_modes])
 
     @property
     def n_modes(self) -> int:

@@ -5,7 +5,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_param
+from ..models._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
+                               is_concrete, per_item, show)
 from ._elements import element_matrices
 
 DOFS_PER_NODE = 4  # x, y, sx, sy
@@ -13,9 +14,19 @@ DOFS_PER_NODE = 4  # x, y, sx, sy
 
 def cowper_shear_coefficient(nu, d_out, d_in):
     """Cowper's shear coefficient of a (hollow) circular section."""
+    check("d_out (outer diameter)", d_out, lambda a: a > 0, "> 0")
     m = d_in / d_out
     a = (1 + m**2) ** 2
     return 6 * (1 + nu) * a / ((7 + 6 * nu) * a + (20 + 12 * nu) * m**2)
+
+
+def _entries(name, value):
+    """A tuple of tuples (disks, bearings, fixed dofs); a single entry is not accepted."""
+    try:
+        entries = tuple(tuple(e) for e in value)
+    except TypeError:
+        raise InputError(f"{name} must be a tuple of tuples, got {show(value)}") from None
+    return entries
 
 
 class FlexibleRotor(eqx.Module):
@@ -51,57 +62,73 @@ class FlexibleRotor(eqx.Module):
 
     def __init__(self, lengths, d_out, d_in=0.0, E=211e9, G=81.2e9, rho=7810.0, disks=(),
                  bearings=(), theory="timoshenko", fixed_dofs=(), nu=None):
-        lengths = as_param("element lengths", lengths, sign="positive")
-        if lengths.ndim != 1 or lengths.shape[0] < 1:
-            raise ValueError(f"element lengths must be a 1-D array of >= 1 elements, got shape {lengths.shape}")
+        lengths = as_vector("element lengths", lengths, sign="positive", what="elements")
         n_el = lengths.shape[0]
-        d_out = jnp.broadcast_to(as_param("d_out (outer diameter)", d_out, sign="positive"), (n_el,))
-        d_in = jnp.broadcast_to(as_param("d_in (inner diameter)", d_in, sign="nonnegative"), (n_el,))
-        if not isinstance(d_out, jax.core.Tracer) and np.any(np.asarray(d_in) >= np.asarray(d_out)):
-            raise ValueError("d_in (inner diameter) must be smaller than d_out")
+        d_out = per_item("d_out (outer diameter)", d_out, n_el, sign="positive", what="element")
+        d_in = per_item("d_in (inner diameter)", d_in, n_el, sign="nonnegative", what="element")
+        if is_concrete((d_in, d_out)) and np.any(np.asarray(d_in) >= np.asarray(d_out)):
+            k = int(np.argmax(np.asarray(d_in) >= np.asarray(d_out)))
+            raise InputError(f"d_in (inner diameter) must be smaller than d_out (outer diameter), got "
+                             f"d_in = {float(d_in[k])!r} >= d_out = {float(d_out[k])!r} (element {k})")
         self.lengths, self.d_out, self.d_in = lengths, d_out, d_in
-        self.E = as_param("E (Young's modulus)", E, sign="positive")
-        self.G = as_param("G (shear modulus)", G, sign="positive")
-        self.rho = as_param("rho (density)", rho, sign="positive")
-        nu = self.E / (2 * self.G) - 1 if nu is None else nu
+        self.E = as_param("E (Young's modulus)", E, sign="positive", shape=())
+        self.G = as_param("G (shear modulus)", G, sign="positive", shape=())
+        self.rho = as_param("rho (density)", rho, sign="positive", shape=())
+        if nu is None:
+            nu = self.E / (2 * self.G) - 1
+        else:
+            nu = as_param("nu (Poisson's ratio)", nu, shape=())
+            check("nu (Poisson's ratio)", nu, lambda a: (a > -1) & (a <= 0.5), "in (-1, 0.5]")
         self.kappa = cowper_shear_coefficient(nu, self.d_out, self.d_in)
-        if theory not in ("timoshenko", "rayleigh", "euler-bernoulli"):
-            raise ValueError(f"theory must be 'timoshenko', 'rayleigh' or 'euler-bernoulli', got {theory!r}")
+        check_choice("theory", theory, ("timoshenko", "rayleigh", "euler-bernoulli"))
         self.theory = theory
         n_nodes = n_el + 1
 
-        def node_index(kind, node):
-            if int(node) != node or not 0 <= node < n_nodes:
-                raise ValueError(f"{kind} at node {node}: the shaft has nodes 0..{n_nodes - 1}")
-            return int(node)
-
-        self.disk_nodes = tuple(node_index("disk", d[0]) for d in disks)
-        rows = [[as_param("disk mass", d[1], sign="positive"), as_param("disk It", d[2], sign="nonnegative"),
-                 as_param("disk Ip", d[3], sign="nonnegative")] for d in disks]
+        disks = _entries("disks", disks)
+        bearings = _entries("bearings", bearings)
+        fixed_dofs = _entries("fixed_dofs", fixed_dofs)
+        disk_nodes, rows = [], []
+        for i, d in enumerate(disks):
+            if len(d) != 4:
+                raise InputError(f"disks[{i}] must be (node, mass, It, Ip), got {show(d)}")
+            disk_nodes.append(check_node(f"disks[{i}]", d[0], n_nodes, "disk"))
+            rows.append([as_param(f"disks[{i}] mass", d[1], sign="positive", shape=()),
+                         as_param(f"disks[{i}] It", d[2], sign="nonnegative", shape=()),
+                         as_param(f"disks[{i}] Ip", d[3], sign="nonnegative", shape=())])
+        self.disk_nodes = tuple(disk_nodes)
         self.disk_params = jnp.array(rows, dtype=jnp.float64).reshape(len(disks), 3)
-        self.bearing_nodes = tuple(node_index("bearing", b[0]) for b in bearings)
-        brow = []
-        for b in bearings:
+        bearing_nodes, brow = [], []
+        for i, b in enumerate(bearings):
             if len(b) == 5:
                 node, kxx, kyy, cxx, cyy = b
                 kxy = kyx = cxy = cyx = 0.0
             elif len(b) == 9:
                 node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx = b
             else:
-                raise ValueError("a bearing is (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx])")
-            brow.append([as_param("bearing kxx", kxx, sign="nonnegative"),
-                         as_param("bearing kyy", kyy, sign="nonnegative"), as_param("bearing kxy", kxy),
-                         as_param("bearing kyx", kyx), as_param("bearing cxx", cxx, sign="nonnegative"),
-                         as_param("bearing cyy", cyy, sign="nonnegative"), as_param("bearing cxy", cxy),
-                         as_param("bearing cyx", cyx)])
+                raise InputError(f"bearings[{i}] must be (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
+                                 f"got {len(b)} values: {show(b)}")
+            bearing_nodes.append(check_node(f"bearings[{i}]", node, n_nodes, "bearing"))
+            p = f"bearings[{i}]"
+            brow.append([as_param(f"{p} kxx", kxx, sign="nonnegative", shape=()),
+                         as_param(f"{p} kyy", kyy, sign="nonnegative", shape=()),
+                         as_param(f"{p} kxy", kxy, shape=()), as_param(f"{p} kyx", kyx, shape=()),
+                         as_param(f"{p} cxx", cxx, sign="nonnegative", shape=()),
+                         as_param(f"{p} cyy", cyy, sign="nonnegative", shape=()),
+                         as_param(f"{p} cxy", cxy, shape=()), as_param(f"{p} cyx", cyx, shape=())])
+        self.bearing_nodes = tuple(bearing_nodes)
         self.bearing_params = jnp.array(brow, dtype=jnp.float64).reshape(len(bearings), 8)
         fixed = []
-        for node, dof in fixed_dofs:
-            node_index("fixed dof", node)
-            if dof not in (0, 1, 2, 3):
-                raise ValueError(f"fixed dof must be 0..3 (x, y, sx, sy), got {dof}")
-            fixed.append(DOFS_PER_NODE * int(node) + int(dof))
+        for i, pair in enumerate(fixed_dofs):
+            if len(pair) != 2:
+                raise InputError(f"fixed_dofs[{i}] must be a (node, dof) pair, got {show(pair)}")
+            node, dof = pair
+            node = check_node(f"fixed_dofs[{i}]", node, n_nodes, "fixed dof")
+            if isinstance(dof, bool) or dof not in (0, 1, 2, 3):
+                raise InputError(f"fixed_dofs[{i}]: fixed dof must be 0..3 (x, y, sx, sy), got {dof!r}")
+            fixed.append(DOFS_PER_NODE * node + int(dof))
         self.fixed_dofs = tuple(sorted(set(fixed)))
+        if len(self.fixed_dofs) == self.n_dofs:
+            raise InputError("fixed_dofs hold every dof of the shaft at zero: nothing is left to move")
 
     @property
     def n_nodes(self) -> int:
@@ -162,7 +189,8 @@ class FlexibleRotor(eqx.Module):
         return f
 
     def reduce(self, n_modes):
-        """This rotor reduced to its `n_modes` lowest undamped modes (`ReducedRotor`)."""
+        """This rotor reduced to its `n_modes` lowest undamped modes (`ReducedRotor`;
+        `1 <= n_modes <=` the number of free dofs)."""
         from ._reduction import ReducedRotor
 
         return ReducedRotor(self, n_modes)

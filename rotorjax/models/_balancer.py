@@ -6,7 +6,8 @@ import equinox as eqx
 import numpy as np
 
 from ._base import AbstractComponent, Kinematics
-from ._validate import as_param
+from ._validate import (InputError, as_count, as_numpy, as_param, check, check_choice, check_type,
+                        is_concrete, show)
 
 #: Inertia factor `K` by weight type (a ball rolling in its race carries 7/5 of its
 #: translational inertia along the race, a roller 3/2, a pendulum bob 1).
@@ -33,15 +34,15 @@ class Race(eqx.Module):
 
     @classmethod
     def circular(cls, radius) -> "Race":
-        radius = as_param("race radius", radius, sign="positive", shape=())
+        radius = as_param("radius (race radius)", radius, sign="positive", shape=())
         return cls(radius, radius)
 
     @classmethod
     def eccentric(cls, radius, offset, offset_angle=0.0) -> "Race":
         """A circle whose centre is `offset` from the rotor centre at `offset_angle`."""
-        radius = as_param("race radius", radius, sign="positive", shape=())
-        offset = as_param("race offset", offset, sign="nonnegative", shape=())
-        angle = as_param("race offset_angle", offset_angle, shape=())
+        radius = as_param("radius (race radius)", radius, sign="positive", shape=())
+        offset = as_param("offset (race centre offset)", offset, sign="nonnegative", shape=())
+        angle = as_param("offset_angle", offset_angle, shape=())
         return cls(radius, radius, offset * jnp.stack([jnp.cos(angle), jnp.sin(angle)]))
 
     @classmethod
@@ -80,22 +81,19 @@ class AutoBalancer(AbstractComponent):
     def __init__(self, mass, race: Race, drag=0.0, kind="ball", inertia_factor=None):
         mass = as_param("weight mass", mass, sign="positive")
         if mass.ndim != 1 or mass.shape[0] < 1:
-            raise ValueError(
-                f"weight mass must be a 1-D array with one entry per weight, got shape {mass.shape}"
+            raise InputError(
+                f"weight mass must be a 1-D array with one entry per weight (>= 1 weight), "
+                f"got shape {mass.shape}"
             )
         self.mass = mass
         if inertia_factor is None:
-            if kind not in INERTIA_FACTORS:
-                raise ValueError(
-                    f"weight kind must be one of {sorted(INERTIA_FACTORS)}, got {kind!r}"
-                )
+            check_choice("weight kind", kind, sorted(INERTIA_FACTORS))
             inertia_factor = INERTIA_FACTORS[kind]
         self.inertia_factor = as_param("inertia_factor", inertia_factor, shape=())
-        if not isinstance(self.inertia_factor, jax.core.Tracer) and float(self.inertia_factor) < 1.0:
-            raise ValueError(f"inertia_factor must be >= 1, got {float(self.inertia_factor)}")
+        check("inertia_factor", inertia_factor, lambda a: a >= 1.0,
+              ">= 1 (1 pendulum, 7/5 ball, 3/2 roller)")
         self.drag = as_param("weight drag", drag, sign="nonnegative", shape=())
-        if not isinstance(race, Race):
-            raise ValueError(f"race must be a rotorjax.models.Race, got {type(race).__name__}")
+        check_type("race", race, Race, "a rotorjax.models.Race")
         self.race = race
 
     @property
@@ -134,11 +132,15 @@ def weights_at(angles, race: Race) -> np.ndarray:
     """Race parameters `psi` of weights at the given polar angles about the rotor
     centre (rotor frame); used to set initial states. The rotor centre must lie
     inside the race (then each polar angle meets the race once)."""
-    angles = np.atleast_1d(np.asarray(angles, dtype=np.float64))
+    check_type("race", race, Race, "a rotorjax.models.Race")
+    angles = np.atleast_1d(as_numpy("angles", angles))
+    if angles.ndim != 1:
+        raise InputError(f"angles must be a scalar or a 1-D array, got shape {angles.shape}")
     r1, r2 = float(race.r1), float(race.r2)
     cx, cy = (float(v) for v in np.asarray(race.center))
     if (cx / r1) ** 2 + (cy / r2) ** 2 >= 1:
-        raise ValueError("the rotor centre must lie inside the race to place weights by angle")
+        raise InputError("race: the rotor centre must lie inside the race to place weights by angle, "
+                         f"got center {show((cx, cy))} for semi-axes ({r1}, {r2})")
     grid = np.linspace(-np.pi, np.pi, 4097)
 
     def polar(psi):
@@ -164,11 +166,15 @@ def balancing_angles(N: int, c):
     opposite an imbalance of relative size `c` (imbalance / sum of the weights'
     mass moments), so that they cancel it: `mean(e^{i psi}) + c = 0`, `c <= 1`.
     Traceable in `c` for `N <= 2`."""
-    if isinstance(c, jax.core.Tracer):
+    N = as_count("N (number of weights)", N, minimum=1)
+    if not is_concrete(c):
         if N != 2:
-            raise ValueError("sweeping c is supported for N = 2 weights")
-    elif not 0 <= c <= 1 or (N == 1 and c != 1):
-        raise ValueError(f"{N} weight(s) cannot cancel an imbalance c = {c}")
+            raise InputError(f"sweeping c is supported for N = 2 weights, got N = {N}")
+    else:
+        c = float(as_numpy("c (relative imbalance)", c, shape=()))
+        if not 0 <= c <= 1 or (N == 1 and c != 1):
+            valid = "c = 1" if N == 1 else "0 <= c <= 1"
+            raise InputError(f"{N} weight(s) cannot cancel an imbalance c = {c}: need {valid}")
     if N == 1:
         return jnp.array([np.pi])
     if N == 2:

@@ -12,6 +12,7 @@ from ._lagrange import lagrange_accelerations
 from ._rotor import RigidRotor
 from ._speed import AbstractSpeedProfile
 from ._supports import Supports
+from ._validate import InputError, as_numpy, check_choice, is_concrete
 
 
 class Scene(eqx.Module):
@@ -43,15 +44,22 @@ class Scene(eqx.Module):
 
     def __init__(self, rotor, speed, components=(), equations="auto"):
         if not isinstance(rotor, RigidRotor):
-            raise ValueError(f"rotor must be a RigidRotor, got {type(rotor).__name__}")
+            raise InputError(f"rotor must be a RigidRotor, got {type(rotor).__name__}")
         if not isinstance(speed, AbstractSpeedProfile):
-            raise ValueError(f"speed must be a speed profile, got {type(speed).__name__}")
-        components = tuple(components)
-        for c in components:
+            raise InputError(f"speed must be a speed profile (ConstantSpeed, RunUp, CustomSpeed), "
+                             f"got {type(speed).__name__}")
+        if isinstance(components, AbstractComponent):
+            components = (components,)
+        try:
+            components = tuple(components)
+        except TypeError:
+            raise InputError(f"components must be a tuple of rotorjax components, got "
+                             f"{type(components).__name__}") from None
+        for i, c in enumerate(components):
             if not isinstance(c, AbstractComponent):
-                raise ValueError(f"components must be rotorjax components, got {type(c).__name__}")
-        if equations not in ("auto", "lagrange"):
-            raise ValueError(f"equations must be 'auto' or 'lagrange', got {equations!r}")
+                raise InputError(f"components[{i}] must be a rotorjax component (Supports, AutoBalancer, "
+                                 f"...), got {type(c).__name__}")
+        check_choice("equations", equations, ("auto", "lagrange"))
         self.rotor = rotor
         self.speed = speed
         self.components = components
@@ -86,7 +94,7 @@ class Scene(eqx.Module):
             if c is component:
                 n = self.n_dof
                 return y[sl], y[n:][sl]
-        raise ValueError(f"{component.describe()} is not part of this scene")
+        raise InputError(f"component ({component.describe()}) is not part of this scene")
 
     # --- energies -----------------------------------------------------------------
     def kinematics(self, q, qd, t) -> Kinematics:
@@ -176,9 +184,11 @@ class Scene(eqx.Module):
                 if angles is None:
                     q.append(jnp.linspace(0.0, 2 * np.pi, c.n_coords, endpoint=False))
                 else:
+                    if is_concrete(angles):
+                        as_numpy("angles", angles, shape=(c.n_coords,))
                     a = jnp.asarray(angles, dtype=jnp.float64)
                     if a.shape != (c.n_coords,):
-                        raise ValueError(
+                        raise InputError(
                             f"angles must have shape ({c.n_coords},), got {a.shape}"
                         )
                     q.append(a)

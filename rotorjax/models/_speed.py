@@ -7,7 +7,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ._validate import as_param
+from ._validate import InputError, as_param
 
 
 class AbstractSpeedProfile(eqx.Module):
@@ -31,8 +31,8 @@ class ConstantSpeed(AbstractSpeedProfile):
     theta0: jax.Array
 
     def __init__(self, omega, theta0=0.0):
-        self.omega = as_param("speed", omega)
-        self.theta0 = as_param("theta0", theta0)
+        self.omega = as_param("omega (speed)", omega, shape=())
+        self.theta0 = as_param("theta0", theta0, shape=())
 
     def angle(self, t):
         return self.theta0 + self.omega * t
@@ -51,9 +51,9 @@ class RunUp(AbstractSpeedProfile):
     theta0: jax.Array
 
     def __init__(self, omega0, acceleration, theta0=0.0):
-        self.omega0 = as_param("speed0", omega0)
-        self.acceleration_rate = as_param("acceleration", acceleration)
-        self.theta0 = as_param("theta0", theta0)
+        self.omega0 = as_param("omega0 (initial speed)", omega0, shape=())
+        self.acceleration_rate = as_param("acceleration", acceleration, shape=())
+        self.theta0 = as_param("theta0", theta0, shape=())
 
     def angle(self, t):
         return self.theta0 + self.omega0 * t + 0.5 * self.acceleration_rate * t**2
@@ -73,7 +73,7 @@ class CustomSpeed(AbstractSpeedProfile):
 
     def __init__(self, angle_fn: Callable):
         if not callable(angle_fn):
-            raise ValueError(f"angle_fn must be callable, got {angle_fn!r}")
+            raise InputError(f"angle_fn must be callable, got {angle_fn!r}")
         self.fn = angle_fn
 
     def angle(self, t):

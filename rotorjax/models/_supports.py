@@ -26,6 +26,8 @@ class Supports(AbstractComponent):
 
     @classmethod
     def isotropic(cls, k, c=0.0) -> "Supports":
+        k = as_param("k (support stiffness)", k, sign="positive", shape=())
+        c = as_param("c (support damping)", c, sign="nonnegative", shape=())
         return cls(k, k, c, c)
 
     def potential(self, kin, q):

@@ -75,6 +75,8 @@ def si_from_groups(groups, K=1.0, Ms=1.0, wx=1.0, L=1.0) -> dict:
     """SI parameters realising `groups` for chosen `Ms` (kg), `wx` (rad/s), `L` (m)."""
     g = groups
     N = n_weights_from_sigma(g["sigma"])
+    if not isinstance(g["eps"], jax.core.Tracer) and not 0 < g["eps"] < 1:
+        raise InputError(f"eps = N m/(K Ms) must be in (0, 1), got {g['eps']}")
     nm = K * g["eps"] * Ms
     m = nm / N
     m0 = g["c"] * nm

@@ -23,6 +23,8 @@ def describe_domain(domain: str) -> str:
         rest = domain[3:].strip()
         if rest == ">=0":
             return "a non-negative integer"
+        if _INTERVAL.match(rest):
+            return f"an integer in {rest}"
         return "an integer" + (f" {_spaced(rest)}" if rest else "")
     if _INTERVAL.match(domain):
         return f"in {domain}"

@@ -169,7 +169,7 @@ PRESET = Preset(
            "nu": "dimensionless", "nu_dot": "dimensionless", "nu0": "dimensionless", "nu_end": "dimensionless",
            "n_balls": "count", "K": "dimensionless", "psi1": "rad", "psi_spacing": "rad"},
     domains={"chi": ">0", "eps": ">=0", "alpha": "any", "rho1": ">0", "rho2": ">0", "delta_n": ">=0",
-             "delta_b": ">=0", "nu": ">0", "nu_dot": "any", "nu0": ">=0", "nu_end": ">0", "n_balls": "int>=0",
+             "delta_b": ">=0", "nu": ">0", "nu_dot": "any", "nu0": ">=0", "nu_end": ">0", "n_balls": "int[0,32]",
              "K": ">0", "psi1": "any", "psi_spacing": "any"},
     time_unit="1/Omega", length_unit="r = (r1+r2)/2",
     integer_keys=("n_balls",),

@@ -15,8 +15,9 @@ import jax
 import jax.numpy as jnp
 import optimistix as optx
 
+from ..models._validate import InputError, as_count
 from ._results import SimulationResult
-from ._simulate import _check_inputs
+from ._simulate import _check_inputs, _split_span, _y0
 from ._stiffness import choose_solver
 
 
@@ -27,21 +28,18 @@ def simulate_events(scene, y0, t_span, saveat=2000, solver="dopri8", rtol=1e-8, 
     `block` output intervals at a time between switches). Returns a
     `SimulationResult` whose `stats` add `num_events`; `code` 0 ok, 1 step or
     event budget exhausted, 2 non-finite state, 3 solver failure."""
-    t0, t1 = t_span
-    y0 = jnp.asarray(y0, dtype=jnp.float64)
-    _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps)
-    if scene.n_contacts < 1:
-        raise ValueError("simulate_events needs a scene with contacts (limiters); use simulate")
-    if int(saveat) < 2:
-        raise ValueError(f"saveat as a count must be >= 2, got {saveat}")
-    if int(block) < 1:
-        raise ValueError(f"block must be >= 1, got {block}")
-    if int(max_events) < 1:
-        raise ValueError(f"max_events must be >= 1, got {max_events}")
+    t0, t1 = _split_span(t_span)
+    y0 = _y0(y0)
+    max_steps = _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps)
+    if getattr(scene, "n_contacts", 0) < 1:
+        raise InputError("scene: simulate_events needs a scene with contacts (limiters); use simulate")
+    saveat = as_count("saveat (number of saved states)", saveat, minimum=2)
+    block = as_count("block", block, minimum=1)
+    max_events = as_count("max_events", max_events, minimum=1)
     solver = choose_solver(scene, y0, t0, solver)
     ts = jnp.linspace(jnp.float64(t0), jnp.float64(t1), int(saveat))
-    return _solve(scene, y0, ts, solver, jnp.float64(rtol), jnp.float64(atol), int(max_steps),
-                  int(max_events), int(block))
+    return _solve(scene, y0, ts, solver, jnp.float64(rtol), jnp.float64(atol), max_steps,
+                  max_events, block)
 
 
 @eqx.filter_jit

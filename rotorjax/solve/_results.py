@@ -5,6 +5,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._errors import NumericalError
+
 #: Result codes of `SimulationResult.code` (an int array, batched under vmap).
 RESULT_MESSAGES = {
     0: "success",
@@ -52,7 +54,7 @@ class SimulationResult(eqx.Module):
 
     def raise_if_failed(self) -> "SimulationResult":
         if not bool(np.all(np.asarray(self.success))):
-            raise RuntimeError(f"simulation failed: {self.message}")
+            raise NumericalError(f"simulation failed: {self.message}")
         return self
 
 

@@ -4,7 +4,7 @@ import diffrax
 import jax
 import numpy as np
 
-from ..models._validate import is_concrete
+from ..models._validate import InputError, is_concrete
 
 #: Above this stiffness ratio "auto" picks an implicit solver (see `stiffness_ratio`).
 #: Measured in benchmarks/solver_choice.py on model 000 (delta_b sweep): at
@@ -45,6 +45,7 @@ def choose_solver(scene, y0, t0=0.0, solver="auto"):
         return diffrax.Dopri8()
     if isinstance(solver, str) and solver.lower() in names:
         return names[solver.lower()]()
-    raise ValueError(
-        f"solver must be 'auto', one of {sorted(names)} or a diffrax solver, got {solver!r}"
+    raise InputError(
+        f"solver must be 'auto', one of {', '.join(repr(n) for n in sorted(names))} or a diffrax "
+        f"solver instance, got {solver!r}"
     )
