@@ -1,6 +1,10 @@
 """The notebooks (jupytext percent-format scripts in notebooks/) run end to end,
-each under 3 minutes, writing their figures."""
+each under 3 minutes, writing their figures and `<name>_claims.json`: every number
+a notebook prints as a finding is written there too and asserted by
+`tests/notebook_checks/<name>.py` (`check(claims)`)."""
 
+import importlib
+import json
 import os
 import subprocess
 import sys
@@ -25,3 +29,7 @@ def test_notebook_runs(name, figures, tmp_path):
     assert time.perf_counter() - t0 < 180
     for f in figures:
         assert (tmp_path / f).stat().st_size > 0
+    claims_file = tmp_path / f"{name}_claims.json"
+    check = importlib.import_module(f"tests.notebook_checks.{name}")
+    if getattr(check, "REQUIRED", False) or claims_file.exists():
+        check.check(json.loads(claims_file.read_text()))
