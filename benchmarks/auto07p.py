@@ -1,0 +1,117 @@
+"""AUTO-07p side by side: the two shared examples of tests/validation/test_auto07p.py
+((a) the Duffing harmonic-balance branch, its folds and the fold curve in (om, f);
+(b) the Jeffcott rotor's synchronous-whirl branch in the speed, its Hopf point and the
+Hopf curve in (Om, c_ext)), each solved by AUTO-07p and by rotorjax in the same run.
+
+Times: AUTO's compile-and-link of the equation file (gfortran) apart from its runs
+(the one-parameter branch plus the two-parameter curve both ways; wall time of the
+executables, and AUTO's own "Total Time"); rotorjax's first call (tracing and
+compiling included) apart from the median of the repeats. Deviations: the largest
+distance of an AUTO point from rotorjax's curve (rotorjax's corrector from AUTO's
+point, and a spline through rotorjax's points), the special points, the curves' ends.
+
+AUTO-07p comes from `.ci/install-auto07p` (Debian's `auto-07p` and gfortran); without it
+only rotorjax is timed. `--smoke`: one repeat, prints the results, writes no file.
+Otherwise writes benchmarks/results/auto07p.json.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _common import machine, timed_first, write_results  # noqa: E402
+
+
+def _gfortran_version(fc):
+    try:
+        return subprocess.run([fc, "--version"], capture_output=True, text=True, timeout=10).stdout.splitlines()[0]
+    except (OSError, subprocess.SubprocessError, IndexError):
+        return "unknown"
+
+
+def time_auto(run_example, inst, repeats, curve):
+    """Median compile seconds and run seconds (wall, and AUTO's own) over `repeats`
+    fresh directories, and the last result (`curve`: its two-parameter runs' key)."""
+    comp, wall, own, res = [], [], [], None
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as d:
+            res = run_example(d, inst)
+        runs = [res["branch"], *res[curve]]
+        comp.append(res["equation"].compile_seconds)
+        wall.append(sum(r.seconds for r in runs))
+        own.append(sum(r.auto_seconds for r in runs))
+    return {"compile_s": float(np.median(comp)), "run_s": float(np.median(wall)),
+            "run_auto_total_time_s": float(np.median(own)), "runs_ok": all(r.ok for r in runs),
+            "points": [int(sum(len(b.data) for b in r.branches)) for r in runs]}, res
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--smoke", action="store_true", help="one repeat; print, write nothing")
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+    repeats = 1 if args.smoke else args.repeats
+
+    import jax
+
+    import rotorjax  # noqa: F401
+    from tests.reference.auto07p import driver
+    from tests.validation import test_auto07p as ex
+
+    inst, why = driver.find_auto()
+    out = {"benchmark": "auto07p", "machine": machine(), "smoke": args.smoke, "repeats": repeats,
+           "versions": {"jax": jax.__version__,
+                        "auto-07p": inst.version if inst else None,
+                        "gfortran": _gfortran_version(inst.fc) if inst else None},
+           "tolerance": ex.TOL, "load_average_at_start": list(os.getloadavg())}
+    if inst is None:
+        print(why, flush=True)
+        out["auto"] = why
+
+    # (a) Duffing fold curve
+    t_rj, t_rj_first, rj = timed_first(ex.rotorjax_duffing, repeats)
+    a = {"rotorjax": {"first_call_s": t_rj_first, "median_s": t_rj, "fold_curve_points": int(rj[1].x.shape[0]),
+                      "branch_points": int(rj[0].p.size), "stopped": rj[1].stopped}}
+    if inst is not None:
+        a["auto"], res = time_auto(ex.auto_duffing, inst, repeats, "folds")
+        a["deviation"] = ex.duffing_deviation(res, rj)
+        a["ratio_rotorjax_median_over_auto_run"] = t_rj / a["auto"]["run_s"]
+        a["ratio_rotorjax_median_over_auto_compile_plus_run"] = t_rj / (a["auto"]["compile_s"] + a["auto"]["run_s"])
+    out["duffing_fold_curve"] = a
+    print(json.dumps(a, indent=1, default=float), flush=True)
+
+    # (b) Jeffcott Hopf curve
+    t_rj, t_rj_first, rj = timed_first(ex.rotorjax_jeffcott, repeats)
+    b = {"rotorjax": {"first_call_s": t_rj_first, "median_s": t_rj, "hopf_curve_points": int(rj[1].x.shape[0]),
+                      "branch_points": int(rj[0].p.size), "stopped": rj[1].stopped}}
+    if inst is not None:
+        b["auto"], res = time_auto(ex.auto_jeffcott, inst, repeats, "hopf")
+        t0 = time.perf_counter()
+        b["deviation"] = ex.jeffcott_deviation(res, rj)
+        b["deviation"]["seconds"] = time.perf_counter() - t0
+        b["ratio_rotorjax_median_over_auto_run"] = t_rj / b["auto"]["run_s"]
+        b["ratio_rotorjax_median_over_auto_compile_plus_run"] = t_rj / (b["auto"]["compile_s"] + b["auto"]["run_s"])
+        with tempfile.TemporaryDirectory() as d:
+            lin = ex.auto_jeffcott(d, inst, ecc=0.0)
+        pts = ex.auto_curve(lin["hopf"], ["PAR(1)", "PAR(2)"])
+        b["auto_closed_form_without_eccentricity"] = float(np.max(np.abs(pts[:, 0] - (1 + pts[:, 1] / ex.C_INT))))
+    out["jeffcott_hopf_curve"] = b
+    print(json.dumps(b, indent=1, default=float), flush=True)
+
+    out["load_average_at_end"] = list(os.getloadavg())    # a shared machine: times are only as good as its load
+    if args.smoke:
+        print("smoke run: nothing written")
+    else:
+        write_results("auto07p", out)
+
+
+if __name__ == "__main__":
+    main()

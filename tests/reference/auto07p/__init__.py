@@ -1,0 +1,1 @@
+"""AUTO-07p equation files, constants and the driver that runs them (see `driver`)."""
