@@ -102,7 +102,8 @@ def cmd_identify(args) -> int:
                          f"{', '.join(cols['sensors'])}")
     x = np.stack([cols[s] for s in cols["sensors"][:2]], axis=1)
     stages("order tracking (1x phasors per revolution)")
-    speeds, X = idf.order_track(cols["time"], x, tacho=cols["tacho"], revolutions_per_block=args.block)
+    track = idf.order_track(cols["time"], x, tacho=cols["tacho"], revolutions_per_block=args.block, full=True)
+    speeds, X = track.speeds, track.X
     keep = speeds >= args.min_speed
     if keep.sum() < max(4, len(fit)):
         raise InputError(f"{path}: {int(keep.sum())} revolutions above --min-speed {args.min_speed:g} rad/s; "
@@ -110,7 +111,7 @@ def cmd_identify(args) -> int:
     base, planes, U = preset.build(params)
     unb = None if args.fit_unbalance else U
     stages("Levenberg-Marquardt fit (autodiff Jacobians)")
-    res = idf.identify(base, speeds[keep], X[keep], planes, fit=fit, unbalances=unb)
+    res = idf.identify(base, speeds[keep], X[keep], planes, fit=fit, unbalances=unb, tracking=track)
     out = {"preset": preset.name, "data": path, "fit": list(fit), "n_points": int(keep.sum()),
            "speed_range_rad_s": [float(speeds[keep].min()), float(speeds[keep].max())],
            "start": {k: params[k] for k in fit}, **res.as_dict()}

@@ -3,6 +3,7 @@
 from ._machine import BalancingMachine as BalancingMachine
 from ._machine import scalar_influence_matrix as scalar_influence_matrix
 from ._signals import Phasors as Phasors
+from ._signals import OrderTrack as OrderTrack
 from ._signals import order_track as order_track
 from ._signals import phasors as phasors
 from ._signals import pulse_times as pulse_times

@@ -12,8 +12,14 @@ Writes into `rotorjax/identify/data/`:
   (diffrax Dopri8, rtol 1e-10), with 1 % noise.
 Columns as documented in `rotorjax.identify._signals`; the tacho is a 1-sample
 pulse train with one pulse per revolution at the mark (theta = 2 pi k).
+
+`runup_dataset(seed, ...)` makes more run-ups like the shipped one (for Monte
+Carlo studies): per seed, the rotor's angle at the start (the mark's phase against
+the sampling clock, which sets where the tacho pulses fall between samples) and
+the sensor noise are drawn anew.
 """
 
+import functools
 import os
 
 import diffrax
@@ -116,6 +122,59 @@ def simulate_from(machine, planes, unbalances, t, theta_fn, X0, w0):
                               stepsize_controller=diffrax.PIDController(rtol=1e-10, atol=1e-14),
                               max_steps=10**7)
     return np.asarray(sol.ys[:, :2])
+
+
+@functools.lru_cache(maxsize=4)
+def _runup_clean(params, fs, duration, w0, w1):
+    """`(t, x_D, x_iD)`: the noise-free run-up for the unbalances `D` and for `i D`
+    (the response is real-linear in the unbalances), simulated once per setting."""
+    from ..presets import balancing_machine as bm
+
+    p = dict(params)
+    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    alpha = (w1 - w0) / duration
+    t = np.arange(0.0, duration, 1 / fs)
+
+    def theta_fn(tt):
+        return w0 * tt + 0.5 * alpha * tt**2
+
+    out = []
+    for D in (U, 1j * U):
+        X = np.asarray(machine.response(w0, planes, D))
+        out.append(simulate_from(machine, planes, D, t, theta_fn, X, w0))
+    return t, out[0], out[1]
+
+
+def runup_dataset(seed, p=None, fs=1000.0, duration=20.0, w0=20.0, w1=400.0, noise=0.01):
+    """One synthetic run-up like the shipped `runup.csv`, for a seed.
+
+    The rotor's angle at `t = 0` is `phi`, drawn uniformly in `[0, 2 pi)`: the
+    unbalance forcing is that of the unbalances `D e^{i phi}` on the sweep
+    `theta_s(t) = w0 t + alpha t^2 / 2`, so `x = cos(phi) x_D + sin(phi) x_{iD}` from
+    two simulations made once and cached (diffrax Dopri8, rtol 1e-10, from the
+    steady response at `w0`), and the tacho pulses fall at `phi + theta_s = 2 pi k`,
+    between samples in a new way for each seed. Sensor noise: Gaussian, per sample,
+    `noise` times the peak of the noise-free signal, drawn anew.
+
+    **Arguments:** `seed` (int), `p` (the `balancing-machine` preset's parameters;
+    default its defaults), the sampling rate `fs` (Hz), the run-up's `duration`
+    (s) from `w0` to `w1` (rad/s), the relative `noise`.
+
+    **Returns:** `{"time", "tacho", "x1", "x2"}` (arrays, the columns of
+    `runup.csv`), plus `"phi"` (rad) and `"noise_sd"` (m).
+    """
+    from ..presets import balancing_machine as bm
+
+    p = dict(bm.PRESET.defaults) if p is None else dict(p)
+    t, xD, xiD = _runup_clean(tuple(sorted(p.items())), float(fs), float(duration), float(w0), float(w1))
+    rng = np.random.default_rng(seed)
+    phi = float(rng.uniform(0.0, 2 * np.pi))
+    x = np.cos(phi) * xD + np.sin(phi) * xiD
+    alpha = (w1 - w0) / duration
+    sd = noise * float(np.max(np.abs(x)))
+    return {"time": t, "tacho": _tacho(phi + w0 * t + 0.5 * alpha * t**2),
+            "x1": x[:, 0] + sd * rng.normal(size=t.size), "x2": x[:, 1] + sd * rng.normal(size=t.size),
+            "phi": phi, "noise_sd": sd}
 
 
 def main():

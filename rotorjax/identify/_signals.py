@@ -110,11 +110,120 @@ def phasors(t, channels, tacho=None, pulses=None) -> Phasors:
                    residual_rms=np.sqrt(np.mean(resid**2, axis=0)))
 
 
-def order_track(t, channels, tacho=None, pulses=None, revolutions_per_block=1, degree=3):
+@dataclasses.dataclass(frozen=True, eq=False)
+class OrderTrack:
+    """1x phasors along a run-up and what is needed to treat a model's response the
+    same way (`order_track(..., full=True)`; see `identify(..., tracking=...)`).
+
+    - `speeds` (rad/s, `(n_blocks,)`), `X` (complex, `(n_blocks, n_sensors)`): as
+      `order_track` returns them;
+    - `sigma` (`(n_blocks, n_sensors)`): the standard deviation of the real (and of
+      the imaginary) part of each phasor from white sensor noise of rms `noise_rms`,
+      `noise_rms * sqrt(((G^-1)_cc + (G^-1)_ss) / 2)` with `G` the block's normal
+      matrix: it grows with the speed, as a revolution holds fewer samples;
+    - `noise_rms` (`(n_sensors,)`): the sensor noise, pooled from the residuals of
+      the blocks' least-squares fits;
+    - `time`, `theta`, `speed` (`(n_samples,)`): every sample's time, the fitted
+      rotor angle and speed (NaN outside the first and the last pulse); `block`
+      (int): each sample's block (an index into `speeds`; -1 for samples outside
+      the pulses or in dropped blocks);
+    - `normal_inv` (`(n_blocks, 3, 3)`): `G^-1` of each block (basis cos, sin, 1);
+    - `block_time` (`(n_blocks,)`): the blocks' mean sample times;
+    - `angle`: the rotor-angle polynomial `theta(t) = polyval(coef, (t - tc) / ts)`
+      as `(coef, tc, ts)`; `angle_cov`: the covariance of `coef` (from the pulses'
+      timing scatter, `pulse_jitter` s rms): the uncertainty of the phase reference;
+    - `revolutions_per_block`.
+    """
+
+    speeds: np.ndarray
+    X: np.ndarray
+    sigma: np.ndarray
+    noise_rms: np.ndarray
+    time: np.ndarray
+    theta: np.ndarray
+    speed: np.ndarray
+    block: np.ndarray
+    normal_inv: np.ndarray
+    block_time: np.ndarray
+    angle: tuple
+    angle_cov: np.ndarray
+    pulse_jitter: float
+    revolutions_per_block: int
+
+    def angle_derivatives(self, t, order=0):
+        """`d^order theta / dt^order` at times `t` (rad/s^order) from the angle polynomial."""
+        c, tc, ts = self.angle
+        for _ in range(order):
+            c = np.polyder(c)
+        return np.polyval(c, (np.asarray(t, dtype=float) - tc) / ts) / ts**order
+
+    def angle_sensitivity(self, t):
+        """`(d theta / d coef, d speed / d coef)` at times `t`: `(len(t), deg + 1)` each
+        (the rotor angle and speed are linear in the polynomial's coefficients)."""
+        c, tc, ts = self.angle
+        u = (np.asarray(t, dtype=float) - tc) / ts
+        deg = c.size - 1
+        V = np.vander(u, deg + 1)
+        dV = np.zeros_like(V)
+        for j in range(deg):               # column j holds u^(deg - j)
+            dV[:, j] = (deg - j) * u ** (deg - j - 1) / ts
+        return V, dV
+
+
+def _angle_fit(pulses, degree, weighted=True):
+    """The rotor-angle polynomial through `theta(pulse_k) = 2 pi k`: `(coef, tc, ts)`,
+    the covariance of `coef` and the pulses' timing scatter (s rms).
+
+    A pulse detected `dt` late puts the angle `speed * dt` off, so along a run-up
+    the fast pulses scatter most in angle: the fit is weighted by `1 / speed^2`
+    (speed from the previous pass; three passes), which is least squares in the
+    pulse times and cuts the angle error where the run is slow by a factor of
+    about 2.5 for a cubic, less at the fast end (`weighted=False`: the
+    unweighted fit, as before). The coefficients' covariance is
+    `s_t^2 (V^T W V)^-1` (a sandwich for the unweighted fit), `s_t` the rms
+    timing residual."""
+    k = np.arange(pulses.size) * 2 * np.pi
+    deg = int(min(degree, pulses.size - 1))
+    tc, ts = pulses.mean(), max(np.ptp(pulses), 1e-300)
+    u = (pulses - tc) / ts
+    V = np.vander(u, deg + 1)
+    w = np.ones_like(u)
+    speed = None
+    for _ in range(3 if weighted else 1):
+        sw = np.sqrt(w)
+        c = np.linalg.lstsq(V * sw[:, None], k * sw, rcond=None)[0]
+        speed = np.abs(np.polyval(np.polyder(c), u) / ts)
+        speed = np.maximum(speed, 1e-3 * max(float(speed.max()), 1e-300))
+        if weighted:
+            w = 1.0 / speed**2
+    r = k - V @ c
+    wt = 1.0 / speed**2                 # the timing residuals, whatever the fit's weights
+    s_t2 = float(np.sum(wt * r**2)) / max(pulses.size - deg - 1, 1)
+    # a fit with weights w of angle errors of variance s_t^2 / wt
+    Vw = V * w[:, None]
+    bread = np.linalg.pinv(Vw.T @ V)
+    cov = bread @ ((Vw * (s_t2 / wt * w)[:, None]).T @ V) @ bread
+    return (c, tc, ts), cov, float(np.sqrt(s_t2))
+
+
+def order_track(t, channels, tacho=None, pulses=None, revolutions_per_block=1, degree=3, *, full=False,
+                weighted=True):
     """1x phasors per block of revolutions along a run-up: `(speeds, X)` with
     `X` of shape `(n_blocks, n_sensors)`. The angle is one smooth fit over the
-    whole run (`rotor_angle` with `degree`); each block is fitted by least squares
-    as in `phasors`, its speed the mean of the fitted speed over the block."""
+    whole run (a polynomial of `degree` in time through `theta(pulse_k) = 2 pi k`,
+    weighted by `1 / speed^2`: least squares in the pulse times, see `_angle_fit`;
+    `weighted=False`: unweighted, as before issue 13);
+    each block is fitted by least squares as in `phasors`, its speed the mean of
+    the fitted speed over the block.
+
+    With `full=True`, returns an `OrderTrack` instead: the same phasors with their
+    noise, the angle's uncertainty and the block operator, which let `identify`
+    fit the run-up's transient response instead of the steady one.
+
+    The angle comes from the tacho only: pulses sampled at `fs` are detected to
+    within half a sample, so the phase reference itself carries an error (a few
+    mrad at the ends of a 1 kHz run-up to 400 rad/s), common to all sensors and
+    smooth along the run; `OrderTrack.angle_cov` states it."""
     t = np.asarray(t, dtype=float)
     x = np.asarray(channels, dtype=float)
     x = x[:, None] if x.ndim == 1 else x
@@ -126,7 +235,12 @@ def order_track(t, channels, tacho=None, pulses=None, revolutions_per_block=1, d
     n = int(revolutions_per_block)
     if n < 1 or n != revolutions_per_block:
         raise InputError(f"revolutions_per_block must be an integer >= 1, got {revolutions_per_block}")
-    theta, speed = rotor_angle(t, _check_pulses(pulses), degree)
+    pulses = _check_pulses(pulses)
+    (c_ang, tc, ts), angle_cov, jitter = _angle_fit(pulses, degree, weighted)
+    inside = (t >= pulses[0]) & (t <= pulses[-1])
+    u = (t - tc) / ts
+    theta = np.where(inside, np.polyval(c_ang, u), np.nan)
+    speed = np.where(inside, np.polyval(np.polyder(c_ang), u) / ts, np.nan)
     ok = np.isfinite(theta)
     if not ok.any():
         raise InputError("no sample lies between the first and the last tacho pulse")
@@ -147,7 +261,25 @@ def order_track(t, channels, tacho=None, pulses=None, revolutions_per_block=1, d
     keep = count >= 8
     coef = np.linalg.solve(A[keep], rhs[keep])
     speeds = np.bincount(k, sp, minlength=nb)[keep] / count[keep]
-    return speeds, coef[:, 0, :] - 1j * coef[:, 1, :]
+    X = coef[:, 0, :] - 1j * coef[:, 1, :]
+    if not full:
+        return speeds, X
+    # the sensor noise, pooled over the blocks' fits (3 coefficients each)
+    index = np.full(nb, -1)
+    index[keep] = np.arange(int(keep.sum()))
+    block = index[k]
+    used = block >= 0
+    fit = np.einsum("si,sim->sm", np.stack(basis, axis=1)[used], coef[block[used]])
+    rss = np.sum((xs[used] - fit) ** 2, axis=0)
+    noise_rms = np.sqrt(rss / max(int(used.sum()) - 3 * int(keep.sum()), 1))
+    Ginv = np.linalg.inv(A[keep])
+    sigma = noise_rms[None, :] * np.sqrt(0.5 * (Ginv[:, 0, 0] + Ginv[:, 1, 1]))[:, None]
+    block_time = np.bincount(k, t[ok], minlength=nb)[keep] / count[keep]
+    block_all = np.full(t.size, -1)
+    block_all[ok] = block
+    return OrderTrack(speeds=speeds, X=X, sigma=sigma, noise_rms=noise_rms, time=t, theta=theta, speed=speed,
+                      block=block_all, normal_inv=Ginv, block_time=block_time, angle=(c_ang, tc, ts),
+                      angle_cov=angle_cov, pulse_jitter=jitter, revolutions_per_block=n)
 
 
 def _check_pulses(pulses):
