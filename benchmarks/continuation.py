@@ -1,12 +1,18 @@
 """Continuation: (a) a shared equilibrium example with jaxcont (the Brusselator's
 Hopf point, exact at b = 2 with frequency 1; the Duffing harmonic-balance folds,
 exact from their closed form), rotorjax vs jaxcont in the same run, time (second
-call, compiled) and error; (b) the model 001 stability boundary in (n, mu_w),
-traced by continuation vs the grid-map approach at equal boundary accuracy.
+call, compiled) and error; (b) every stability boundary of model 001 in the
+preset's box (n in [0.5, 10], mu_w in [0.05, 1]) by `trace_boundaries`: time
+(first call, compiling; second call), points, and the accuracy of the dense curve
+between the points against critical speeds bisected along n at the midpoints of
+every interval (where a cubic Hermite piece is least accurate) and at the quarter
+points of the least accurate ones, beside the accuracy of straight chords between
+the same points; the peer: `critical_speeds` along n row by row, timed per row.
 
 jaxcont is optional (`pip install jaxcont`, or `--jaxcont-path DIR` with a
 `pip install --no-deps --target DIR jaxcont`). Writes
-benchmarks/results/continuation.json.
+benchmarks/results/continuation.json; `--smoke`: a small box (one boundary),
+three intervals checked, prints the results and writes nothing.
 """
 
 import argparse
@@ -21,9 +27,29 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from _common import machine, timed, write_results  # noqa: E402
 
 
+def bisect_along_n(m, n0, mu, half=1e-4, xtol=1e-13):
+    """The critical speed near `n0` at `mu`: plain bisection of the margin along n
+    (the bracket widened until the margin changes sign)."""
+    a, b = n0 - half, n0 + half
+    fa, fb = float(m(a, mu)), float(m(b, mu))
+    while np.sign(fa) == np.sign(fb):
+        half *= 4
+        a, b = n0 - half, n0 + half
+        fa, fb = float(m(a, mu)), float(m(b, mu))
+    while b - a > xtol:
+        c = 0.5 * (a + b)
+        fc = float(m(c, mu))
+        if np.sign(fc) == np.sign(fa):
+            a, fa = c, fc
+        else:
+            b = c
+    return 0.5 * (a + b)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--jaxcont-path", default=os.environ.get("ROTORJAX_JAXCONT_PATH"))
+    ap.add_argument("--smoke", action="store_true", help="a small box, a few checks; print, write nothing")
     args = ap.parse_args()
     if args.jaxcont_path:
         sys.path.append(args.jaxcont_path)
@@ -31,23 +57,23 @@ def main():
     import jax.numpy as jnp
 
     import rotorjax  # noqa: F401
-    from rotorjax.analysis import continue_branch, critical_speeds, trace_boundary
+    from rotorjax.analysis import continue_branch, critical_speeds, trace_boundaries
+    from rotorjax.analysis._continuation import _hermite
     from rotorjax.presets import anisotropic_abb as ab
-    from rotorjax.sweep import sweep
     from tests.analysis.test_continuation import brusselator, duffing, duffing_fold_forcing
 
-    out = {"benchmark": "continuation", "machine": machine(),
+    out = {"benchmark": "continuation", "machine": machine(), "smoke": args.smoke,
            "versions": {"jax": jax.__version__}}
 
     # (a) shared examples
     t_b, br = timed(lambda: continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(1.0, 3.0), ds=0.05,
-                                            ds_max=0.1))
+                                            ds_max=0.1), repeats=1 if args.smoke else 3)
     hopf = [e for e in br.events if e["kind"] == "hopf"][0]
     f0 = 0.05
     from rotorjax.analysis._continuation import _newton
     u0, _ = _newton(lambda u: duffing(u, 0.5, f0), np.array([0.0665, 0.0022]))
     t_d, bd = timed(lambda: continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0),
-                                            ds=0.02, ds_max=0.05, max_points=400))
+                                            ds=0.02, ds_max=0.05, max_points=400), repeats=1 if args.smoke else 3)
     folds = [e["p"] for e in bd.events if e["kind"] == "fold"]
     fold_err = max(min(abs(f0 / v - 1) for v in duffing_fold_forcing(p)) for p in folds)
     out["shared"] = {"rotorjax": {"brusselator_s": t_b, "hopf_error": abs(hopf["p"] - 2.0),
@@ -79,51 +105,82 @@ def main():
         out["shared"]["jaxcont"] = "not installed"
     print(json.dumps(out["shared"], indent=1), flush=True)
 
-    # (b) model 001 boundary in (n, mu_w)
+    # (b) every model 001 boundary in (n, mu_w)
     P = dict(ab.PRESET.defaults)
     G = {k: P[k] for k in ab.GROUPS}
 
     def margin(n, mu):
         return ab.main_motion_floquet(dict(G, mu_w=mu), n, P["K"]).margin
 
+    box = ((4.5, 5.5), (0.4, 0.6)) if args.smoke else (ab.PRESET.box["n"], ab.PRESET.box["mu_w"])
+    dense_tol = 1e-6
+
+    def run():
+        return trace_boundaries(margin, box, gradient="fd", names=("n", "mu_w"), dense_tol=dense_tol, ds=0.02,
+                                ds_max=0.2)
+
     t0 = time.perf_counter()
-    curve = trace_boundary(margin, (5.05, 0.3), bounds=(np.array([0.5, 0.3]), np.array([10.0, 1.0])), ds=0.05,
-                           ds_max=0.1, gradient="fd", max_points=40, direction=(0.0, 1.0), tol=1e-10)
-    t_trace = time.perf_counter() - t0
-    # accuracy: bisection at three of the traced mu_w
-    errs = []
-    for n, mu in curve.x[[1, len(curve.x) // 2, -1]]:
-        (c,) = critical_speeds(lambda v: margin(v, mu), n - 0.05, n + 0.05, n_scan=4, xtol=1e-12)
-        errs.append(abs(c.speed - n))
-    # grid map: 200 speeds over [0.5, 10] per mu_w row, the same rows as the trace
-    rows = curve.x[:, 1]
+    found = run()
+    t_first = time.perf_counter() - t0
     t0 = time.perf_counter()
-    grid = sweep(lambda q: margin(q["n"], q["mu_w"]), {"n": np.linspace(0.5, 10.0, 200), "mu_w": rows},
-                 chunk_size=200, progress=False)
-    t_grid = time.perf_counter() - t0
-    spacing = 9.5 / 199
-    # the grid's boundary estimate in each row: the midpoint of the sign change
-    # nearest the traced boundary
-    gm, gn = np.asarray(grid.values), grid.axes["n"]
-    grid_err = []
-    for j, (n_tr, _) in enumerate(curve.x):
-        k = [i for i in range(gn.size - 1) if np.sign(gm[i, j]) != np.sign(gm[i + 1, j])]
-        if k:
-            grid_err.append(min(abs(0.5 * (gn[i] + gn[i + 1]) - n_tr) for i in k))
-    # equal accuracy (the trace's ~1e-12) needs bisection in each row: 2 scan points + ~35 steps
+    run()
+    t_second = time.perf_counter() - t0
+
+    # the dense curve against bisection along n: every interval's midpoint, and the quarter points of the
+    # five least accurate intervals of each boundary; the nodes; and straight chords between the nodes
+    m = jax.jit(margin)
+    branches = []
+    for b in found:
+        idx = np.arange(1, len(b.x))
+        if args.smoke:
+            idx = idx[np.argsort(b.errors[1:])[-3:]]
+        worst = idx[np.argsort(b.errors[idx])[-5:]]
+        mid, quarter, chord, ratio = [], [], [], []
+        for i in idx:
+            for s in ((0.25, 0.5, 0.75) if i in worst else (0.5,)):
+                h = _hermite(b.x[i - 1], b.tangents[i - 1], b.x[i], b.tangents[i], [s])[0]
+                e = abs(bisect_along_n(m, h[0], h[1]) - h[0])
+                (mid if s == 0.5 else quarter).append(e)
+                if s == 0.5:
+                    if b.errors[i] > 1e-9:
+                        ratio.append(e / b.errors[i])
+                    c = b.x[i - 1] + 0.5 * (b.x[i] - b.x[i - 1])
+                    chord.append(abs(bisect_along_n(m, c[0], c[1]) - c[0]))
+        nodes = [abs(bisect_along_n(m, x[0], x[1]) - x[0]) for x in b.x[[0, len(b.x) // 2, -1]]]
+        branches.append({"points": int(len(b.x)), "stops": list(b.stops),
+                         "n_range": [float(b.x[:, 0].min()), float(b.x[:, 0].max())],
+                         "error_estimate_max": float(b.errors.max()),
+                         "intervals_checked": int(len(idx)),
+                         "dense_error_at_midpoints_max": float(max(mid)),
+                         "dense_error_at_quarter_points_max": float(max(quarter)) if quarter else None,
+                         "node_error_max": float(max(nodes)),
+                         "chord_error_at_midpoints_max": float(max(chord)),
+                         "actual_over_estimate": [float(min(ratio)), float(max(ratio))] if ratio else None})
+    dense_max = max(max(b["dense_error_at_midpoints_max"], b["dense_error_at_quarter_points_max"] or 0.0)
+                    for b in branches)
+
+    # the peer: critical speeds along n, one mu_w row at a time (scan over the whole range, bisection)
+    rows = np.linspace(*box[1], 3 if not args.smoke else 1)
     t0 = time.perf_counter()
-    for mu in rows[:3]:
-        critical_speeds(lambda v: margin(v, mu), 4.9, 5.2, n_scan=4, xtol=1e-12)
-    t_bisect_row = (time.perf_counter() - t0) / 3
-    out["boundary_001"] = {"points": int(curve.x.shape[0]), "mu_w_range": [float(rows.min()), float(rows.max())],
-                           "trace_s": t_trace, "trace_error_max": float(max(errs)), "stopped": curve.stopped,
-                           "grid_map_200_per_row_s": t_grid, "grid_map_error_bound": spacing / 2,
-                           "grid_map_error_max": float(max(grid_err)) if grid_err else None,
-                           "map_plus_bisection_s": t_bisect_row * len(rows),
-                           "ratio_map_plus_bisection_over_trace": t_bisect_row * len(rows) / t_trace,
-                           "ratio_grid_over_trace": t_grid / t_trace}
-    print(json.dumps(out["boundary_001"], indent=1))
-    write_results("continuation", out)
+    for mu in rows:
+        critical_speeds(lambda v: margin(v, mu), *box[0], n_scan=40, xtol=1e-10)
+    t_row = (time.perf_counter() - t0) / len(rows)
+    n_points = sum(b["points"] for b in branches)
+    out["boundaries_001"] = {
+        "box": {"n": list(box[0]), "mu_w": list(box[1])}, "dense_tol": dense_tol,
+        "n_boundaries": len(found), "crossings_located": len(found.crossings),
+        "trace_boundaries_first_call_s": t_first, "trace_boundaries_second_call_s": t_second,
+        "branches": branches, "dense_error_max": dense_max,
+        "critical_speeds_per_row_s": t_row,
+        "rows_for_as_many_points_s": t_row * n_points,
+        "ratio_rows_over_trace": t_row * n_points / t_second,
+        "note": "errors are distances along n to plain bisection of the margin at fixed mu_w (to 1e-13); "
+                "a critical_speeds row compiles its scan (as every call does), so it is timed as called"}
+    print(json.dumps(out["boundaries_001"], indent=1))
+    if args.smoke:
+        print("smoke run: nothing written")
+    else:
+        write_results("continuation", out)
 
 
 if __name__ == "__main__":

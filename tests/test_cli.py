@@ -214,6 +214,20 @@ def test_continue_command(tmp_path, capsys):
     assert abs(out["N"][start] - 13.904126) < 1e-5 and max(out["residuals"]) < 1e-8
     assert min(out["eta_e"]) < 0.025 < max(out["eta_e"])
     assert (tmp_path / "continue_cantilever-limiters_N_eta_e.csv").exists()
+    # the same as the one branch, with its dense curve (8 samples per interval) within 1e-6 along N
+    (br,) = out["branches"]
+    assert br["N"] == out["N"] and br["stops"] == out["stops"] and out["box_source"] == "--box"
+    assert br["dense"]["N"][::8] == br["N"] and br["interpolation_error_max"] <= 1e-6 == out["dense_tol"]
+    # without --box: the preset's default box
+    assert main(["continue", "cantilever-limiters", "--param", "N", "--param2", "eta_e", "--from", "13.9", "0.025",
+                 "--max-points", "4", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["box"] == [1.0, 40.0, 0.0, 0.06] and out["box_source"] == "the preset's default box"
+    # a box without a boundary, and one way without a start
+    base = ["continue", "cantilever-limiters", "--param", "N", "--param2", "eta_e", "--out", str(tmp_path)]
+    assert main(base + ["--box", "1", "5", "0", "0.06"]) == 2
+    assert "no stability boundary meets the edge of the box N in [1, 5]" in capsys.readouterr().err
+    assert main(base + ["--direction", "up"]) == 2
     assert main(["continue", "elliptic-abb", "--param", "nu", "--set", "eps=0.03", "--set", "rho2=1.28",
                  "--to", "1.4", "1.8", "--ds", "0.05", "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -221,3 +235,41 @@ def test_continue_command(tmp_path, capsys):
     assert main(["continue", "anisotropic-abb", "--param", "zz"]) == 2
     assert main(["continue", "anisotropic-abb", "--param", "n", "--param2", "mu_w", "--from", "5"]) == 2
     assert main(["continue", "ross-compare", "--param", "kxx"]) == 2
+
+
+@pytest.mark.slow
+def test_continue_traces_every_boundary_of_the_default_box(tmp_path, capsys):
+    """Model 001 in (n, mu_w), all defaults: the three boundaries of the main motion in the preset's box, each
+    from mu_w = 0.05 to 1 (the third one moving with mu_w), and between the points as accurate as bisected
+    critical speeds to 1e-6."""
+    from rotorjax.analysis import Curve, critical_speeds
+    from rotorjax.presets import anisotropic_abb as ab
+
+    assert main(["continue", "anisotropic-abb", "--param", "n", "--param2", "mu_w", "--out", str(tmp_path),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["box"] == [0.5, 10.0, 0.05, 1.0] and out["n_branches"] == 3
+    # their n-ranges (the second one turns at n = 5.0534715, mu_w = 0.816)
+    ranges = [(1.0076027, 1.3451642), (4.6071146, 5.0534715), (7.8630886, 9.6322835)]
+    curves = []
+    for br, (lo, hi) in zip(out["branches"], ranges):
+        assert br["stops"] == ["box edge (mu_w = 0.05)", "box edge (mu_w = 1.0)"] and br["stop"] == "box edge"
+        assert abs(min(br["dense"]["n"]) - lo) < 1e-6 and abs(max(br["dense"]["n"]) - hi) < 1e-6
+        assert max(br["residuals"]) < 1e-9 and br["interpolation_error_max"] <= 1e-6
+        curves.append(Curve(x=np.column_stack([br["n"], br["mu_w"]]), residuals=np.asarray(br["residuals"]),
+                            steps=np.asarray(br["steps"]), iterations=np.zeros(len(br["n"])), stopped=br["stopped"],
+                            tangents=np.asarray(br["tangents"])))
+    assert out["n"] == out["branches"][0]["n"] and out["stops"] == out["branches"][0]["stops"]
+    assert all(c["branch"] is not None for c in out["crossings"])
+    # the third boundary moves with mu_w
+    assert abs(curves[2].meets(1, 0.53)[0, 0] - 8.2895) < 1e-3 and abs(curves[2].meets(1, 0.85)[0, 0] - 7.9885) < 1e-3
+    # at the midpoint of the third boundary's least accurate interval (and wherever the others are there),
+    # the dense curves against critical speeds bisected along n (independently of the continuation)
+    i = int(np.argmax(out["branches"][2]["interpolation_errors"]))
+    mu = out["branches"][2]["dense"]["mu_w"][8 * (i - 1) + 4]
+    p = dict(ab.PRESET.defaults, mu_w=mu)
+    found = critical_speeds(lambda n: ab.PRESET.margin(dict(p, n=n)), 0.5, 10.0, n_scan=40, xtol=1e-12)
+    assert len(found) == 3
+    for c, curve in zip(found, curves):
+        (n_dense,) = curve.meets(1, mu)[:, 0]
+        assert abs(c.speed - n_dense) < 1e-6

@@ -20,6 +20,7 @@ from ._hopf import hopf_points as hopf_points
 from ._hopf import hopf_speed_gradient as hopf_speed_gradient
 from ._precession import Precession as Precession
 from ._precession import precession as precession
+from ._continuation import Boundaries as Boundaries
 from ._continuation import Branch as Branch
 from ._continuation import Curve as Curve
 from ._continuation import boundary_points as boundary_points
@@ -27,5 +28,6 @@ from ._continuation import boundary_sensitivity as boundary_sensitivity
 from ._continuation import continue_branch as continue_branch
 from ._continuation import floquet_crossings as floquet_crossings
 from ._continuation import fold_curve as fold_curve
+from ._continuation import trace_boundaries as trace_boundaries
 from ._continuation import trace_boundary as trace_boundary
 from ._continuation import trace_curve as trace_curve

@@ -3,9 +3,10 @@ folds, Hopf points and branch points detected and refined; and curves in two
 parameters (stability boundaries, fold curves).
 
 One engine, `trace_curve`, follows an implicit curve `G(x) = 0`, `G: R^{k+1} -> R^k`,
-by pseudo-arclength: tangent from the null space of `G'(x)` (autodiff), Euler
-predictor, Newton corrector on `[G(x); t . (x - x_pred)] = 0`, step adapted to the
-corrector's effort. On top of it:
+by pseudo-arclength: tangent from the null space of `G'(x)` (autodiff, or central
+differences), Euler predictor, Newton corrector on `[G(x); t . (x - x_pred)] = 0`,
+step adapted to the corrector's effort, to the turning of the tangent and, when a
+`dense_tol` is given, to the accuracy of the curve between the points. On top of it:
 
 - `continue_branch(F, u0, p0)`: `x = (u, p)`, `G = F(u, p)` (a stationary regime
   of a first-order field, e.g. the rotating-frame field); along the branch the
@@ -18,6 +19,8 @@ corrector's effort. On top of it:
   boundary, `sigma` the margin of a regime (largest real part, or Floquet
   exponent) as a function of two parameters; `boundary_sensitivity` gives its
   normal shift per unit of a third parameter by the implicit function theorem.
+- `trace_boundaries(sigma, box)`: every boundary branch in a box, started from the
+  crossings `critical_speeds` locates along `p1` on a few lines of constant `p2`.
 - `fold_curve(F, u0, p0)`: `x = (u, p1, p2)`, `G = (F, det F_u)`.
 
 Curves are traced both ways from the start unless a direction is given; each
@@ -26,16 +29,46 @@ is cut to land on it), a closed loop, `max_points`, a corrector that fails at
 the smallest step, or a non-finite function value. Steps are cut where the
 tangent turns, so folds are drawn as curves, not kinks.
 
+Dense output: between two points the curve is the cubic Hermite interpolant of
+the points and their unit tangents (`Curve.dense`). Its error is estimated on
+every interval from its midpoint `H`: the Newton correction `-J^+ G(H)` of `H`
+onto the curve (`J` the mean of the end points' Jacobians), i.e. the distance of
+the interpolant from the curve where it is largest (the error of a cubic Hermite
+interpolant goes as `s^2 (1 - s)^2`). With `dense_tol`, a step whose estimate
+exceeds `0.8 dense_tol` is cut (the error goes as the fourth power of the step)
+and the next step is sized for it, so the curve, not just its points, is
+accurate to `dense_tol`.
+
 Every result carries its checks: the residual of the defining system at every
-point, the step history, and why each end stopped.
+point, the step history, the interpolation error estimates, and why each end
+stopped.
 """
 
 import dataclasses
 from typing import Callable
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+
+
+def _hermite(x0, t0, x1, t1, s):
+    """Cubic Hermite interpolant from `x0` (unit tangent `t0`) to `x1` (`t1`) at
+    the fractions `s` (1-D), the tangents scaled by the chord length."""
+    h = float(np.linalg.norm(x1 - x0))
+    s = np.asarray(s, dtype=float)[:, None]
+    s2, s3 = s * s, s * s * s
+    return ((2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * h * t0 + (3 * s2 - 2 * s3) * x1
+            + (s3 - s2) * h * t1)
+
+
+def _stop_kind(reason):
+    """`"box edge (mu_w = 1.0)"` -> `"box edge"`; `"corrector failed (...) at ..."` -> `"corrector failed"`."""
+    for kind in ("box edge", "closed loop", "max_points reached", "corrector failed", "start"):
+        if reason.startswith(kind):
+            return kind
+    return reason.split(" at ")[0]
 
 
 @dataclasses.dataclass
@@ -52,6 +85,15 @@ class Curve:
       (just `"closed loop"` for a closed loop), or the far end's reason when
       traced one way.
     - `start`: the index of the starting point in `x`.
+    - `tangents`: the unit tangent at each point, pointing from `x[0]` towards
+      `x[-1]`; with the points they define the dense curve (`dense`).
+    - `errors`: `errors[i]` estimates the largest distance between the dense
+      curve and the true curve on the interval from `x[i-1]` to `x[i]` (0 at the
+      first point; see the module docstring), measured along `error_axis` when
+      that is set (a boundary: along `p1` at fixed `p2`, as a critical speed
+      would be), else orthogonally to the curve.
+    - `dense_tol`: the accuracy the steps were controlled to (None: not
+      controlled; the estimates are there all the same).
 
     A reason is one of `"box edge (<name> = <bound>)"` (the last point lies on
     that bound), `"closed loop"` (`x[-1]` repeats `x[0]`), `"max_points
@@ -65,6 +107,58 @@ class Curve:
     stopped: str
     stops: tuple = ()
     start: int = 0
+    tangents: np.ndarray = None
+    errors: np.ndarray = None
+    dense_tol: float = None
+    error_axis: int = None
+
+    @property
+    def stop(self) -> str:
+        """The stop reasons in one word each: `"box edge"` when both ends are on the
+        box's edge (likewise `"closed loop"`, ...), else `"low end: <kind>; high end:
+        <kind>"` (one way: the far end's kind)."""
+        a, b = (_stop_kind(s) for s in self.stops) if len(self.stops) == 2 else ("", self.stopped)
+        if a == "start":
+            return b
+        return a if a == b else f"low end: {a}; high end: {b}"
+
+    def dense(self, n: int = 8) -> np.ndarray:
+        """The curve sampled `n` times per interval (the cubic Hermite interpolant
+        of the points and tangents): `(n (len(x) - 1) + 1, dim)` rows, the points
+        included (every `n`-th row)."""
+        if self.tangents is None or len(self.x) < 2:
+            return np.asarray(self.x)
+        s = np.linspace(0.0, 1.0, int(n) + 1)[1:]
+        parts = [self.x[:1]] + [_hermite(self.x[i], self.tangents[i], self.x[i + 1], self.tangents[i + 1], s)
+                                for i in range(len(self.x) - 1)]
+        return np.concatenate(parts)
+
+    def meets(self, axis: int, value: float) -> np.ndarray:
+        """The points (rows) where the dense curve meets the hyperplane `x[axis] =
+        value`, e.g. a boundary's critical speeds `p1` at `p2 = value`:
+        `curve.meets(1, value)[:, 0]`."""
+        return np.array([pt for pt, _ in _meets(self, axis, value)]).reshape(-1, self.x.shape[1])
+
+    def as_dict(self, names=None, dense: int = 8) -> dict:
+        """JSON-ready: one list per coordinate (named by `names`, default `x0`,
+        `x1`, ...), the checks, the stop reasons, the unit tangents (rows) and the
+        dense curve (`n` samples per interval)."""
+        names = [f"x{i}" for i in range(self.x.shape[1])] if names is None else list(names)
+        d = self.dense(dense)
+        out = {k: self.x[:, i].tolist() for i, k in enumerate(names) if k is not None}
+        out.update({"residuals": self.residuals.tolist(), "steps": self.steps.tolist(),
+                    "stop": self.stop, "stopped": self.stopped, "stops": list(self.stops),
+                    "start": int(self.start), "n_points": int(self.x.shape[0])})
+        if self.errors is not None:
+            out.update({"interpolation_errors": self.errors.tolist(),
+                        "interpolation_error_max": float(np.max(self.errors)),
+                        "dense_tol": self.dense_tol,
+                        "error_measured": ("orthogonally to the curve" if self.error_axis is None else
+                                           f"along {names[self.error_axis]} at fixed other coordinates")})
+        if self.tangents is not None:
+            out["tangents"] = self.tangents.tolist()
+        out["dense"] = {k: d[:, i].tolist() for i, k in enumerate(names) if k is not None}
+        return out
 
 
 def _tangent(jac):
@@ -74,48 +168,86 @@ def _tangent(jac):
 
 
 class _Front:
-    """One direction of tracing: its points so far, the tangent at the last one
-    (pointing the way it goes), the next step, and its stop reason (None while
-    it goes on)."""
+    """One direction of tracing: its points so far with their tangents (pointing
+    the way it goes), Jacobians and interpolation error estimates, the next step,
+    and its stop reason (None while it goes on)."""
 
-    def __init__(self, x0, r0, t0, ds):
+    def __init__(self, x0, r0, t0, J0, ds):
         self.xs, self.res, self.steps, self.iters = [x0.copy()], [r0], [0.0], [0]
-        self.t, self.ds, self.stop = t0, ds, None
+        self.ts, self.errs = [t0], [0.0]
+        self.t, self.J, self.ds, self.stop = t0, J0, ds, None
         self.nonfinite = 0     # successive steps that met non-finite values of G
+
+    def append(self, y, r, step, it, t, J, err):
+        self.xs.append(y)
+        self.res.append(r)
+        self.steps.append(step)
+        self.iters.append(it)
+        self.ts.append(t)
+        self.errs.append(err)
+        self.t, self.J = t, J
 
 
 _MAX_TURN_HALVINGS = 6     # at a singular point the tangent may jump: accept the step after this many
 _MAX_NONFINITE = 3         # successive steps cut short by non-finite G: the curve runs into where G is undefined
+_MAX_DENSE_CUTS = 12       # steps cut for the interpolation error before one is accepted regardless
+_DENSE_SAFETY = 0.8        # the midpoint estimate is kept below this fraction of dense_tol
+_AXIS_FLOOR = 0.05         # an error along an axis nearly tangent to the curve is capped at 20x the orthogonal one
 
 
-def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max_newton, start_tol, gradient,
-           fd_step, gtol, max_turn, names, what, progress=False) -> Curve:
+def _evaluators(G, gradient, fd_step):
+    """`(g, jac)`: `G` and its Jacobian as NumPy functions of a NumPy point,
+    compiled once (the Jacobian by autodiff, or by central differences with
+    relative step `fd_step` from `g`)."""
     Gj = jax.jit(G)
+
+    def g(x):
+        return np.atleast_1d(np.asarray(Gj(jnp.asarray(x)), dtype=float))
+
+    return g, _jacobian(G, g, gradient, fd_step)
+
+
+def _jacobian(G, g, gradient, fd_step):
+    """The Jacobian of `G` as a NumPy function `jac(x, gx=None)`: by autodiff, or
+    by central differences from `g`; given `gx = g(x)`, by forward differences
+    (half the evaluations; enough for the chord method's Jacobian, not for
+    tangents)."""
     if gradient == "autodiff":
         Jj = jax.jit(jax.jacfwd(G))
 
-        def jac(x):
-            return np.asarray(Jj(jnp.asarray(x)))
+        def jac(x, gx=None):
+            return np.asarray(Jj(jnp.asarray(x)), dtype=float).reshape(-1, x.size)
     elif gradient == "fd":
-        def jac(x):
+        def jac(x, gx=None):
             cols = []
             for i in range(x.size):
                 h = fd_step * max(1.0, abs(x[i]))
                 e = np.zeros_like(x)
                 e[i] = h
-                cols.append((np.asarray(Gj(jnp.asarray(x + e))) - np.asarray(Gj(jnp.asarray(x - e)))) / (2 * h))
+                cols.append((g(x + e) - g(x - e)) / (2 * h) if gx is None else (g(x + e) - gx) / h)
             return np.stack(cols, axis=-1).reshape(-1, x.size)
     else:
         raise ValueError(f"gradient must be 'autodiff' or 'fd', got {gradient!r}")
+    return jac
 
-    def g(x):
-        return np.atleast_1d(np.asarray(Gj(jnp.asarray(x)), dtype=float))
+
+def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max_newton, start_tol, gradient,
+           fd_step, gtol, max_turn, names, what, progress=False, dense_tol=None, error_axis=None,
+           evaluators=None) -> Curve:
+    g, jac = _evaluators(G, gradient, fd_step) if evaluators is None else evaluators
+    # a Jacobian by differences costs 2 (k + 1) evaluations of G: the corrector keeps the one at its
+    # predictor (the chord method) rather than forming one per iteration
+    chord = gradient == "fd"
 
     x0 = np.asarray(x0, dtype=float)
     m = x0.size
     names = [f"x[{i}]" for i in range(m)] if names is None else list(names)
     if len(names) != m:
         raise ValueError(f"names has {len(names)} entries for a point of {m} coordinates")
+    if dense_tol is not None and not (np.isfinite(dense_tol) and dense_tol > 0):
+        raise ValueError(f"dense_tol must be a positive number or None, got {dense_tol!r}")
+    if error_axis is not None and m != 2:
+        raise ValueError(f"error_axis is for curves in two coordinates; this one has {m}")
     shown = [i for i in range(m) if names[i] is not None] or list(range(m))
 
     def at(x):
@@ -160,16 +292,18 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
         return best
 
     def correct(y, row, c):
-        """Newton on `[G(y); row . y - c] = 0` from `y`: `(y, iterations, max |G|, None)` when accepted,
-        `(None, iterations, None, bad)` when not, `bad` the point where `G` (or its Jacobian) was not
-        finite, if that is why."""
+        """Newton on `[G(y); row . y - c] = 0` from `y` (the chord method, the Jacobian at `y`, for
+        `gradient="fd"`): `(y, iterations, max |G|, None)` when accepted, `(None, iterations, None, bad)`
+        when not, `bad` the point where `G` (or its Jacobian) was not finite, if that is why."""
+        J = None
         for it in range(1, max_newton + 1):
             gy = g(y)
             if not np.all(np.isfinite(gy)):
                 return None, it, None, y
-            J = jac(y)
-            if not np.all(np.isfinite(J)):
-                return None, it, None, y
+            if J is None or not chord:
+                J = jac(y, gy) if chord else jac(y)
+                if not np.all(np.isfinite(J)):
+                    return None, it, None, y
             try:
                 dy = np.linalg.solve(np.vstack([J, row[None, :]]), -np.concatenate([gy, [row @ y - c]]))
             except np.linalg.LinAlgError:
@@ -186,29 +320,59 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
         return None, max_newton, None, None
 
     def oriented_tangent(y, t):
-        tn = _tangent(jac(y))
+        """`(tangent at y oriented along t, its angle to t, the Jacobian at y)`."""
+        J = jac(y)
+        tn = _tangent(J)
         tn = tn if tn @ t >= 0 else -tn
-        return tn, float(np.arccos(np.clip(tn @ t, -1.0, 1.0)))
+        return tn, float(np.arccos(np.clip(tn @ t, -1.0, 1.0))), J
 
-    def land(f, x, y0, k, b, reach, may_refuse):
+    def interval_error(x, tx, Jx, y, ty, Jy):
+        """The interpolation error estimate on `x -> y`: the Newton correction of the Hermite midpoint
+        (with the mean Jacobian), its length, or its length along `error_axis` (2-D: divided by that
+        component of the unit normal, floored)."""
+        if not (np.all(np.isfinite(Jx)) and np.all(np.isfinite(Jy))):
+            return np.inf
+        H = _hermite(x, tx, y, ty, [0.5])[0]
+        gH = g(H)
+        if not np.all(np.isfinite(gH)):
+            return np.inf
+        J = 0.5 * (Jx + Jy)
+        d = float(np.linalg.norm(np.linalg.lstsq(J, -gH, rcond=None)[0]))
+        if error_axis is None:
+            return d
+        nu = np.abs(J[0, error_axis]) / max(float(np.linalg.norm(J[0])), 1e-300)
+        return d / max(nu, _AXIS_FLOOR)
+
+    # the largest error of a piece lies near, not exactly at, its midpoint: keep the estimate a little lower
+    target = None if dense_tol is None else _DENSE_SAFETY * dense_tol
+
+    def too_coarse(err, cuts):
+        return target is not None and err > target and cuts < _MAX_DENSE_CUTS
+
+    def shrink(err):
+        """The step factor that brings an interpolation error `err` to about the target (error ~ step^4)."""
+        return float(np.clip(0.9 * (target / err) ** 0.25, 0.2, 0.9)) if np.isfinite(err) else 0.2
+
+    def land(f, x, y0, k, b, reach, may_refuse, cuts):
         """Correct `y0` onto the curve with coordinate `k` fixed at the bound `b`: the end point on the
         box edge, if the curve reaches it within about `reach` (and, when `may_refuse`, without
-        turning by more than `max_turn`). Returns "landed", "turns" or "missed"."""
+        turning by more than `max_turn`), and the interpolation error to it is within `dense_tol`.
+        Returns ("landed" | "turns" | "coarse" | "missed", interpolation error)."""
         z, it, r, _ = correct(y0, np.eye(m)[k], b)
         if z is None:
-            return "missed"
+            return "missed", None
         z[k] = b
         if outside(z) or (z - x) @ f.t <= 0 or np.linalg.norm(z - x) > 2 * reach:
-            return "missed"
-        tz, angle = oriented_tangent(z, f.t)
+            return "missed", None
+        tz, angle, Jz = oriented_tangent(z, f.t)
         if angle > max_turn and may_refuse:
-            return "turns"
-        f.xs.append(z)
-        f.res.append(r)
-        f.steps.append(float(np.linalg.norm(z - x)))
-        f.iters.append(it)
-        f.t, f.stop = tz, edge(k, b)
-        return "landed"
+            return "turns", None
+        err = interval_error(x, f.t, f.J, z, tz, Jz)
+        if too_coarse(err, cuts):
+            return "coarse", err
+        f.append(z, r, float(np.linalg.norm(z - x)), it, tz, Jz, err)
+        f.stop = edge(k, b)
+        return "landed", err
 
     def closes(x, y, t, other):
         """Whether the chord `x -> y` (tangent `t` at `y`) runs into the other front's last point,
@@ -226,7 +390,7 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
         if s_edge <= 1e-12 * max(1.0, np.max(np.abs(x))):
             f.stop = edge(k, b)           # on the edge, heading out
             return
-        bad, turns = None, 0
+        bad, turns, cuts = None, 0, 0
         while True:
             if ds < ds_min:
                 f.stop = (f"non-finite {what} at {at(bad)}" if bad is not None else
@@ -236,12 +400,13 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
             s_edge, k, b = to_box(x, t)
             if s_edge <= ds:
                 # the predictor would leave the box: try the edge it meets
-                how = land(f, x, x + s_edge * t, k, b, s_edge, may_refuse)
+                how, err = land(f, x, x + s_edge * t, k, b, s_edge, may_refuse, cuts)
                 if how == "landed":
                     return
-                if how == "turns":
-                    turns += 1
-                    ds = s_edge / 2
+                if how in ("turns", "coarse"):
+                    turns += how == "turns"
+                    cuts += how == "coarse"
+                    ds = s_edge * (0.5 if how == "turns" else shrink(err))
                     continue
             xp = x + ds * t
             y, it, r, why = correct(xp, t, t @ xp)
@@ -255,33 +420,39 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
                            if y[i] > hi[i] + eps[i] or y[i] < lo[i] - eps[i]}
                 k = min(crossed, key=lambda i: (crossed[i] - x[i]) / (y[i] - x[i]))
                 b = crossed[k]
-                how = land(f, x, x + (b - x[k]) / (y[k] - x[k]) * (y - x), k, b,
-                           max(ds, float(np.linalg.norm(y - x))), may_refuse)
+                frac = (b - x[k]) / (y[k] - x[k])
+                how, err = land(f, x, x + frac * (y - x), k, b, max(ds, float(np.linalg.norm(y - x))), may_refuse,
+                                cuts)
                 if how == "landed":
                     return
                 turns += how == "turns"
-                ds /= 2
+                cuts += how == "coarse"
+                # too coarse to the edge: a step short of it, sized for the error
+                ds *= frac * shrink(err) if how == "coarse" else 0.5
                 continue
-            tn, angle = oriented_tangent(y, t)
+            tn, angle, Jn = oriented_tangent(y, t)
             if angle > max_turn and may_refuse:
                 turns += 1
                 ds /= 2
                 continue
             if closes(x, y, tn, other):
-                p = other.xs[-1].copy()
-                f.xs.append(p)
-                f.res.append(float(np.max(np.abs(g(p)))))
-                f.steps.append(float(np.linalg.norm(p - x)))
-                f.iters.append(it)
-                f.t, f.stop = tn, "closed loop"
+                p, tp = other.xs[-1].copy(), -other.t
+                err = interval_error(x, t, f.J, p, tp, other.J)
+                if too_coarse(err, cuts) and ds * shrink(err) >= ds_min:
+                    cuts += 1
+                    ds *= shrink(err)
+                    continue
+                f.append(p, float(np.max(np.abs(g(p)))), float(np.linalg.norm(p - x)), it, tp, other.J, err)
+                f.stop = "closed loop"
                 if other.stop is None:
                     other.stop = "closed loop"
                 return
-            f.xs.append(y)
-            f.res.append(r)
-            f.steps.append(ds)
-            f.iters.append(it)
-            f.t = tn
+            err = interval_error(x, t, f.J, y, tn, Jn)
+            if too_coarse(err, cuts) and ds * shrink(err) >= ds_min:
+                cuts += 1
+                ds *= shrink(err)
+                continue
+            f.append(y, r, ds, it, tn, Jn, err)
             if bad is not None:
                 # a longer step met non-finite values: do not grow towards them, and stop rather
                 # than creep up to where G is undefined in ever shorter steps
@@ -292,20 +463,24 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
                 return
             f.nonfinite = 0
             # grow with an easy corrector and a straight curve; shrink where it works hard or turns
-            grow = 1.5 if it <= 3 else 1.0 if it <= 5 else 0.5
+            easy = it - 2 if chord else it      # the chord method converges linearly: two more are easy
+            grow = 1.5 if easy <= 3 else 1.0 if easy <= 5 else 0.5
             if angle > 0:
                 grow = min(grow, 0.8 * max_turn / angle)
+            if target is not None and err > 0:
+                grow = min(grow, 0.9 * (target / err) ** 0.25)
             f.ds = min(max(ds * max(grow, 0.25), ds_min), ds_max)
             return
 
-    t0 = _tangent(jac(x0))
+    J0 = jac(x0)
+    t0 = _tangent(J0)
     both = direction is None
     if not both:
         t0 = t0 if t0 @ np.asarray(direction, dtype=float) >= 0 else -t0
     elif t0[-1] < 0:
         t0 = -t0
-    hi_f = _Front(x0, r0, t0, ds)
-    lo_f = _Front(x0, r0, -t0, ds)
+    hi_f = _Front(x0, r0, t0, J0, ds)
+    lo_f = _Front(x0, r0, -t0, J0, ds)
     if not both:
         lo_f.stop = "start"           # stands still: the start, for the closed-loop test
     fronts = [f for f in (hi_f, lo_f) if f.stop is None]
@@ -327,6 +502,8 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
     res = np.asarray(lo_f.res[rev] + hi_f.res)
     steps = np.asarray([0.0] + lo_f.steps[1:][::-1] + hi_f.steps[1:])
     iters = np.asarray([0] + lo_f.iters[1:][::-1] + hi_f.iters[1:])
+    tangents = np.asarray([-tt for tt in lo_f.ts[rev]] + hi_f.ts)
+    errors = np.asarray([0.0] + lo_f.errs[1:][::-1] + hi_f.errs[1:])
     stops = (lo_f.stop, hi_f.stop)
     if not both:
         stopped = hi_f.stop
@@ -335,12 +512,13 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
     else:
         stopped = f"low end: {stops[0]}; high end: {stops[1]}"
     return Curve(x=x, residuals=res, steps=steps, iterations=iters, stopped=stopped, stops=stops,
-                 start=len(lo_f.xs) - 1)
+                 start=len(lo_f.xs) - 1, tangents=tangents, errors=errors, dense_tol=dense_tol,
+                 error_axis=error_axis)
 
 
 def trace_curve(G: Callable, x0, ds=0.01, ds_min=1e-9, ds_max=0.2, max_points=200, tol=1e-11,
                 direction=None, bounds=None, max_newton=8, start_tol=1e-7, gradient="autodiff",
-                fd_step=1e-6, gtol=1e-8, max_turn=0.2, names=None) -> Curve:
+                fd_step=1e-6, gtol=1e-8, max_turn=0.2, names=None, dense_tol=None) -> Curve:
     """Follow `G(x) = 0` from `x0` (see the module docstring).
 
     **Arguments:**
@@ -362,6 +540,14 @@ def trace_curve(G: Callable, x0, ds=0.01, ds_min=1e-9, ds_max=0.2, max_points=20
       corrector needs more than 3 iterations or the tangent turns; a step whose
       tangent turns by more than `max_turn` (radians) is halved and retried.
     - `names`: one per coordinate, for the stop reasons (None: not shown).
+    - `dense_tol`: the accuracy of the dense curve (`Curve.dense`, cubic Hermite
+      between the points) to control the steps to: a step whose midpoint error
+      estimate exceeds `0.8 dense_tol` is cut, the next one sized for it (None:
+      steps not controlled by it; `Curve.errors` holds the estimates either way).
+    - With `gradient="fd"` the corrector forms the Jacobian once, at its
+      predictor, by forward differences, and keeps it (the chord method): `dim`
+      evaluations of `G` besides one per iteration, instead of `2 dim + 1` per
+      iteration. Tangents are always from central differences.
     - An end stops with "non-finite G at <point>" when the steps from it fail on
       non-finite values of `G` down to `ds_min`, or three successive steps are cut
       short by them (the curve runs into a region where `G` is undefined).
@@ -372,7 +558,8 @@ def trace_curve(G: Callable, x0, ds=0.01, ds_min=1e-9, ds_max=0.2, max_points=20
     """
     return _trace(G, x0, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points, tol=tol,
                   direction=direction, bounds=bounds, max_newton=max_newton, start_tol=start_tol,
-                  gradient=gradient, fd_step=fd_step, gtol=gtol, max_turn=max_turn, names=names, what="G")
+                  gradient=gradient, fd_step=fd_step, gtol=gtol, max_turn=max_turn, names=names, what="G",
+                  dense_tol=dense_tol)
 
 
 @dataclasses.dataclass
@@ -422,7 +609,7 @@ def _newton(fun, x0, tol=1e-12, max_iter=30):
 
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
                     tol=1e-11, direction=None, start_tol=1e-8, ds_min=1e-9, max_turn=0.2, name="p",
-                    progress=False) -> Branch:
+                    progress=False, dense_tol=None) -> Branch:
     """One-parameter continuation of `F(u, p) = 0` from a solution `(u0, p0)`
     within `p_bounds` (a missing bound: NaN or infinite).
 
@@ -431,7 +618,8 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     towards increasing `p`; `1` or `-1` traces one way, towards increasing or
     decreasing `p`. An end inside `p_bounds`' edge lands on it exactly. `name`
     names `p` in the stop reasons (`Branch.stops`, e.g. "box edge (nu = 4.0)").
-    At most `max_points` points in all."""
+    At most `max_points` points in all. `dense_tol`: as in `trace_curve` (the dense
+    branch is `Branch.curve.dense()`, rows `(u, p)`)."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 
@@ -448,7 +636,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     curve = _trace(G, np.concatenate([u0, [p0]]), ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points,
                    tol=tol, direction=d, bounds=(lo, hi), max_newton=8, start_tol=start_tol, gradient="autodiff",
                    fd_step=1e-6, gtol=1e-8, max_turn=max_turn, names=[None] * n + [name], what="F",
-                   progress=progress)
+                   progress=progress, dense_tol=dense_tol)
     Jx = jax.jit(jax.jacfwd(G))   # [F_u F_p], one Jacobian per point
 
     def Fu(u, p):
@@ -525,17 +713,18 @@ def _refine_hopf(F, Fu, a, b, n):
             "residual": float(max(np.max(np.abs(np.asarray(F(y[:n], y[n])))), abs(re)))}
 
 
-def _correct_start(s, a, bounds, names, max_iter=30):
-    """Newton on `s(a) = 0` (central-difference slope) from `a`, kept inside the
-    box's first coordinate: each step at most a quarter of the box's width, and a
-    step that would leave the box fails at once with a message naming the start
-    (instead of wandering to where the margin is expensive or meaningless)."""
+def _correct_start(s, a, bounds, names, max_iter=30, axis=0):
+    """Newton on `s(a) = 0` (central-difference slope) from `a`, `a` the start's
+    coordinate `axis`, kept inside the box's range of that coordinate: each step
+    at most a quarter of the box's width, and a step that would leave the box
+    fails at once with a message naming the start (instead of wandering to where
+    the margin is expensive or meaningless)."""
     lo, hi = -np.inf, np.inf
     if bounds is not None:
-        lo, hi = (float(np.asarray(b, dtype=float).reshape(-1)[0]) for b in bounds)
+        lo, hi = (float(np.asarray(b, dtype=float).reshape(-1)[axis]) for b in bounds)
         lo, hi = (-np.inf if np.isnan(lo) else lo), (np.inf if np.isnan(hi) else hi)
     width = hi - lo if np.isfinite(hi - lo) else np.inf
-    a0 = a
+    a0, name = a, names[axis]
     for _ in range(max_iter):
         h = 1e-6 * max(1.0, abs(a))
         va = float(s(a))
@@ -544,8 +733,8 @@ def _correct_start(s, a, bounds, names, max_iter=30):
             break
         step = float(np.clip(-va / slope, -0.25 * width, 0.25 * width))
         if not lo <= a + step <= hi:
-            raise ValueError(f"no stability boundary near the start {names[0]} = {a0:.6g}: Newton along "
-                             f"{names[0]} leaves the box [{lo:.6g}, {hi:.6g}] (margin {va:.3g} at {a:.6g}); "
+            raise ValueError(f"no stability boundary near the start {name} = {a0:.6g}: Newton along "
+                             f"{name} leaves the box [{lo:.6g}, {hi:.6g}] (margin {va:.3g} at {a:.6g}); "
                              "start nearer the boundary")
         a += step
         if abs(step) < 1e-14 * max(1.0, abs(a)):
@@ -553,9 +742,55 @@ def _correct_start(s, a, bounds, names, max_iter=30):
     return a
 
 
+def _on_path(sigma, path, s):
+    """`sigma` at the point `s` of the polygon `path` (rows `(s_k, p1_k, p2_k)`)."""
+    return sigma(jnp.interp(s, path[:, 0], path[:, 1]), jnp.interp(s, path[:, 0], path[:, 2]))
+
+
+def _margin_functions(sigma, gradient, n_vertices=2, fd_step=1e-6):
+    """For `sigma(p1, p2)`: `along(path)`, the margin along a polygon in the
+    parameter plane as a JAX function of the polygon's parameter `s` (`path`:
+    rows `(s_k, p1_k, p2_k)`, `s_k` increasing), and `(g, jac)` for `_trace`.
+
+    `along(path)` is an `eqx.Partial` whose `path` is an array leaf, so that under
+    `eqx.filter_jit` (the bisection of `critical_speeds`) one compilation serves
+    every path of `n_vertices` vertices (and every call with the same `sigma`);
+    `g` evaluates a point through that same compiled function, on a path standing
+    still at the point (`s = 0`), rather than compiling `sigma` once more."""
+    def along(path):
+        return eqx.Partial(_on_path, sigma, jnp.asarray(path, dtype=jnp.float64))
+
+    steps = np.arange(float(n_vertices))
+
+    def g(x):
+        still = np.column_stack([steps, np.full(n_vertices, x[0]), np.full(n_vertices, x[1])])
+        return np.atleast_1d(np.asarray(eqx.filter_jit(along(still))(jnp.float64(0.0)), dtype=float))
+
+    def G(x):
+        return jnp.atleast_1d(sigma(x[0], x[1]))
+
+    return along, (g, _jacobian(G, g, gradient, fd_step))
+
+
+def _boundary(evaluators, p0, *, correct, bounds, names, axis=0, **kw) -> Curve:
+    """`trace_boundary` with its evaluators made: `p0` corrected along coordinate
+    `axis` (p1 unless the start lies on a side of the box), then traced."""
+    g = evaluators[0]
+    x0 = np.asarray(p0, dtype=float)
+    if correct:
+        def s(a):
+            y = x0.copy()
+            y[axis] = a
+            return g(y)[0]
+
+        x0[axis] = _correct_start(s, x0[axis], bounds, names, axis=axis)
+    return _trace(None, x0, bounds=bounds, names=names, max_newton=8, gtol=1e-8, fd_step=1e-6, what="margin",
+                  error_axis=0, evaluators=evaluators, **kw)
+
+
 def trace_boundary(sigma: Callable, p0, bounds=None, ds=0.01, ds_max=0.2, max_points=200, tol=1e-11,
                    direction=None, gradient="autodiff", start_tol=1e-7, correct=True, ds_min=1e-9,
-                   max_turn=0.2, names=("p1", "p2"), progress=False) -> Curve:
+                   max_turn=0.2, names=("p1", "p2"), progress=False, dense_tol=None) -> Curve:
     """The curve `sigma(p1, p2) = 0` in two parameters through (or, with `correct`,
     near) `p0`: a stability boundary when `sigma` is a regime's margin. `p0` is
     first corrected along `p1` (Newton, 1-D) when `correct` is set.
@@ -565,16 +800,197 @@ def trace_boundary(sigma: Callable, p0, bounds=None, ds=0.01, ds_max=0.2, max_po
     increasing `p2`); a vector `(d1, d2)` traces one way. `bounds`: `(lo, hi)`
     (NaN: no bound); an end at the box lands on its edge exactly. `names` name
     `(p1, p2)` in the stop reasons (`Curve.stops`, e.g. "box edge (mu_w = 1.0)").
-    See `trace_curve` for the rest."""
-    def G(x):
-        return jnp.atleast_1d(sigma(x[0], x[1]))
 
-    x0 = np.asarray(p0, dtype=float)
-    if correct:
-        x0 = np.array([_correct_start(jax.jit(lambda a: sigma(a, x0[1])), x0[0], bounds, names), x0[1]])
-    return _trace(G, x0, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points, tol=tol,
-                  direction=direction, bounds=bounds, max_newton=8, start_tol=start_tol, gradient=gradient,
-                  fd_step=1e-6, gtol=1e-8, max_turn=max_turn, names=names, what="margin", progress=progress)
+    The interpolation errors (`Curve.errors`) are measured along `p1` at fixed
+    `p2`, the error a critical speed read off the dense curve would have (where
+    the boundary runs within 3 degrees of the `p1` axis, at most 20 times the
+    distance to the curve); `dense_tol` bounds them (None: not controlled). See
+    `trace_curve` for the rest."""
+    _, evaluators = _margin_functions(sigma, gradient)
+    return _boundary(evaluators, p0, correct=correct, bounds=bounds, names=names, ds=ds, ds_min=ds_min,
+                     ds_max=ds_max, max_points=max_points, tol=tol, direction=direction, start_tol=start_tol,
+                     gradient=gradient, max_turn=max_turn, progress=progress, dense_tol=dense_tol)
+
+
+@dataclasses.dataclass
+class Boundaries:
+    """Every branch of a stability boundary that `trace_boundaries` found in a box.
+
+    - `branches`: one `Curve` per branch, in the order the scan met them.
+    - `lines`: the values of `p2` inside the box along which `p1` was scanned
+      (besides the box's edge).
+    - `crossings`: each crossing the scan located, `{"p1", "p2", "along",
+      "stable_side", "branch"}`: `along` is the parameter scanned there (`p1` on
+      a line or the box's bottom or top, `p2` on its sides), `stable_side`
+      (`"above"` or `"below"`) the side of it, in that parameter, where the margin
+      is negative, `branch` the index of the branch through it (traced from it,
+      or found on one traced before; `p1, p2` are then that branch's point), or
+      None with an `"error"` when no branch could be started there.
+    - `box`: `((lo1, hi1), (lo2, hi2))`.
+
+    It is also the sequence of its branches (`len`, iteration, indexing)."""
+
+    branches: list
+    crossings: list
+    lines: np.ndarray
+    box: tuple
+
+    def __len__(self):
+        return len(self.branches)
+
+    def __iter__(self):
+        return iter(self.branches)
+
+    def __getitem__(self, i):
+        return self.branches[i]
+
+
+def _meets(curve: Curve, axis: int, value: float, n: int = 32):
+    """`(point, error estimate of its interval)` wherever the dense curve meets
+    `x[axis] = value`: on each Hermite piece that changes side, that coordinate
+    is bisected in the piece's parameter."""
+    out = []
+    if curve.tangents is None:
+        return out
+    s = np.linspace(0.0, 1.0, n + 1)
+    x, t = curve.x, curve.tangents
+    for i in range(len(x) - 1):
+        def piece(u):
+            return _hermite(x[i], t[i], x[i + 1], t[i + 1], u)
+
+        side = piece(s)[:, axis] - value
+        # a change of side within a sample step, or a sample on the hyperplane (once: as a step's left end,
+        # or as the curve's last point)
+        hits = (side[:-1] * side[1:] < 0) | (side[:-1] == 0)
+        if i == len(x) - 2 and side[-1] == 0:
+            hits = np.append(hits, True)
+        for k in np.flatnonzero(hits):
+            a, b, fa = (s[k], s[k + 1], side[k]) if k < n else (1.0, 1.0, 0.0)
+            while b - a > 1e-13:
+                c = 0.5 * (a + b)
+                fc = piece([c])[0, axis] - value
+                if fc == 0:
+                    a = b = c
+                elif np.sign(fc) == np.sign(fa):
+                    a, fa = c, fc
+                else:
+                    b = c
+            pt = piece([0.5 * (a + b)])[0]
+            pt[axis] = value
+            err = float(curve.errors[i + 1]) if curve.errors is not None else 0.0
+            if not any(np.array_equal(pt, q) for q, _ in out):      # a closed loop's first and last point
+                out.append((pt, err))
+    return out
+
+
+def _scan_path(lo1, hi1, lo2, hi2, lines):
+    """The scan path: round the box's edge (bottom, right side, top, left side),
+    then up the left side to the first line and along each line in turn
+    (alternately towards increasing and decreasing `p1`), joined along the
+    sides. Rows `(s, p1, p2)`, `s` the length in box units (the box's width and
+    height each count 1)."""
+    verts = [(lo1, lo2), (hi1, lo2), (hi1, hi2), (lo1, hi2), (lo1, lo2)]
+    side, other = lo1, hi1
+    for b in lines:
+        verts += [(side, b), (other, b)]
+        side, other = other, side
+    verts = np.asarray(verts, dtype=float)
+    legs = np.abs(np.diff(verts, axis=0)) / np.array([hi1 - lo1, hi2 - lo2])
+    s = np.concatenate([[0.0], np.cumsum(legs.sum(axis=1))])
+    return np.column_stack([s, verts])
+
+
+def trace_boundaries(sigma: Callable, box, n_lines: int = 3, n_scan: int = 40, xtol: float = 1e-4,
+                     dense_tol=1e-6, ds=0.02, ds_max=0.2, max_points=200, tol=1e-11, gradient="autodiff",
+                     names=("p1", "p2"), ds_min=1e-9, max_turn=0.2, chunk_size=16,
+                     progress=False) -> Boundaries:
+    """Every branch of the stability boundary `sigma(p1, p2) = 0` in a box, each
+    traced both ways to where it ends (the box's edges, through turning points,
+    or round a closed loop), with its dense curve accurate to `dense_tol`.
+
+    **Arguments:**
+
+    - `sigma`: the margin, a JAX-traceable scalar function of `(p1, p2)`.
+    - `box`: `((lo1, hi1), (lo2, hi2))`, finite.
+    - `n_lines`, `n_scan`, `xtol`, `chunk_size`: the starts. One `critical_speeds`
+      scan (`n_scan` points per width or height of the box, `chunk_size` per
+      vmapped call) and bisection (to `xtol` of the box's size: the starts are
+      then corrected by Newton, the other crossings moved onto their branches)
+      runs along one continuous path: round the box's
+      edge, then along `n_lines` lines of constant `p2` (the middles of equal
+      bands across the box), joined along the sides. Every branch that ends on
+      the box's edge is met on the edge; the lines meet closed loops inside.
+      Crossings are taken in the path's order; one that lies on a branch traced
+      already (that branch's dense curve meets its line or side within the
+      crossing's final bisection bracket, widened by ten times the branch's
+      error estimate there or 1e-6 of the box) is assigned to it; any other is
+      corrected along its line or side by `trace_boundary`'s bounded Newton and
+      traced. Not found: a closed loop that crosses no line, and branches that
+      cross the path twice within one scan step.
+    - `dense_tol`: the accuracy of each branch's dense curve along `p1` at fixed
+      `p2` (see `trace_boundary`); None: steps not controlled by it.
+    - the rest: as in `trace_boundary` (`max_points` per branch).
+
+    **Returns:** `Boundaries`: its branches, the lines, and every crossing with
+    the branch through it.
+    """
+    from ._critical import critical_speeds
+
+    (lo1, hi1), (lo2, hi2) = ((float(a), float(b)) for a, b in box)
+    for lo, hi, k in ((lo1, hi1, names[0]), (lo2, hi2, names[1])):
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise ValueError(f"box: the range of {k} must be finite and increasing, got ({lo}, {hi})")
+    if int(n_lines) < 1 or int(n_scan) < 2:
+        raise ValueError(f"need n_lines >= 1 and n_scan >= 2, got {n_lines} and {n_scan}")
+    n_lines = int(n_lines)
+    bounds = (np.array([lo1, lo2]), np.array([hi1, hi2]))
+    lines = lo2 + (np.arange(n_lines) + 0.5) / n_lines * (hi2 - lo2)
+    path = _scan_path(lo1, hi1, lo2, hi2, lines)
+    along, evaluators = _margin_functions(sigma, gradient, n_vertices=len(path))
+    length = path[-1, 0]
+    found = critical_speeds(along(path), 0.0, length, n_scan=int(np.ceil(n_scan * length)) + 1, xtol=xtol,
+                            chunk_size=chunk_size, progress=progress)
+    crossings = []
+    for c in found:
+        k = min(int(np.searchsorted(path[:, 0], c.speed, side="right")) - 1, len(path) - 2)
+        leg = path[k + 1, 1:] - path[k, 1:]
+        axis = 0 if leg[0] != 0 else 1
+        p = path[k, 1:] + (c.speed - path[k, 0]) / (path[k + 1, 0] - path[k, 0]) * leg
+        p[1 - axis] = path[k, 1 + (1 - axis)]           # exactly on its line, or on the box's side
+        side = c.stable_side if leg[axis] > 0 else {"above": "below", "below": "above"}[c.stable_side]
+        span = sorted(path[k, 1 + axis] + (np.asarray(c.bracket) - path[k, 0]) / (path[k + 1, 0] - path[k, 0])
+                      * leg[axis])
+        crossings.append({"p1": float(p[0]), "p2": float(p[1]), "along": names[axis], "stable_side": side,
+                          "branch": None, "_axis": axis, "_span": span})
+    floor = 1e-6 * np.array([hi1 - lo1, hi2 - lo2])
+    branches = []
+
+    for c in crossings:
+        if c["branch"] is not None or "error" in c:
+            continue
+        axis = c["_axis"]
+        try:
+            curve = _boundary(evaluators, (c["p1"], c["p2"]), correct=True, bounds=bounds, names=names,
+                              axis=axis, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points, tol=tol,
+                              direction=None, start_tol=1e-7, gradient=gradient, max_turn=max_turn,
+                              progress=progress, dense_tol=dense_tol)
+        except ValueError as e:
+            c["error"] = str(e)
+            continue
+        branches.append(curve)
+        c["branch"] = len(branches) - 1        # its own start, where the corrected start lies
+        c["p1"], c["p2"] = (float(v) for v in curve.x[curve.start])
+        for o in crossings:
+            if o["branch"] is None and "error" not in o:
+                ax, (a, b) = o["_axis"], o["_span"]
+                for pt, err in _meets(curve, 1 - ax, (o["p1"], o["p2"])[1 - ax]):
+                    if a - max(floor[ax], 10 * err) <= pt[ax] <= b + max(floor[ax], 10 * err):
+                        # the branch's point there, to its accuracy rather than the bisection's
+                        o["branch"], o["p1"], o["p2"] = c["branch"], float(pt[0]), float(pt[1])
+                        break
+    for c in crossings:
+        del c["_axis"], c["_span"]
+    return Boundaries(branches=branches, crossings=crossings, lines=lines, box=((lo1, hi1), (lo2, hi2)))
 
 
 def boundary_sensitivity(sigma3: Callable, point, q, axis=0) -> float:

@@ -7,6 +7,9 @@ import numpy as np
 
 from ._common import InputError, get_preset, preset_params, prepare_out, write_json
 
+#: the accuracy of a boundary's dense curve between its points (along --param, at fixed --param2)
+DENSE_TOL = 1e-6
+
 
 def _branch_problem(preset, params, key):
     """`(F(u, v), u0)` of the preset's stationary reference regime, for
@@ -43,8 +46,9 @@ def _direction(text):
 
 
 def _box(preset, args, key, key2, start):
-    """The parameter box of a boundary: `--box`, or by default from the start
-    halved/doubled within each key's valid values."""
+    """The parameter box of a boundary: `--box`; else, per key, the preset's
+    default range (`Preset.box`), or as a last resort the start halved and
+    doubled within the key's valid values."""
     if args.box is not None:
         lo1, hi1, lo2, hi2 = args.box
         for option_part, lo, hi, k in (("LO1 HI1", lo1, hi1, key), ("LO2 HI2", lo2, hi2, key2)):
@@ -57,13 +61,22 @@ def _box(preset, args, key, key2, start):
                 except InputError as e:
                     raise InputError(f"--box: {e}") from None
         return [lo1, hi1, lo2, hi2], "--box"
-    box = []
+    box, sources = [], []
     for k, v in ((key, start[0]), (key2, start[1])):
-        lo, hi = (0.5 * v, 2.0 * v) if v > 0 else (v - 1.0, v + 1.0) if v != 0 else (-1.0, 1.0)
-        if preset.domains[k] in (">0", ">=0") and lo < 0:
-            lo = 0.0
-        box += [lo, hi]
-    return box, "default (start halved and doubled)"
+        if k in preset.box:
+            lo, hi = preset.box[k]
+            sources.append(f"{k}: the preset's default box")
+        else:
+            lo, hi = (0.5 * v, 2.0 * v) if v > 0 else (v - 1.0, v + 1.0) if v != 0 else (-1.0, 1.0)
+            if preset.domains[k] in (">0", ">=0") and lo < 0:
+                lo = 0.0
+            sources.append(f"{k}: the start halved and doubled")
+        box += [float(lo), float(hi)]
+    if sources[0].endswith("box") and sources[1].endswith("box"):
+        return box, "the preset's default box"
+    if not sources[0].endswith("box") and not sources[1].endswith("box"):
+        return box, "default (start halved and doubled)"
+    return box, "; ".join(sources)
 
 
 def _param_range(preset, key, to, start):
@@ -83,21 +96,34 @@ def _param_range(preset, key, to, start):
     return (lo, hi), "--to"
 
 
-def _start_on_boundary(sigma, key, key2, start, box, progress):
-    """Without `--from`: the boundary's crossings along `key` at the start's `key2`
-    (scan and bisection over the box); the first starts the trace, the others
-    are returned."""
-    from rotorjax.analysis import critical_speeds
+def _branch_json(curve, key, key2):
+    """One boundary branch for the JSON summary (see `Curve.as_dict`)."""
+    return curve.as_dict(names=(key, key2), dense=8)
 
-    found = critical_speeds(lambda a: sigma(a, start[1]), box[0], box[1], n_scan=40, progress=progress)
-    if not found:
-        raise InputError(f"no stability boundary crosses {key2} = {start[1]:g} for {key} in [{box[0]:g}, "
-                         f"{box[1]:g}]: give --from {key.upper()} {key2.upper()} near one, or a wider --box")
-    return [found[0].speed, start[1]], [c.speed for c in found[1:]]
+
+def _plot_boundaries(branches, crossings, path, key, key2, box, title):
+    """Every branch's dense curve, its points marked, and the located crossings."""
+    from rotorjax.plot import _plt, _save
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for i, c in enumerate(branches):
+        d = c.dense(8)
+        line, = ax.plot(d[:, 0], d[:, 1], lw=1.2, label=f"branch {i + 1} ({c.stop})")
+        ax.plot(c.x[:, 0], c.x[:, 1], "o", ms=2.5, color=line.get_color())
+    if crossings:
+        ax.plot([c[key] for c in crossings], [c[key2] for c in crossings], "kx", ms=6,
+                label="crossings located by the scan")
+    ax.set_xlim(box[0], box[1])
+    ax.set_ylim(box[2], box[3])
+    ax.set_xlabel(key)
+    ax.set_ylabel(key2)
+    ax.set_title(title)
+    return _save(fig, path, [ax])
 
 
 def cmd_continue(args) -> int:
-    from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundary
+    from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundaries, trace_boundary
     from rotorjax.plot import plot_curves
 
     preset = get_preset(args.preset)
@@ -135,28 +161,58 @@ def cmd_continue(args) -> int:
         gradient = args.gradient if args.gradient != "auto" else (
             "fd" if preset.name == "anisotropic-abb" else "autodiff")
         box, box_source = _box(preset, args, key, key2, start)
+        if args.start is not None and not (box[0] <= start[0] <= box[1] and box[2] <= start[1] <= box[3]):
+            raise InputError(f"--from {start[0]:g} {start[1]:g}: outside the box {key} in [{box[0]:g}, {box[1]:g}]"
+                             f", {key2} in [{box[2]:g}, {box[3]:g}] ({box_source}); give --box")
+        if args.start is None and direction is not None:
+            raise InputError(f"--direction {args.direction}: one way from a start given with --from; without it "
+                             "every boundary in the box is traced both ways")
 
         def sigma(a, b):
             return preset.margin(dict(params, **{key: a, key2: b}))
 
+        bounds = (np.array([box[0], box[2]]), np.array([box[1], box[3]]))
         if args.start is None:
-            start, out["other_crossings"] = _start_on_boundary(sigma, key, key2, start, box, not args.json)
-            out["start_source"] = f"the first crossing along {key} at {key2} = {start[1]:g}"
-
-        curve = trace_boundary(sigma, start, bounds=(np.array([box[0], box[2]]), np.array([box[1], box[3]])),
-                               ds=args.ds, ds_max=args.ds_max, max_points=args.max_points, gradient=gradient,
-                               direction=None if direction is None else (0.0, direction), names=(key, key2),
-                               progress=not args.json)
+            found = trace_boundaries(sigma, ((box[0], box[1]), (box[2], box[3])), dense_tol=DENSE_TOL,
+                                     ds=args.ds, ds_max=args.ds_max, max_points=args.max_points,
+                                     gradient=gradient, names=(key, key2), progress=not args.json)
+            if not found.branches:
+                failed = [c["error"] for c in found.crossings if "error" in c]
+                raise InputError(f"no stability boundary meets the edge of the box {key} in [{box[0]:g}, "
+                                 f"{box[1]:g}], {key2} in [{box[2]:g}, {box[3]:g}] nor crosses {key2} = "
+                                 + ", ".join(f"{v:g}" for v in found.lines)
+                                 + (f": {failed[0]}" if failed else "")
+                                 + f"; give --from {key.upper()} {key2.upper()} near one, or another --box")
+            branches = found.branches
+            crossings = [{key: c["p1"], key2: c["p2"], "along": c["along"], "stable_side": c["stable_side"],
+                          "branch": c["branch"], **({"error": c["error"]} if "error" in c else {})}
+                         for c in found.crossings]
+            start = branches[0].x[branches[0].start].tolist()
+            out["start_source"] = (f"crossings located round the box's edge and along {key} at {key2} = "
+                                   + ", ".join(f"{v:.6g}" for v in found.lines))
+            out["lines"] = found.lines.tolist()
+        else:
+            branches = [trace_boundary(sigma, start, bounds=bounds, ds=args.ds, ds_max=args.ds_max,
+                                       max_points=args.max_points, gradient=gradient,
+                                       direction=None if direction is None else (0.0, direction),
+                                       names=(key, key2), progress=not args.json, dense_tol=DENSE_TOL)]
+            crossings = []
+            start = branches[0].x[branches[0].start].tolist()
+        first = branches[0]
         out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime, "start": start,
-                    "box": box, "box_source": box_source,
-                    key: curve.x[:, 0].tolist(), key2: curve.x[:, 1].tolist(),
-                    "residuals": curve.residuals.tolist(), "steps": curve.steps.tolist(),
-                    "stopped": curve.stopped, "stops": list(getattr(curve, "stops", ()) or ()),
-                    "gradient": gradient})
-        np.savetxt(stem + ".csv", np.column_stack([curve.x, curve.residuals]), delimiter=",",
-                   header=f"{key},{key2},residual", comments="")
-        plot_curves(curve.x[:, 0], {"boundary": curve.x[:, 1]}, stem + ".png", key, key2,
-                    title=f"{preset.name}: stability boundary of {preset.regime}")
+                    "box": box, "box_source": box_source, "dense_tol": DENSE_TOL,
+                    "n_branches": len(branches),
+                    "branches": [_branch_json(c, key, key2) for c in branches],
+                    "crossings": crossings,
+                    # the first branch, as before there were several
+                    key: first.x[:, 0].tolist(), key2: first.x[:, 1].tolist(),
+                    "residuals": first.residuals.tolist(), "steps": first.steps.tolist(),
+                    "stopped": first.stopped, "stops": list(first.stops), "gradient": gradient})
+        np.savetxt(stem + ".csv", np.concatenate([np.column_stack([c.x, c.residuals, np.full(len(c.x), i)])
+                                                  for i, c in enumerate(branches)]),
+                   delimiter=",", header=f"{key},{key2},residual,branch", comments="", fmt="%.17g")
+        _plot_boundaries(branches, crossings, stem + ".png", key, key2, box,
+                         f"{preset.name}: stability boundary of {preset.regime}")
     elif preset.name == "anisotropic-abb":
         from rotorjax.presets import anisotropic_abb as ab
 
@@ -202,13 +258,25 @@ def cmd_continue(args) -> int:
     print(f"{preset.name}: {out['kind']}; wrote {stem}.csv, .json")
     if "range" in out:
         print(f"  {key} in [{out['range'][0]:g}, {out['range'][1]:g}] ({out['range_source']})")
-    if out.get("other_crossings"):
-        print(f"  traced from {key} = {out['start'][0]:.6g} ({out['start_source']}); other crossings at "
-              + ", ".join(f"{v:.6g}" for v in out["other_crossings"]) + " (trace them with --from)")
     if "box" in out:
         b = out["box"]
         print(f"  box {key} in [{b[0]:g}, {b[1]:g}], {key2} in [{b[2]:g}, {b[3]:g}] ({out['box_source']})")
-        print(f"  {len(out[key])} points")
+        if "lines" in out:
+            print(f"  started from {out['start_source']}")
+        else:
+            print(f"  started from ({key}, {key2}) = ({out['start'][0]:.8g}, {out['start'][1]:.8g}) "
+                  f"({out['start_source']}, corrected along {key})")
+        print(f"  {out['n_branches']} branch(es); steps kept the dense curve between points within "
+              f"{out['dense_tol']:g} of the boundary along {key} (estimated):")
+        for i, br in enumerate(out["branches"]):
+            print(f"  branch {i + 1}: {key} in [{min(br[key]):.6g}, {max(br[key]):.6g}], {key2} in "
+                  f"[{min(br[key2]):.6g}, {max(br[key2]):.6g}]; {br['n_points']} points, interpolation error "
+                  f"<= {br['interpolation_error_max']:.1e}, residual <= {max(br['residuals']):.1e}; "
+                  f"{br['stopped']}")
+        for c in out.get("crossings", []):
+            if "error" in c:
+                print(f"  crossing at ({c[key]:.6g}, {c[key2]:.6g}) not traced: {c['error']}")
+        return 0
     for c in out.get("crossings", []) + out.get("events", []):
         print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e})")
     if "stopped" in out:

@@ -193,4 +193,6 @@ PRESET = Preset(
     margin=lambda p: main_motion_floquet({k: p[k] for k in GROUPS}, p["n"], p["K"]).margin,
     regime="the main motion (largest Floquet exponent)",
     topology_keys=("sigma",),
+    # the paper's speed range and weight damping from nearly none to twice the default: three boundaries
+    box={"n": (0.5, 10.0), "mu_w": (0.05, 1.0)},
 )

@@ -92,6 +92,8 @@ class Preset:
       (`regime` says which), traceable in the parameters (for maps and critical
       speeds); < 0 is stable.
     - `topology_keys`: parameters that change the scene's structure (not sweepable).
+    - `box`: `{key: (lo, hi)}`, the default parameter range of those keys for
+      tracing stability boundaries (`rotorjax continue --param2` without `--box`).
     """
 
     name: str
@@ -109,11 +111,18 @@ class Preset:
     kind: str = "planar"  # "planar" (a Scene), "flexible" (a FlexibleRotor) or "modal" (a ModalShaft)
     units: dict = dataclasses.field(default_factory=dict)
     domains: dict = dataclasses.field(default_factory=dict)
+    box: dict = dataclasses.field(default_factory=dict)
 
     def __post_init__(self):
         missing = [k for k in self.defaults if k not in self.domains or k not in self.units]
         if missing:
             raise ValueError(f"preset {self.name!r}: no unit/domain for {missing}")
+        for k, rng in self.box.items():
+            lo, hi = rng
+            if k not in self.defaults or not (np.isfinite(lo) and np.isfinite(hi) and lo < hi) or not (
+                    _within(lo, self.domains[k]) and _within(hi, self.domains[k])):
+                raise ValueError(f"preset {self.name!r}: box[{k!r}] = {rng!r} is not a finite increasing range "
+                                 "of a known key's valid values")
 
     def check(self, key: str, raw):
         """One value for `key`, checked against its domain (see `check_value`)."""

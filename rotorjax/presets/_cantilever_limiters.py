@@ -95,4 +95,6 @@ PRESET = Preset(
     regime="straight-line rotation (no contact)",
     topology_keys=("n_limiters", "n_elements", "n_modes", "events"),
     kind="contact",
+    # the Hopf curve of straight-line rotation runs from N = 13.2 (eta_e = 0) to 14.8 (eta_e = 0.06)
+    box={"N": (1.0, 40.0), "eta_e": (0.0, 0.06)},
 )

@@ -64,4 +64,6 @@ PRESET = Preset(
     regime="the balanced regime C (straight shaft, balls cancel the imbalance)",
     topology_keys=("modes", "n_balls", "paper_gyroscopics"),
     kind="modal",
+    # the balanced regime's boundary (with balls) runs from omega = 0.70 (d = 0.5) to d -> 0 at high speed
+    box={"omega": (0.3, 3.0), "d": (0.0, 0.5)},
 )

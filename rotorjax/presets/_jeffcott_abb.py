@@ -177,4 +177,6 @@ PRESET = Preset(
     margin=_balanced_margin,
     regime="the balanced regime of a circular race (rotor on the axis)",
     topology_keys=("n_balls",),
+    # with rho2 = rho1: the balanced regime's boundary runs from nu = 1.001 (delta_n = 0.5) to delta_n -> 0
+    box={"nu": (0.5, 4.0), "delta_n": (0.0, 0.5)},
 )

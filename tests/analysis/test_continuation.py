@@ -1,13 +1,18 @@
 """Continuation: branches with folds and Hopf points, fold curves, stability
 boundaries of models 001 and 004, batched boundary solves, bad input; curves in
-closed form traced both ways to the box edges, closed loops, and every stop reason."""
+closed form traced both ways to the box edges, closed loops, and every stop reason;
+every boundary in a box, and the dense curve between points against the exact one."""
 
+import functools
+
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from rotorjax.analysis import (boundary_points, boundary_sensitivity, continue_branch, critical_speeds,
-                               floquet_crossings, fold_curve, hopf_points, trace_boundary, trace_curve)
+                               floquet_crossings, fold_curve, hopf_points, trace_boundaries, trace_boundary,
+                               trace_curve)
 from rotorjax.presets import anisotropic_abb as ab
 from rotorjax.presets import cantilever_limiters as cl
 
@@ -249,3 +254,94 @@ def test_branch_with_two_folds_traced_both_ways():
     assert d["stops"] == list(br.stops) and d["start"] == br.curve.start
     one = continue_branch(F, np.array([0.0]), 0.0, p_bounds=(-1.0, 1.0), ds=0.05, direction=1.0)
     assert one.stops == ("start", "box edge (p = -1.0)") and one.p[0] == 0.0
+
+
+# every boundary in a box, and the dense curve
+
+
+def three_curves(x, y):
+    """Three disjoint zero sets in the box x in [-2, 6], y in [-1.8, 1.8]: the unit circle (a closed loop that
+    only the middle line y = 0 crosses), the parabola x = 3 + y^2 / 2 (turning in x at y = 0, from the bottom
+    edge to the top), and an arc of the circle of radius 0.35 about (-2.2, 0.6) that enters and leaves through
+    the left side and crosses no line."""
+    return [x**2 + y**2 - 1.0, x - 3.0 - 0.5 * y**2, (x + 2.2) ** 2 + (y - 0.6) ** 2 - 0.35**2]
+
+
+@functools.partial(jax.jit, static_argnums=0)
+def value_and_gradient(k, points):
+    """Curve `k` of `three_curves` and its gradient at each point (row)."""
+    return jax.vmap(jax.value_and_grad(lambda p: three_curves(p[0], p[1])[k]))(points)
+
+
+def product_margin(x, y):
+    f = three_curves(x, y)
+    return f[0] * f[1] * f[2]
+
+
+def test_every_boundary_in_a_box_once_with_its_dense_curve_to_tolerance():
+    box = ((-2.0, 6.0), (-1.8, 1.8))
+    found = trace_boundaries(product_margin, box, names=("x", "y"), ds=0.05, ds_max=0.5)
+    assert len(found) == 3 and np.allclose(found.lines, [-1.2, 0.0, 1.2])
+    # each crossing the scan met (edge, lines, sides) lies on a branch; each branch was traced once
+    assert all(c["branch"] is not None for c in found.crossings) and len(found.crossings) >= 9
+    assert sorted({c["branch"] for c in found.crossings}) == [0, 1, 2]
+    which = {}
+    for k, c in enumerate(found):
+        f = np.array([np.abs(three_curves(*p)) for p in c.x])
+        (which[k],) = set(np.argmin(f, axis=1))
+        assert c.residuals.max() < 1e-12 and c.dense_tol == 1e-6
+    by_curve = {v: found[k] for k, v in which.items()}
+    assert sorted(by_curve) == [0, 1, 2]
+    assert by_curve[0].stop == "closed loop" and np.all(by_curve[0].x[0] == by_curve[0].x[-1])
+    assert by_curve[1].stops == ("box edge (y = -1.8)", "box edge (y = 1.8)")
+    assert by_curve[2].stops == ("box edge (x = -2.0)", "box edge (x = -2.0)")
+    np.testing.assert_allclose(by_curve[1].x[[0, -1]], [[4.62, -1.8], [4.62, 1.8]], atol=1e-12)
+    # the dense curve, 16 points per interval (between the points), against the exact curves: its distance
+    # along x (at fixed y) within dense_tol wherever the curve is not within 3 degrees of horizontal, and
+    # its distance to the curve within dense_tol everywhere
+    for k, c in by_curve.items():
+        d = c.dense(16)
+        assert np.array_equal(d[::16], c.x)
+        f, g = value_and_gradient(k, d)
+        normal, along_x, slope = np.abs(f) / np.linalg.norm(g, axis=1), np.abs(f / g[:, 0]), \
+            np.abs(g[:, 0]) / np.linalg.norm(g, axis=1)
+        assert normal.max() < 1e-6 and along_x[slope >= 0.05].max() < 1e-6
+        assert along_x[slope >= 0.05].max() > 1e-8              # the steps were long, not needlessly short
+        # the estimates are the midpoints' errors (where the curve is not near horizontal)
+        mid = slice(8, None, 16)
+        ok = slope[mid] > 0.2
+        np.testing.assert_allclose(c.errors[1:][ok], along_x[mid][ok], rtol=0.05, atol=1e-10)
+    # the parabola's critical x at y = 0 read off the dense curve
+    np.testing.assert_allclose(by_curve[1].meets(1, 0.0), [[3.0, 0.0]], atol=1e-6)
+    # nothing in a box without a boundary
+    assert len(trace_boundaries(product_margin, ((-1.9, -1.5), (-1.7, -1.2)))) == 0
+
+
+def test_dense_curve_of_a_boundary_traced_with_a_tolerance():
+    """trace_boundary with dense_tol: the parabola x = 3 + y^2/2 from one start, both ways; Curve.meets and
+    as_dict give the dense curve; with a tenfold tolerance the steps are about 10^(1/4) longer."""
+    def sigma(x, y):
+        return three_curves(x, y)[1]
+
+    kw = dict(bounds=(np.array([-2.0, -1.8]), np.array([6.0, 1.8])), names=("x", "y"), ds=0.05, ds_max=1.0)
+    fine = trace_boundary(sigma, (3.2, 0.5), dense_tol=1e-7, **kw)
+    coarse = trace_boundary(sigma, (3.2, 0.5), dense_tol=1e-6, **kw)
+    free = trace_boundary(sigma, (3.2, 0.5), **kw)
+    assert fine.x[fine.start, 0] == pytest.approx(3.125, abs=1e-12)
+    for c, tol in ((fine, 1e-7), (coarse, 1e-6)):
+        d = c.dense(8)
+        assert np.abs(d[:, 0] - 3.0 - 0.5 * d[:, 1] ** 2).max() < tol
+        assert c.errors.max() <= 0.8 * tol
+    assert 1.4 < len(fine.x) / len(coarse.x) < 2.2
+    assert free.dense_tol is None and free.errors.max() > 1e-6        # not controlled, only estimated
+    for y in (-1.0, 0.3, 1.7):
+        np.testing.assert_allclose(coarse.meets(1, y), [[3.0 + 0.5 * y * y, y]], atol=1e-6)
+    js = coarse.as_dict(names=("x", "y"), dense=4)
+    assert js["stop"] == "box edge" and js["interpolation_error_max"] <= 0.8e-6
+    assert len(js["dense"]["x"]) == 4 * (len(js["x"]) - 1) + 1 and len(js["tangents"]) == len(js["x"])
+    assert js["error_measured"] == "along x at fixed other coordinates"
+    # a start from which Newton along x would leave the box fails at once, naming it
+    with pytest.raises(ValueError, match=r"no stability boundary near the start x = 1: Newton along x leaves the box"):
+        trace_boundary(sigma, (1.0, 0.5), bounds=(np.array([0.0, -1.0]), np.array([2.0, 1.0])), names=("x", "y"))
+    np.testing.assert_allclose(np.linalg.norm(coarse.tangents, axis=1), 1.0)
+    assert np.all(np.sum(np.diff(coarse.x, axis=0) * coarse.tangents[1:], axis=1) > 0)     # along the curve
