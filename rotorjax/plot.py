@@ -471,3 +471,24 @@ def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="
     a2.set_xlabel(speed_label)
     a1.set_title(title, fontsize=10)
     return _save(fig, path, [a1, a2])
+
+
+def plot_boundaries(branches, crossings, path, key, key2, box, title):
+    """Stability boundaries in two parameters: every branch's dense (cubic Hermite)
+    curve with its points marked, and the crossings the scan located (`box`:
+    `(lo1, hi1, lo2, hi2)`)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for i, c in enumerate(branches):
+        d = c.dense(8)
+        line, = ax.plot(d[:, 0], d[:, 1], lw=1.2, label=f"branch {i + 1} ({c.stop})")
+        ax.plot(c.x[:, 0], c.x[:, 1], "o", ms=2.5, color=line.get_color())
+    if crossings:
+        ax.plot([c[key] for c in crossings], [c[key2] for c in crossings], "kx", ms=6,
+                label="crossings located by the scan")
+    ax.set_xlim(box[0], box[1])
+    ax.set_ylim(box[2], box[3])
+    ax.set_xlabel(key)
+    ax.set_ylabel(key2)
+    ax.set_title(title)
+    return _save(fig, path, [ax])

@@ -96,35 +96,9 @@ def _param_range(preset, key, to, start):
     return (lo, hi), "--to"
 
 
-def _branch_json(curve, key, key2):
-    """One boundary branch for the JSON summary (see `Curve.as_dict`)."""
-    return curve.as_dict(names=(key, key2), dense=8)
-
-
-def _plot_boundaries(branches, crossings, path, key, key2, box, title):
-    """Every branch's dense curve, its points marked, and the located crossings."""
-    from rotorjax.plot import _plt, _save
-
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5))
-    for i, c in enumerate(branches):
-        d = c.dense(8)
-        line, = ax.plot(d[:, 0], d[:, 1], lw=1.2, label=f"branch {i + 1} ({c.stop})")
-        ax.plot(c.x[:, 0], c.x[:, 1], "o", ms=2.5, color=line.get_color())
-    if crossings:
-        ax.plot([c[key] for c in crossings], [c[key2] for c in crossings], "kx", ms=6,
-                label="crossings located by the scan")
-    ax.set_xlim(box[0], box[1])
-    ax.set_ylim(box[2], box[3])
-    ax.set_xlabel(key)
-    ax.set_ylabel(key2)
-    ax.set_title(title)
-    return _save(fig, path, [ax])
-
-
 def cmd_continue(args) -> int:
     from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundaries, trace_boundary
-    from rotorjax.plot import plot_curves
+    from rotorjax.plot import plot_boundaries, plot_curves
 
     preset = get_preset(args.preset)
     params = preset_params(preset, args.set)
@@ -202,7 +176,7 @@ def cmd_continue(args) -> int:
         out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime, "start": start,
                     "box": box, "box_source": box_source, "dense_tol": DENSE_TOL,
                     "n_branches": len(branches),
-                    "branches": [_branch_json(c, key, key2) for c in branches],
+                    "branches": [c.as_dict(names=(key, key2), dense=8) for c in branches],
                     "crossings": crossings,
                     # the first branch, as before there were several
                     key: first.x[:, 0].tolist(), key2: first.x[:, 1].tolist(),
@@ -211,7 +185,7 @@ def cmd_continue(args) -> int:
         np.savetxt(stem + ".csv", np.concatenate([np.column_stack([c.x, c.residuals, np.full(len(c.x), i)])
                                                   for i, c in enumerate(branches)]),
                    delimiter=",", header=f"{key},{key2},residual,branch", comments="", fmt="%.17g")
-        _plot_boundaries(branches, crossings, stem + ".png", key, key2, box,
+        plot_boundaries(branches, crossings, stem + ".png", key, key2, box,
                          f"{preset.name}: stability boundary of {preset.regime}")
     elif preset.name == "anisotropic-abb":
         from rotorjax.presets import anisotropic_abb as ab
