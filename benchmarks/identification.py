@@ -60,7 +60,7 @@ def main():
     from rotorjax.presets import balancing_machine as bm
 
     P = dict(bm.PRESET.defaults)
-    machine, planes, U = bm._build(P)
+    machine, planes, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
     truth = np.array([P["k1"], P["k2"], P["c1"], P["c2"]])
     start = np.array([1.5e5, 3.75e5, 100.0, 266.0])
     base = bm.build_machine(dict(P, k1=start[0], k2=start[1], c1=start[2], c2=start[3]))

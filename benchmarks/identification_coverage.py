@@ -98,7 +98,7 @@ def main():
     from rotorjax.presets import balancing_machine as bm
 
     P = dict(bm.PRESET.defaults)
-    _, planes, _ = bm._build(P)
+    planes = bm.planes(P)
     truth = np.array([P[k] for k in NAMES])
     start = bm.build_machine(dict(P, k1=1.5e5, k2=3.75e5, c1=100.0, c2=266.0))
 

@@ -24,7 +24,8 @@ def main():
     for delta_b in (40.0, 400.0, 4000.0, 40000.0):
         p = preset.params({"rho1": 1.0, "rho2": 1.0, "eps": 0.03, "psi1": 1.0,
                            "psi_spacing": 2.5, "delta_b": delta_b})
-        scene, y0, _ = preset.build(p)
+        setup = preset.build(p)
+        scene, y0 = setup.scene, setup.y0
         ratio = rj.solve.stiffness_ratio(scene, y0)
         ref = rj.simulate(scene, y0, (0.0, T_END), solver="kvaerno5", rtol=1e-11, atol=1e-13,
                           max_steps=2_000_000)

@@ -41,7 +41,8 @@ T_END = 200.0
 
 
 def initial_state():
-    scene, y0, _ = anisotropic_abb.PRESET.build(P)
+    setup = anisotropic_abb.PRESET.build(P)
+    scene, y0 = setup.scene, setup.y0
     return np.asarray(y0)
 
 

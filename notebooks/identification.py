@@ -40,7 +40,7 @@ from rotorjax.presets import balancing_machine as bm
 OUT = os.environ.get("ROTORJAX_NOTEBOOK_OUT", "notebook-out")
 os.makedirs(OUT, exist_ok=True)
 p = dict(bm.PRESET.defaults)
-machine, planes, U = bm._build(p)
+machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
 NAMES = ("k1", "k2", "c1", "c2")
 W0, W1, DURATION, FS = 20.0, 400.0, 20.0, 1000.0      # the shipped run-up (see `_make_data`)
 ALPHA = (W1 - W0) / DURATION

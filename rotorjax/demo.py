@@ -13,7 +13,7 @@ import time
 import jax.numpy as jnp
 import numpy as np
 
-from . import simulate
+from .solve import simulate
 from .models import AutoBalancer, weights_at
 from .plot import plot_curves
 from .presets import anisotropic_abb, jeffcott_abb

@@ -5,13 +5,18 @@ exit 3; an unexpected internal error is one line with a `--debug` hint.
 One table: (argv, exit code, a regex the error line must match). Files are made in
 a temporary folder; `{d}` in an argument is that folder."""
 
+import os
 import re
 
 import numpy as np
 import pytest
 
+import rotorjax
 from rotorjax.cli import main
 from rotorjax.identify import BALANCING_RUNS
+
+#: the shipped rotor files
+ROTORS = os.path.join(os.path.dirname(rotorjax.__file__), "rotors")
 
 S, A, R, F, C, B = ("simulate", "elliptic-abb"), ("anisotropic-abb",), ("ross-compare",), ("flexible-abb",), \
     ("cantilever-limiters",), ("balancing-machine",)
@@ -56,6 +61,20 @@ CASES = [
     ([*S, "--max-steps", "0"], 2, r"argument --max-steps: must be an integer >= 1"),
     ([*S, "--solver", "rk99"], 2, r"argument --solver: invalid choice: 'rk99'"),
     ([*S, "--out", "{d}/afile"], 2, r"--out .*afile: exists and is not a folder"),
+    # --- simulate --speed, rotor files ---
+    ([*S, "--speed", "nan"], 2, r"argument --speed: must be finite"),
+    ([*S, "--speed", "abc"], 2, r"argument --speed: expected a number"),
+    ([*S, "--speed", "-1"], 2, r"--speed -1: must be > 0 \(speed / Omega"),
+    (["simulate", *A, "--speed", "0"], 2, r"--speed 0: must be > 0"),
+    (["simulate", *C, "--speed", "inf"], 2, r"argument --speed: must be finite"),
+    (["simulate", *R, "--speed", "10"], 2, r"`simulate` does not apply to 'ross-compare'"),
+    (["simulate", "{d}/nosuch.toml", "--speed", "10"], 2, r"nosuch\.toml"),
+    (["simulate", "{rotors}/ross_compare.toml"], 2, r"no default run length at speed = 0; give --speed W"),
+    (["simulate", "{rotors}/ross_compare.toml", "--speed", "10", "--set", "bearing0.kxx=-1"], 2,
+     r"--set bearing0\.kxx=-1: must be >= 0"),
+    (["simulate", "{rotors}/ross_compare.toml", "--speed", "10", "--set", "bearing9.kxx=1"], 2,
+     r"unknown parameter 'bearing9\.kxx'"),
+    (["hopf", "{rotors}/ross_compare.toml"], 2, r"`hopf` does not apply to .*ross_compare\.toml"),
     # --- steady ---
     (["steady", "elliptic-abb"], 2, r"the following arguments are required: --speed"),
     (["steady", "elliptic-abb", "--speed", "-1"], 2, r"--speed -1: must be > 0"),
@@ -213,7 +232,7 @@ def files(tmp_path_factory):
 
 @pytest.mark.parametrize("argv,code,match", CASES, ids=[" ".join(c[0])[:60] for c in CASES])
 def test_bad_input(argv, code, match, files, capsys, tmp_path):
-    argv = [a.replace("{d}", str(files)) for a in argv]
+    argv = [a.replace("{d}", str(files)).replace("{rotors}", ROTORS) for a in argv]
     if argv and argv[0] not in ("data", "presets", "frobnicate") and "--out" not in argv:
         argv = argv + ["--out", str(tmp_path / "out")]
     rc = main(argv)

@@ -156,7 +156,7 @@ def test_identification_plot(tmp_path, figures):
 # --- the band of the identified model ------------------------------------------------
 
 P = dict(bm.PRESET.defaults)
-MACHINE, PLANES, U = bm._build(P)
+MACHINE, PLANES, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
 SPEEDS = np.linspace(30.0, 400.0, 60)
 
 

@@ -12,6 +12,9 @@ from ._floquet import FloquetResult as FloquetResult
 from ._floquet import floquet as floquet
 from ._floquet import monodromy as monodromy
 from ._floquet import periodic_orbit as periodic_orbit
+from ._roots import Root as Root
+from ._roots import find_roots as find_roots
+from ._roots import root_gradient as root_gradient
 from ._critical import CriticalSpeed as CriticalSpeed
 from ._critical import critical_speed_gradient as critical_speed_gradient
 from ._critical import critical_speeds as critical_speeds
@@ -31,3 +34,10 @@ from ._continuation import fold_curve as fold_curve
 from ._continuation import trace_boundaries as trace_boundaries
 from ._continuation import trace_boundary as trace_boundary
 from ._continuation import trace_curve as trace_curve
+from ._response import linear_margin as linear_margin
+from ._response import scene_unbalance_response as scene_unbalance_response
+from ._synchronous import synchronous_branch as synchronous_branch
+from ._summary import analysis_window as analysis_window
+from ._summary import precession_diagram as precession_diagram
+from ._summary import precession_summary as precession_summary
+from ._summary import simulation_summary as simulation_summary

@@ -52,6 +52,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._roots import bisect, root_gradient
+
 
 def _hermite(x0, t0, x1, t1, s):
     """Cubic Hermite interpolant from `x0` (unit tangent `t0`) to `x1` (`t1`) at
@@ -665,8 +667,11 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
                            "residual": float(max(curve.residuals[i], curve.residuals[i + 1])),
                            "between": [i, i + 1], "note": "located to the step; not refined"})
         if n_unstable[i] != n_unstable[i + 1]:
-            e0, e1 = eig[i], eig[i + 1]
-            crossing = e1[np.argmin(np.abs(e1.real))] if n_unstable[i + 1] > n_unstable[i] else e0[np.argmin(np.abs(e0.real))]
+            # the eigenvalue that crossed: the least unstable one on the more unstable
+            # side (not the one nearest the axis, which may be a lightly damped
+            # high mode that never crosses)
+            e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
+            crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
                 events.append(_refine_hopf(F, Fu, a, b, n) | {"between": [i, i + 1]})
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=events, curve=curve)
@@ -696,18 +701,8 @@ def _refine_hopf(F, Fu, a, b, n):
         cand = [e[j] for j in k if abs(e[j].imag) > 1e-10]
         return cand[0].real, abs(cand[0].imag)
 
-    lo, hi = 0.0, 1.0
-    flo = pair_real(a)[0]
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        fm = pair_real(corrected(mid))[0]
-        if np.sign(fm) == np.sign(flo):
-            lo, flo = mid, fm
-        else:
-            hi = mid
-        if hi - lo < 1e-14:
-            break
-    y = corrected(0.5 * (lo + hi))
+    s = bisect(lambda c: pair_real(corrected(c))[0], 0.0, 1.0, pair_real(a)[0], xtol=1e-14, max_iter=60).x
+    y = corrected(s)
     re, omega = pair_real(y)
     return {"kind": "hopf", "p": float(y[n]), "u": y[:n], "frequency": omega,
             "residual": float(max(np.max(np.abs(np.asarray(F(y[:n], y[n])))), abs(re)))}
@@ -866,16 +861,8 @@ def _meets(curve: Curve, axis: int, value: float, n: int = 32):
             hits = np.append(hits, True)
         for k in np.flatnonzero(hits):
             a, b, fa = (s[k], s[k + 1], side[k]) if k < n else (1.0, 1.0, 0.0)
-            while b - a > 1e-13:
-                c = 0.5 * (a + b)
-                fc = piece([c])[0, axis] - value
-                if fc == 0:
-                    a = b = c
-                elif np.sign(fc) == np.sign(fa):
-                    a, fa = c, fc
-                else:
-                    b = c
-            pt = piece([0.5 * (a + b)])[0]
+            u = bisect(lambda c: piece([c])[0, axis] - value, a, b, fa, xtol=1e-13).x
+            pt = piece([u])[0]
             pt[axis] = value
             err = float(curve.errors[i + 1]) if curve.errors is not None else 0.0
             if not any(np.array_equal(pt, q) for q, _ in out):      # a closed loop's first and last point
@@ -997,8 +984,12 @@ def boundary_sensitivity(sigma3: Callable, point, q, axis=0) -> float:
     """How far the boundary `sigma(p1, p2; q) = 0` moves along parameter `axis`
     (0: p1 at fixed p2) per unit of a third parameter `q`, by the implicit
     function theorem: `-(d sigma/d q) / (d sigma / d p_axis)` (autodiff)."""
-    g = jax.grad(sigma3, argnums=(0, 1, 2))(jnp.float64(point[0]), jnp.float64(point[1]), jnp.float64(q))
-    return float(-g[2] / g[axis])
+    p1, p2 = (jnp.float64(v) for v in point)
+
+    def along(x, qq):
+        return sigma3(x, p2, qq) if axis == 0 else sigma3(p1, x, qq)
+
+    return float(root_gradient(along, point[axis], q))
 
 
 def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-11, bounds=None,

@@ -5,11 +5,11 @@ self-excited whirl from internal friction)."""
 import dataclasses
 from typing import Callable
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ._critical import critical_speeds
+from ._roots import root_gradient
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,9 +53,9 @@ def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
 
 def hopf_speed_gradient(state_matrix2: Callable, speed: float, param: float) -> float:
     """`d(Hopf speed)/d(param)` by the implicit function theorem on
-    `max Re lambda(A(speed, param)) = 0` (autodiff through the eigenvalues)."""
+    `max Re lambda(A(speed, param)) = 0` (autodiff through the eigenvalues;
+    `rotorjax.analysis.root_gradient`)."""
     def m(s, p):
         return jnp.max(jnp.real(jnp.linalg.eigvals(state_matrix2(s, p))))
 
-    g = jax.grad(m, argnums=(0, 1))(jnp.float64(speed), jnp.float64(param))
-    return float(-g[1] / g[0])
+    return float(root_gradient(m, speed, param))

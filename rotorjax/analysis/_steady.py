@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from ..models import AutoBalancer
+from ..models._contract import require
 from ._rotating import check_autonomous, rotating_field
 
 
@@ -20,8 +20,10 @@ class Regime(eqx.Module):
       and `residual < tol`.
     - `eigenvalues`: of the rotating-frame Jacobian (`jax.jacfwd`).
     - `margin`: the largest real part; `stable`: `margin < -stability_tol`.
-    - `whirl_amplitude`: `|u|`; `weight_angles`: polar angles of the weights
-      relative to the rotor; `kind`: "balanced" (rotor on the axis) or "unbalanced".
+    - `whirl_amplitude`: the scene's `whirl_amplitude` output (`|u|` for a planar
+      rotor, the largest node orbit of an FE rotor); `weight_angles`: polar angles
+      of the weights relative to the rotor; `kind`: "balanced" (rotor on the axis)
+      or "unbalanced".
     """
 
     z: jax.Array
@@ -52,17 +54,16 @@ def _accel_residual(q, scene):
     return rotating_field(scene, 0.0, z)[n:]
 
 
-def _weight_angles(scene, q):
-    bal = scene.find(AutoBalancer)
-    if bal is None:
-        return jnp.zeros(0)
-    psi, _ = scene.coords_of(bal, jnp.concatenate([q, q]))
-    p = jax.vmap(bal.race.position)(psi)
-    return jnp.arctan2(p[:, 1], p[:, 0])
+def _observed(scene, z):
+    """`(whirl_amplitude, weight_angles)` of rotating-frame state `z` (at t = 0,
+    where both frames coincide), from the scene's own outputs."""
+    out = scene.outputs(0.0, scene.to_fixed(0.0, z))
+    return out["whirl_amplitude"], out.get("weight_angles", jnp.zeros(0))
 
 
 def stability(scene, z):
     """Eigenvalues of the rotating-frame Jacobian at `z` (autodiff)."""
+    require(scene, "to_rotating", "stability of a stationary regime")
     jac = jax.jacfwd(lambda zz: rotating_field(scene, 0.0, zz))(z)
     return jnp.linalg.eigvals(jac)
 
@@ -83,39 +84,49 @@ def steady_state(scene, q_guess, rtol=1e-13, atol=1e-13, max_steps=100, tol=1e-1
     residual = jnp.max(jnp.abs(rotating_field(scene, 0.0, z)))
     eig = stability(scene, z)
     ok = (sol.result == optx.RESULTS.successful) & (residual < tol) & jnp.all(jnp.isfinite(q))
+    whirl, angles = _observed(scene, z)
     return Regime(z=z, residual=residual, converged=ok, eigenvalues=eig,
-                  margin=jnp.max(jnp.real(eig)), whirl_amplitude=jnp.linalg.norm(q[:2]),
-                  weight_angles=_weight_angles(scene, q))
+                  margin=jnp.max(jnp.real(eig)), whirl_amplitude=whirl, weight_angles=angles)
 
 
-def steady_states(scene, n_angles=16, u_starts=((0.0, 0.0),), tol=1e-10, dedupe_tol=1e-6):
+def steady_states(scene, n_angles=16, u_starts=None, tol=1e-10, dedupe_tol=1e-6):
     """All stationary regimes found by Newton from a grid of starts: `n_angles` per
-    weight over [0, 2 pi) (all combinations), times the rotor-centre starts
-    `u_starts`. Converged roots are de-duplicated (angles mod 2 pi; identical weights
-    are interchangeable). Returns a list of `Regime`s sorted by whirl amplitude.
-    Raises `ValueError` for a scene that is not autonomous in the rotating frame.
+    balancing weight over [0, 2 pi) (all combinations; the scene's
+    `weight_coordinates`), times the starts `u_starts` of the other coordinates
+    (default: the rotor on the axis). Converged roots are de-duplicated (angles
+    mod 2 pi; identical weights are interchangeable). Returns a list of `Regime`s
+    sorted by whirl amplitude. Raises `ValueError` for a scene that is not
+    autonomous in the rotating frame.
     """
     check_autonomous(scene)
-    bal = scene.find(AutoBalancer)
-    n_w = 0 if bal is None else bal.n_weights
+    n = scene.n_dof
+    angle_idx, same_masses = scene.weight_coordinates()
+    other = np.setdiff1d(np.arange(n), angle_idx)
+    if u_starts is None:
+        u_starts = (np.zeros(other.size),)
     grid = np.linspace(0.0, 2 * np.pi, n_angles, endpoint=False) + 0.1
     starts = []
     for u in u_starts:
-        for psi in itertools.product(grid, repeat=n_w):
-            starts.append(np.concatenate([np.asarray(u, dtype=float), np.asarray(psi)]))
+        u = np.asarray(u, dtype=float)
+        if u.shape != (other.size,):
+            raise ValueError(f"u_starts entries must have {other.size} values (the coordinates that are not "
+                             f"weight angles), got shape {u.shape}")
+        for psi in itertools.product(grid, repeat=angle_idx.size):
+            start = np.zeros(n)
+            start[other], start[angle_idx] = u, psi
+            starts.append(start)
     starts = jnp.asarray(np.array(starts))
     batch = eqx.filter_jit(eqx.filter_vmap(lambda q: steady_state(scene, q, tol=tol)))(starts)
-    same_masses = bal is not None and bool(np.all(np.asarray(bal.mass) == np.asarray(bal.mass)[0]))
     found, keys = [], []
     conv = np.asarray(batch.converged)
     for i in np.nonzero(conv)[0]:
         regime = jax.tree_util.tree_map(lambda x: x[i], batch)
-        q = np.asarray(regime.z[:scene.n_dof])
-        psi = np.mod(q[2:2 + n_w], 2 * np.pi)
+        q = np.asarray(regime.z[:n])
+        psi = np.mod(q[angle_idx], 2 * np.pi)
         psi = np.where(psi > 2 * np.pi - dedupe_tol, 0.0, psi)
         if same_masses:
             psi = np.sort(psi)
-        key = np.concatenate([q[:2], psi])
+        key = np.concatenate([q[other], psi])
         if any(np.max(np.abs(key - k)) < dedupe_tol for k in keys):
             continue
         keys.append(key)

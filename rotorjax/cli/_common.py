@@ -20,6 +20,7 @@ KIND_COMMANDS = {
     "contact": "model 004's rotor with limiters: use `simulate`, `hopf`, `bifurcation`, `critical-speeds`, "
                "`stability-map`, `continue`",
     "machine": "a balancing machine: use `balance`, `identify`",
+    "rotor": "a rotor file's finite-element rotor: use `simulate`, `campbell`, `response`, `critical-speeds`",
 }
 
 
@@ -203,31 +204,36 @@ def preset_params(preset, sets, extra=None):
 
 
 def get_preset(name):
+    """A preset by name, or a rotor file's (a path ending in `.toml`)."""
     from .. import presets
 
-    if name not in presets.PRESETS:
-        raise InputError(f"unknown preset {name!r}; known: {', '.join(sorted(presets.PRESETS))} "
-                         "(`rotorjax presets` lists them)")
-    return presets.PRESETS[name]
+    try:
+        return presets.get(name)
+    except InputError as e:
+        if str(e).startswith("unknown preset"):
+            raise InputError(f"{e} (`rotorjax presets` lists them)") from None
+        raise
 
 
 def wrong_kind(preset, command):
     return InputError(f"`{command}` does not apply to {preset.name!r}, {KIND_COMMANDS[preset.kind]}")
 
 
-def preset_and_params(args, command, kinds, extra=None):
+def preset_and_params(args, command, kinds, speed_option=None):
     """The preset named on the command line, checked to be of one of `kinds`,
-    and its parameters with the `--set` overrides applied."""
+    and its parameters with the `--set` overrides applied (and `--speed`, when
+    `speed_option` is given, as the preset's speed key)."""
     preset = get_preset(args.preset)
     if isinstance(kinds, str):
         kinds = (kinds,)
     if preset.kind not in kinds:
         raise wrong_kind(preset, command)
+    extra = None if speed_option is None else {preset.speed_key: ("--speed", speed_option)}
     return preset, preset_params(preset, args.set, extra)
 
 
 def build(preset, params):
-    """`preset.build(params)`; an invalid combination of values is bad input."""
+    """`preset.build(params)` (a `Setup`); an invalid combination of values is bad input."""
     try:
         return preset.build(params)
     except ZeroDivisionError:
@@ -262,6 +268,14 @@ class Stages:
     def close(self):
         self.bar.update(self.bar.total - self.bar.n)
         self.bar.close()
+
+
+def out_stem(folder, preset, prefix="", suffix=""):
+    """`folder/PREFIX NAME SUFFIX`, the stem of a command's output files; a rotor
+    file's preset is named by its path, of which the file name without `.toml` is used."""
+    name = os.path.basename(preset.name)
+    name = name[:-len(".toml")] if name.endswith(".toml") else name
+    return os.path.join(folder, f"{prefix}{name}{suffix}")
 
 
 def write_json(path, obj, **kwargs):

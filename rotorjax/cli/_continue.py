@@ -5,32 +5,10 @@ import os
 
 import numpy as np
 
-from ._common import InputError, get_preset, preset_params, prepare_out, write_json
+from ._common import InputError, get_preset, out_stem, prepare_out, preset_params, write_json
 
 #: the accuracy of a boundary's dense curve between its points (along --param, at fixed --param2)
 DENSE_TOL = 1e-6
-
-
-def _branch_problem(preset, params, key):
-    """`(F(u, v), u0)` of the preset's stationary reference regime, for
-    one-parameter continuation in `key` (elliptic-abb: the balanced regime of a
-    circular race, in the rotating frame); None for presets without one."""
-    if preset.name != "elliptic-abb":
-        return None
-    from rotorjax.analysis import rotating_field
-    from rotorjax.presets import jeffcott_abb as ja
-
-    regime = ja.balanced_regime(params)
-    if not bool(regime.converged):
-        raise InputError(f"no balanced regime at the starting parameters (residual {float(regime.residual):.2e})")
-
-    def F(u, v):
-        q = dict(params, **{key: v})
-        scene = ja.scene_from_groups(q["chi"], q["eps"], q["alpha"], q["rho1"], q["rho2"], q["delta_n"],
-                                     q["delta_b"], nu=q["nu"], n_balls=params["n_balls"], K=q["K"])
-        return rotating_field(scene, 0.0, u)
-
-    return F, np.asarray(regime.z)
 
 
 def _check_key(preset, option, key):
@@ -46,45 +24,28 @@ def _direction(text):
 
 
 def _box(preset, args, key, key2, start):
-    """The parameter box of a boundary: `--box`; else, per key, the preset's
-    default range (`Preset.box`), or as a last resort the start halved and
-    doubled within the key's valid values."""
-    if args.box is not None:
-        lo1, hi1, lo2, hi2 = args.box
-        for option_part, lo, hi, k in (("LO1 HI1", lo1, hi1, key), ("LO2 HI2", lo2, hi2, key2)):
-            if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-                raise InputError(f"--box {' '.join(f'{v:g}' for v in args.box)}: {option_part} ({k}) need "
-                                 "finite LO < HI")
-            for v in (lo, hi):
-                try:
-                    preset.check(k, v)
-                except InputError as e:
-                    raise InputError(f"--box: {e}") from None
-        return [lo1, hi1, lo2, hi2], "--box"
-    box, sources = [], []
-    for k, v in ((key, start[0]), (key2, start[1])):
-        if k in preset.box:
-            lo, hi = preset.box[k]
-            sources.append(f"{k}: the preset's default box")
-        else:
-            lo, hi = (0.5 * v, 2.0 * v) if v > 0 else (v - 1.0, v + 1.0) if v != 0 else (-1.0, 1.0)
-            if preset.domains[k] in (">0", ">=0") and lo < 0:
-                lo = 0.0
-            sources.append(f"{k}: the start halved and doubled")
-        box += [float(lo), float(hi)]
-    if sources[0].endswith("box") and sources[1].endswith("box"):
-        return box, "the preset's default box"
-    if not sources[0].endswith("box") and not sources[1].endswith("box"):
-        return box, "default (start halved and doubled)"
-    return box, "; ".join(sources)
+    """The parameter box of a boundary: `--box` (checked), else the preset's default
+    (`Preset.boundary_box`)."""
+    if args.box is None:
+        return preset.boundary_box(key, key2, start)
+    lo1, hi1, lo2, hi2 = args.box
+    for option_part, lo, hi, k in (("LO1 HI1", lo1, hi1, key), ("LO2 HI2", lo2, hi2, key2)):
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise InputError(f"--box {' '.join(f'{v:g}' for v in args.box)}: {option_part} ({k}) need "
+                             "finite LO < HI")
+        for v in (lo, hi):
+            try:
+                preset.check(k, v)
+            except InputError as e:
+                raise InputError(f"--box: {e}") from None
+    return [lo1, hi1, lo2, hi2], "--box"
 
 
 def _param_range(preset, key, to, start):
     """`--to LO HI` checked (finite, LO < HI, inside the key's valid values), or
     by default the start halved and doubled."""
     if to is None:
-        lo, hi = sorted((0.5 * start, 2.0 * start)) if start != 0 else (-1.0, 1.0)
-        return (lo, hi), "default (start halved and doubled)"
+        return preset.continuation_range(start), "default (start halved and doubled)"
     lo, hi = to
     if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
         raise InputError(f"--to {lo:g} {hi:g}: need finite LO < HI")
@@ -126,14 +87,13 @@ def cmd_continue(args) -> int:
         raise InputError("--box is for a boundary (--param2); one-parameter continuation takes --to")
     direction = _direction(args.direction)
     prepare_out(args.out)
-    stem = os.path.join(args.out, f"continue_{preset.name}_{key}" + (f"_{key2}" if key2 else ""))
+    stem = out_stem(args.out, preset, "continue_", f"_{key}" + (f"_{key2}" if key2 else ""))
     out = {"preset": preset.name, "param": key, "param2": key2, "start": start,
            "start_source": "--from" if args.start else "the preset's values"}
     if key2:
         if preset.margin is None:
             raise InputError(f"{preset.name!r} has no reference regime whose boundary could be traced")
-        gradient = args.gradient if args.gradient != "auto" else (
-            "fd" if preset.name == "anisotropic-abb" else "autodiff")
+        gradient = args.gradient if args.gradient != "auto" else preset.margin_gradient
         box, box_source = _box(preset, args, key, key2, start)
         if args.start is not None and not (box[0] <= start[0] <= box[1] and box[2] <= start[1] <= box[3]):
             raise InputError(f"--from {start[0]:g} {start[1]:g}: outside the box {key} in [{box[0]:g}, {box[1]:g}]"
@@ -187,16 +147,9 @@ def cmd_continue(args) -> int:
                    delimiter=",", header=f"{key},{key2},residual,branch", comments="", fmt="%.17g")
         plot_boundaries(branches, crossings, stem + ".png", key, key2, box,
                          f"{preset.name}: stability boundary of {preset.regime}")
-    elif preset.name == "anisotropic-abb":
-        from rotorjax.presets import anisotropic_abb as ab
-
+    elif preset.floquet_family is not None:
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
-
-        def fl(v):
-            q = dict(params, **{key: v})
-            return ab.main_motion_floquet({k: q[k] for k in ab.GROUPS}, q["n"], q["K"])
-
-        found = floquet_crossings(fl, lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
+        found = floquet_crossings(preset.floquet_family(params, key), lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
                                   progress=not args.json)
         out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi], "crossings": found})
         with open(stem + ".csv", "w") as f:
@@ -204,11 +157,10 @@ def cmd_continue(args) -> int:
             for c in found:
                 f.write(f"{c['p']},{c['kind']},{c['residual']}\n")
     else:
-        prob = _branch_problem(preset, params, key)
-        if prob is None:
+        if preset.branch_problem is None:
             raise InputError(f"{preset.name!r} has no stationary branch to continue in one parameter; trace a "
                              "boundary with --param2, or use `critical-speeds` / `hopf`")
-        F, u0 = prob
+        F, u0 = preset.branch_problem(params, key)
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
         if not lo <= start[0] <= hi:
             raise InputError(f"--to {lo:g} {hi:g}: the start {key} = {start[0]:g} lies outside")

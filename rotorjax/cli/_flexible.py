@@ -1,18 +1,25 @@
-"""`campbell`, `response`: linear analyses of a finite-element rotor."""
+"""`campbell`, `response`: linear analyses of a finite-element rotor (the
+`ross-compare` preset, rotor files)."""
 
 import json
-import os
 
 import numpy as np
 
-from ._common import InputError, NumericalError, build, check_range, preset_and_params, prepare_out, write_json
+from ._common import (InputError, NumericalError, build, check_range, out_stem, prepare_out, preset_and_params,
+                      write_json)
+
+#: kinds of preset with a finite-element rotor
+KINDS = ("flexible", "rotor")
 
 
 def _rotor(preset, params, n_modes):
-    rotor = build(preset, params)[0]
+    """The preset's FE rotor, reduced to its `n_modes` lowest undamped modes (`--reduce`)."""
+    from rotorjax.presets._hooks import fe_rotor, rotor_dofs
+
+    rotor = fe_rotor(build(preset, params).scene)
     if n_modes is None:
         return rotor
-    n = int(np.asarray(rotor.reduced_matrices()[0]).shape[0])
+    n = rotor_dofs(rotor)
     if not 1 <= n_modes <= n:
         raise InputError(f"--reduce {n_modes}: n_modes (reduction) must be in 1..{n} (the rotor's dofs)")
     return rotor.reduce(n_modes)
@@ -21,18 +28,19 @@ def _rotor(preset, params, n_modes):
 def cmd_campbell(args) -> int:
     from rotorjax.flexible import campbell, critical_speeds_1x
     from rotorjax.plot import plot_campbell
+    from rotorjax.presets._hooks import rotor_dofs
 
-    preset, params = preset_and_params(args, "campbell", "flexible")
+    preset, params = preset_and_params(args, "campbell", KINDS)
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     rotor = _rotor(preset, params, args.reduce)
-    n = 2 * int(np.asarray(rotor.reduced_matrices()[0]).shape[0])
+    n = 2 * rotor_dofs(rotor)
     if args.modes > n:
         raise InputError(f"--modes {args.modes}: the rotor has {n} modes" + (" after --reduce" if args.reduce else ""))
     speeds = np.linspace(lo, hi, args.n_speeds)
     camp = campbell(rotor, speeds, args.modes)
     crit = critical_speeds_1x(rotor, max(lo, 1e-6), hi, n_modes=args.modes)
-    stem = os.path.join(args.out, f"campbell_{preset.name}")
+    stem = out_stem(args.out, preset, "campbell_")
     plot_campbell(speeds, np.asarray(camp.frequencies), np.asarray(camp.forward), stem + ".png",
                   critical=[s for s, _ in crit], title=f"{preset.name}: Campbell diagram"
                   + (f" (reduced to {args.reduce} modes)" if args.reduce else ""))
@@ -53,10 +61,11 @@ def cmd_campbell(args) -> int:
 
 
 def cmd_response(args) -> int:
+    from rotorjax.analysis._summary import local_maxima
     from rotorjax.flexible import unbalance_response
     from rotorjax.plot import plot_response
 
-    preset, params = preset_and_params(args, "response", "flexible")
+    preset, params = preset_and_params(args, "response", KINDS)
     lo, hi = check_range("--range", *args.range, positive_lo=True)
     prepare_out(args.out)
     rotor = _rotor(preset, params, args.reduce)
@@ -69,8 +78,8 @@ def cmd_response(args) -> int:
     amp = np.sqrt(np.abs(X) ** 2 + np.abs(Y) ** 2)
     if not np.all(np.isfinite(amp)):
         raise NumericalError("response: non-finite amplitudes (an undamped rotor exactly at a critical speed?)")
-    peaks = [float(speeds[i]) for i in range(1, len(amp) - 1) if amp[i] > amp[i - 1] and amp[i] > amp[i + 1]]
-    stem = os.path.join(args.out, f"response_{preset.name}")
+    peaks = local_maxima(speeds, amp)
+    stem = out_stem(args.out, preset, "response_")
     plot_response(speeds, X, Y, stem + ".png", title=f"{preset.name}: unbalance response at node {args.probe} "
                   f"({args.unbalance:g} kg m at node {args.node})")
     out = {"preset": preset.name, "node": args.node, "probe": args.probe, "unbalance": args.unbalance,

@@ -4,17 +4,20 @@
 import argparse
 import sys
 
-from ._balance import FITTABLE, cmd_balance, cmd_identify
+from ..identify import FITTABLE
+from ..presets import PRESETS
+from ._balance import cmd_balance, cmd_identify
 from ._common import InputError, NumericalError, at_least, finite, nonnegative, positive, tolerance
-from ._contact import SWEEPABLE, cmd_bifurcation
+from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._flexible import cmd_campbell, cmd_response
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._simulate import cmd_simulate
 from ._stability import HOPF_RANGE, cmd_critical_speeds, cmd_hopf, cmd_stability_map, cmd_steady
 
-PRESET_NAMES = ("elliptic-abb", "anisotropic-abb", "ross-compare", "flexible-abb", "cantilever-limiters",
-                "balancing-machine")
+PRESET_NAMES = tuple(PRESETS)
+#: the keys `bifurcation` can sweep (on the presets that sweep)
+SWEEPABLE = tuple(dict.fromkeys(k for p in PRESETS.values() for k in p.sweepable))
 SOLVERS = ("auto", "dopri8", "dopri5", "tsit5", "kvaerno5", "kvaerno3")
 
 
@@ -48,10 +51,12 @@ def _command(sub, name, help, fn, flags=(), kinds="", description=None):
                        description=(description or help) + (f"\n\nApplies to: {kinds}." if kinds else "")
                        + "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
     p.add_argument("preset", metavar="PRESET",
-                   help=f"one of: {', '.join(PRESET_NAMES)} (`rotorjax presets NAME` lists its --set keys)")
+                   help=f"one of: {', '.join(PRESET_NAMES)}, or a rotor file ROTOR.toml (`rotorjax presets NAME` "
+                        "lists its --set keys)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a preset parameter, in the preset's units (repeatable); "
-                        "`rotorjax presets PRESET` lists the keys, units and valid values")
+                   help="override a preset parameter, in the preset's units (repeatable; a rotor file's keys "
+                        "name their table, e.g. bearing0.kxx); `rotorjax presets PRESET` lists the keys, units "
+                        "and valid values")
     _common_flags(p)
     for args, kwargs in flags:
         p.add_argument(*args, **kwargs)
@@ -84,13 +89,16 @@ def build_parser():
         epilog="Exit codes: 0 success, 2 bad input, 3 numerical failure, 1 internal error.")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an internal error")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    _command(sub, "simulate", "simulate a preset scene in time", cmd_simulate, [
+    _command(sub, "simulate", "simulate a preset scene (or a rotor file's rotor) in time", cmd_simulate, [
+        (("--speed",), dict(type=finite, default=None, metavar="W",
+                            help="constant speed: rad/s for a rotor file, the preset's speed (nu, n, N) for a "
+                                 "preset (default: the file's or preset's)")),
         (("--t-end",), dict(type=positive, default=None,
                             help="end time in the preset's time unit (default: the preset's)")),
         *_integration(500_000),
         (("--n-save",), dict(type=at_least(2), default=None,
                              help="saved states (default 4000; cantilever-limiters: 40 per revolution)")),
-    ], kinds="elliptic-abb, anisotropic-abb, cantilever-limiters")
+    ], kinds="elliptic-abb, anisotropic-abb, cantilever-limiters, rotor files")
     _command(sub, "steady", "all stationary regimes at a speed (rotating frame)", cmd_steady, [
         (("--speed",), dict(type=finite, required=True,
                             help="the preset's (dimensionless) speed: nu, n or omega")),
@@ -106,7 +114,7 @@ def build_parser():
                                      help="modes tracked (ross-compare, default 8) or shaft modes "
                                           "(flexible-abb)")),
                  (("--exact",), dict(action="store_true", help="flexible-abb: the closed-form equation (17)")),
-             ], kinds="elliptic-abb, anisotropic-abb, ross-compare, flexible-abb, cantilever-limiters")
+             ], kinds="elliptic-abb, anisotropic-abb, ross-compare, flexible-abb, cantilever-limiters, rotor files")
     _command(sub, "stability-map", "stability margin over a 2-D parameter grid", cmd_stability_map, [
         (("--x",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NX"), required=True,
                         help="the x axis: a --set key, its range and number of points (>= 2)")),
@@ -120,7 +128,7 @@ def build_parser():
         (("--modes",), dict(type=at_least(1), default=8, help="modes shown")),
         (("--reduce",), dict(type=int, default=None, metavar="N",
                              help="reduce to the N lowest undamped modes first (ReducedRotor)")),
-    ], kinds="ross-compare")
+    ], kinds="ross-compare, rotor files")
     _command(sub, "response", "unbalance response of a flexible rotor", cmd_response, [
         _range(help="speed range, rad/s (LO > 0)"),
         (("--n",), dict(type=at_least(2), default=2000, help="number of speeds")),
@@ -130,7 +138,7 @@ def build_parser():
         (("--phase",), dict(type=finite, default=0.0, help="unbalance phase, rad")),
         (("--reduce",), dict(type=int, default=None, metavar="N",
                              help="reduce to the N lowest undamped modes first (ReducedRotor)")),
-    ], kinds="ross-compare")
+    ], kinds="ross-compare, rotor files")
     _command(sub, "hopf", "Hopf point of straight-line rotation (internal friction)", cmd_hopf, [
         _range(required=False, help=f"spin-speed range N, units 1/T* (default: {HOPF_RANGE[0]:g} "
                                     f"{HOPF_RANGE[1]:g})"),

@@ -1,4 +1,6 @@
-"""Contact: discrete visco-elastic limiters, and model 004's cantilever scene."""
+"""Contact (compatibility namespace): the limiters and model 004's scene live in
+`rotorjax.models`."""
 
-from ._limiters import Limiters as Limiters
-from ._scene import CantileverScene as CantileverScene
+from ..models._cantilever_scene import CantileverScene as CantileverScene
+from ..models._cantilever_scene import energy_residual as energy_residual
+from ..models._limiters import Limiters as Limiters

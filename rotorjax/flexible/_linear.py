@@ -9,7 +9,10 @@ import numpy as np
 
 from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
                                check_span, is_concrete)
-from ._rotor import DOFS_PER_NODE
+from ..analysis._roots import bisect, sign_changes
+from ..models._fe_rotor import DOFS_PER_NODE
+from ..models._contract import LinearMatrices
+from ..models._frequency import frequency_response
 
 
 def _check_rotor(rotor):
@@ -50,12 +53,9 @@ class Modes(eqx.Module):
 
 
 def state_matrix(rotor, speed):
+    """First-order matrix of `M q'' + (C + speed G1) q' + K q = 0` at `speed` (rad/s)."""
     M, C, G1, K = rotor.reduced_matrices()
-    n = M.shape[0]
-    Minv = jnp.linalg.inv(M)
-    top = jnp.concatenate([jnp.zeros((n, n)), jnp.eye(n)], axis=1)
-    bottom = jnp.concatenate([-Minv @ K, -Minv @ (C + speed * G1)], axis=1)
-    return jnp.concatenate([top, bottom], axis=0)
+    return LinearMatrices(M, C, speed * G1, K).state_matrix()
 
 
 def modes(rotor, speed, n_modes=None) -> Modes:
@@ -102,7 +102,8 @@ def campbell(rotor, speeds, n_modes=8):
 
 def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="all"):
     """Intersections of the Campbell diagram's branches with the 1x line
-    `frequency = speed`, located by a scan plus bisection on `omega_k(Omega) - Omega`.
+    `frequency = speed`, located by a scan plus bisection on `omega_k(Omega) - Omega`
+    (the shared root finder's steps, `rotorjax.analysis._roots`, to `xtol * max(1, speed)`).
     `whirl="forward"` keeps the forward-whirl branches only (those an unbalance
     excites); "all" also the backward ones (as ROSS reports them).
     Returns `[(speed, mode index)]` in rad/s, sorted."""
@@ -119,16 +120,12 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     out = []
     for k in range(n_modes):
         g = freq[:, k] - speeds
-        for i in range(n_scan - 1):
-            wrong_way = whirl == "forward" and not (fwd[i, k] and fwd[i + 1, k])
-            if np.sign(g[i]) == np.sign(g[i + 1]) or wrong_way:
+        for i in sign_changes(g):
+            if whirl == "forward" and not (fwd[i, k] and fwd[i + 1, k]):
                 continue
-            a, b, ga = speeds[i], speeds[i + 1], g[i]
-            while b - a > xtol * max(1.0, abs(b)):
-                c = 0.5 * (a + b)
-                gc = float(one(c).frequencies[k]) - c
-                a, b, ga = (c, b, gc) if np.sign(gc) == np.sign(ga) else (a, c, ga)
-            out.append((0.5 * (a + b), k))
+            r = bisect(lambda c: float(one(c).frequencies[k]) - c, speeds[i], speeds[i + 1], g[i],
+                       g[i + 1], xtol=xtol, rtol=xtol)
+            out.append((r.x, k))
     return sorted(out)
 
 
@@ -186,7 +183,7 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
 
     def one(w):
         F = unbalance * w**2 * jnp.exp(1j * phase) * unit
-        Q = jnp.linalg.solve(K - w**2 * M + 1j * w * (C + w * G1), F)
+        Q = frequency_response(M, C + w * G1, K, F, w)
         full = rotor.expand(Q)
         return full[DOFS_PER_NODE * probe], full[DOFS_PER_NODE * probe + 1]
 

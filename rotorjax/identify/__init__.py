@@ -1,7 +1,8 @@
 """Balancing and identification from measured vibration (model 002)."""
 
-from ._machine import BalancingMachine as BalancingMachine
-from ._machine import scalar_influence_matrix as scalar_influence_matrix
+from ..models._balancing_machine import BalancingMachine as BalancingMachine
+from ..models._balancing_machine import BalancingScene as BalancingScene
+from ..models._balancing_machine import scalar_influence_matrix as scalar_influence_matrix
 from ._signals import Phasors as Phasors
 from ._signals import OrderTrack as OrderTrack
 from ._signals import order_track as order_track
@@ -15,7 +16,11 @@ from ._datasets import DATA_DIR as DATA_DIR
 from ._datasets import DATASETS as DATASETS
 from ._datasets import dataset_path as dataset_path
 from ._datasets import resolve_data as resolve_data
+from ._datasets import RIG as RIG
+from ._datasets import rig_scene as rig_scene
+from ._balance import Balancing as Balancing
 from ._balance import BalancingRun as BalancingRun
+from ._balance import balance as balance
 from ._balance import ISO_GRADES as ISO_GRADES
 from ._balance import grade_reached as grade_reached
 from ._balance import influence_from_trials as influence_from_trials
@@ -26,6 +31,9 @@ from ._balance import split_onto_holes as split_onto_holes
 from ._balance import unbalance_from_vibration as unbalance_from_vibration
 from ._fit import Identification as Identification
 from ._fit import identify as identify
+from ._fit import RunupIdentification as RunupIdentification
+from ._fit import identify_runup as identify_runup
+from ._fit import FITTABLE as FITTABLE
 from ._fit import levenberg_marquardt as levenberg_marquardt
 from ._fit import optax_fit as optax_fit
 from ._fit import residual_fn as residual_fn

@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 
 from ..models._validate import InputError, as_count, as_numpy, check_choice, check_type
-from ._machine import BalancingMachine
+from ..models._balancing_machine import BalancingMachine
 
 
 def influence_from_trials(X0, X_trials, trials):
@@ -160,3 +160,111 @@ def simulate_balancing(machine, planes, speed, unbalance, tolerance, method="vec
             D = np.linalg.solve(np.abs(K), np.abs(X)) * np.exp(1j * np.angle(X))
         U = U - D
     return BalancingRun(method, max_runs, False, U, history)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Balancing:
+    """Corrections from the runs of an influence-coefficient balancing (see `balance`).
+
+    - `speed` (rad/s), `planes`, `sensors`, `runs_file`: what was measured;
+    - `K`: the influence matrix `(n_sensors, n_planes)`; `condition`: its condition number;
+    - `X0`, `predicted`: the vibration before and as predicted after the corrections;
+    - `W`: the correction unbalances (kg m, complex, per plane);
+    - `radius` (m), `holes` (or None), `rotor_mass` (kg): the correction radius, the
+      number of equally spaced holes a correction is split onto, the rotor's mass;
+    - `residual_gmm`, `initial_gmm`: the residual unbalance left by the phasors' noise
+      (`sigma_X = rms residual sqrt(2 / samples)` propagated through `K^+`) and the
+      corrected unbalance, g mm;
+    - `warnings`: sentences for the user (an ill-conditioned `K`).
+    """
+
+    runs_file: str
+    speed: float
+    planes: tuple
+    sensors: tuple
+    K: np.ndarray
+    condition: float
+    X0: np.ndarray
+    W: np.ndarray
+    predicted: np.ndarray
+    radius: float
+    holes: object
+    rotor_mass: float
+    residual_gmm: float
+    initial_gmm: float
+    warnings: tuple
+
+    @property
+    def masses_g(self) -> np.ndarray:
+        """Correction masses at `radius`, g (complex: with their angles)."""
+        return np.asarray(self.W) / self.radius * 1e3
+
+    def corrections(self) -> list:
+        """One dict per plane: unbalance, angle, mass at the radius, and the split onto holes."""
+        out = []
+        for p, w in zip(self.planes, self.W):
+            c = {"plane": p, "unbalance_kg_m": float(abs(w)), "angle_deg": float(np.degrees(np.angle(w)) % 360),
+                 "mass_g": float(abs(w) / self.radius * 1e3), "radius_m": self.radius}
+            if self.holes:
+                holes = np.arange(self.holes) * 2 * np.pi / self.holes
+                (ma, aa), (mb, ab) = split_onto_holes(w / self.radius * 1e3, holes)
+                c["holes"] = [{"angle_deg": float(np.degrees(aa)), "mass_g": ma},
+                              {"angle_deg": float(np.degrees(ab)), "mass_g": mb}]
+            out.append(c)
+        return out
+
+    def as_dict(self) -> dict:
+        speed = self.speed
+        return {
+            "runs_file": self.runs_file, "speed_rad_s": speed, "speed_rpm": speed * 30 / np.pi,
+            "sensors": list(self.sensors),
+            "phase_convention": "angles from the once-per-revolution mark, in the direction of rotation",
+            "influence_matrix": [[{"magnitude": float(abs(k)), "angle_deg": float(np.degrees(np.angle(k)))}
+                                  for k in row] for row in self.K],
+            "corrections": self.corrections(), "vibration_before": [float(abs(x)) for x in self.X0],
+            "predicted_vibration_after": [float(abs(x)) for x in self.predicted],
+            "residual_unbalance_g_mm": self.residual_gmm, "influence_condition_number": self.condition,
+            "warnings": list(self.warnings),
+            "rotor_mass_kg": self.rotor_mass,
+            "iso_grade_before": grade_reached(self.initial_gmm, self.rotor_mass, speed),
+            "iso_grade_reached": grade_reached(self.residual_gmm, self.rotor_mass, speed),
+            "permissible_unbalance_g_mm": {str(G): permissible_unbalance(G, self.rotor_mass, speed)
+                                           for G in (1.0, 2.5, 6.3, 16.0)},
+        }
+
+
+def balance(data, radius=0.01, holes=None, rotor_mass=10.0) -> Balancing:
+    """Correction weights from the runs of a balancing (a `BalancingData`, see
+    `balancing_runs`): the influence matrix from the trial runs (eqs. 20, 22), the
+    corrections (eq. 23 for as many sensors as planes, least squares otherwise), the
+    predicted vibration after, and the residual unbalance and ISO 21940-11 grades.
+
+    **Arguments:** `data`, the correction `radius` (m), `holes` (split each
+    correction onto the two nearest of this many equally spaced holes, >= 2; None:
+    no split), the `rotor_mass` (kg, for the ISO grades).
+
+    **Raises:** `NumericalError` when the corrections are not finite (a singular
+    influence matrix)."""
+    from .._errors import NumericalError
+
+    as_numpy("radius", radius, sign="positive", shape=())
+    as_numpy("rotor_mass", rotor_mass, sign="positive", shape=())
+    if holes is not None:
+        holes = as_count("holes", holes, minimum=2)
+    X0 = data.X0
+    K = influence_from_trials(X0, data.X_trials, data.trial_unbalances)
+    W = -unbalance_from_vibration(K, X0) if K.shape[0] == K.shape[1] else least_squares_correction(K, X0)
+    if not np.all(np.isfinite(W)):
+        raise NumericalError("balance: the corrections are not finite (a singular influence matrix: do two trial "
+                             "planes act alike?)")
+    warnings = []
+    cond = float(np.linalg.cond(K))
+    if cond > 1e6:
+        warnings.append(f"the influence matrix is ill-conditioned (condition number {cond:.2g}): the planes act "
+                        "almost alike on the sensors, so the corrections are uncertain")
+    sigma_X = np.asarray(data.base["residual_rms"]) * np.sqrt(2.0 / max(data.n_samples_base, 1))
+    sigma_U = np.sqrt(np.abs(np.linalg.pinv(K)) ** 2 @ sigma_X**2)
+    return Balancing(runs_file=data.path, speed=data.speed, planes=tuple(data.planes), sensors=tuple(data.sensors),
+                     K=K, condition=cond, X0=X0, W=W, predicted=X0 + K @ W, radius=float(radius), holes=holes,
+                     rotor_mass=float(rotor_mass), residual_gmm=float(np.sum(sigma_U)) * 1e6,
+                     initial_gmm=float(np.sum(np.abs(W))) * 1e6, warnings=tuple(warnings))

@@ -60,7 +60,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._machine import BalancingMachine
+from ..models._balancing_machine import BalancingMachine
 
 FITTABLE = ("k1", "k2", "c1", "c2", "m", "I")
 
@@ -798,3 +798,63 @@ def response_band(result: Identification, machine: BalancingMachine, speeds, pla
     sd = np.sqrt(np.maximum(np.einsum("scp,pq,scq->sc", g, covariance, g), 0.0))
     z = float(ndtri(0.5 + level / 2))
     return X, np.maximum(amp - z * sd, 0.0), amp + z * sd
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class RunupIdentification:
+    """`identify_runup`'s outcome: the fit (`result`, an `Identification`), the data
+    it used (`path`, `sensors`, `speeds` and phasors `X` of the revolutions kept),
+    and the fitted model's response with its 95 % band (`fitted`, `band_lo`,
+    `band_hi`, at `speeds`)."""
+
+    result: Identification
+    path: str
+    sensors: tuple
+    speeds: np.ndarray
+    X: np.ndarray
+    fitted: np.ndarray
+    band_lo: np.ndarray
+    band_hi: np.ndarray
+
+    @property
+    def n_points(self) -> int:
+        return int(len(self.speeds))
+
+
+def identify_runup(scene, path, fit=("k1", "k2", "c1", "c2"), *, block=1, min_speed=0.0, fit_unbalance=False,
+                   stage=None) -> RunupIdentification:
+    """Identify a balancing machine from a measured run-up file: read the signals,
+    order-track the 1x phasors (`block` revolutions per estimate), keep the
+    revolutions at or above `min_speed` (rad/s), fit `fit` with the run-up model
+    starting from the `BalancingScene` `scene` (its machine, planes and, unless
+    `fit_unbalance`, its unbalances), and compute the fitted response's 95 % band.
+    `stage(text)`, if given, is called as each stage starts (progress)."""
+    from ..models._balancing_machine import BalancingScene
+    from ..models._validate import InputError
+    from ._signals import order_track, read_signals
+
+    if not isinstance(scene, BalancingScene):
+        raise InputError(f"identify_runup needs a BalancingScene (a machine with planes and unbalances), got "
+                         f"{type(scene).__name__}")
+    stage = stage or (lambda text: None)
+    stage("reading the signals")
+    cols = read_signals(path)
+    if len(cols["sensors"]) < 2:
+        raise InputError(f"{path}: the balancing machine needs two sensor columns (x1, x2), found "
+                         f"{', '.join(cols['sensors'])}")
+    x = np.stack([cols[s] for s in cols["sensors"][:2]], axis=1)
+    stage("order tracking (1x phasors per revolution)")
+    track = order_track(cols["time"], x, tacho=cols["tacho"], revolutions_per_block=block, full=True)
+    speeds, X = track.speeds, track.X
+    keep = speeds >= min_speed
+    if keep.sum() < max(4, len(fit)):
+        raise InputError(f"{path}: {int(keep.sum())} revolutions above --min-speed {min_speed:g} rad/s; "
+                         f"need at least {max(4, len(fit))}")
+    base, planes = scene.machine, scene.planes
+    unb = None if fit_unbalance else scene.unbalances
+    stage("Levenberg-Marquardt fit (autodiff Jacobians)")
+    res = identify(base, speeds[keep], X[keep], planes, fit=fit, unbalances=unb, tracking=track)
+    stage("the model's 95% band, plot")
+    Xf, lo, hi = response_band(res, base, speeds[keep], planes, unbalances=unb)
+    return RunupIdentification(result=res, path=path, sensors=tuple(cols["sensors"][:2]), speeds=speeds[keep],
+                               X=X[keep], fitted=Xf, band_lo=lo, band_hi=hi)

@@ -3,7 +3,7 @@
     python -m rotorjax.identify._make_data
 
 Writes into `rotorjax/identify/data/`:
-- `balancing_runs.csv`: three steady runs of the `balancing-machine` preset's rotor
+- `balancing_runs.csv`: three steady runs of the rig `RIG` (the `balancing-machine` preset's rotor)
   at 120 rad/s (2 s each, 2 kHz): without a trial weight, with a trial weight of
   1e-4 kg m at 0 deg in plane 0, and at 90 deg in plane 1; sensor noise 1 % of the
   initial vibration (Gaussian, per sample);
@@ -26,6 +26,8 @@ import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
+
+from ._datasets import RIG, machine_from, planes_from, unbalances_from
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 SEED = 20161
@@ -61,9 +63,7 @@ def _write(path, cols):
 
 
 def make_balancing_runs(p, rng):
-    from ..presets import balancing_machine as bm
-
-    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    machine, planes, U = machine_from(p), planes_from(p), unbalances_from(p)
     w, fs, dur = 120.0, 2000.0, 2.0
     trials = [None, (0, 1e-4, 0.0), (1, 1e-4, 90.0)]
     cols = {k: [] for k in ("time", "tacho", "x1", "x2", "run", "trial_plane", "trial_unbalance", "trial_angle")}
@@ -91,9 +91,7 @@ def make_balancing_runs(p, rng):
 
 
 def make_runup(p, rng, fs=1000.0, duration=20.0, w0=20.0, w1=400.0):
-    from ..presets import balancing_machine as bm
-
-    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    machine, planes, U = machine_from(p), planes_from(p), unbalances_from(p)
     alpha = (w1 - w0) / duration
     t = np.arange(0.0, duration, 1 / fs)
 
@@ -128,10 +126,8 @@ def simulate_from(machine, planes, unbalances, t, theta_fn, X0, w0):
 def _runup_clean(params, fs, duration, w0, w1):
     """`(t, x_D, x_iD)`: the noise-free run-up for the unbalances `D` and for `i D`
     (the response is real-linear in the unbalances), simulated once per setting."""
-    from ..presets import balancing_machine as bm
-
     p = dict(params)
-    machine, planes, U = bm.build_machine(p), bm.planes(p), bm.unbalances(p)
+    machine, planes, U = machine_from(p), planes_from(p), unbalances_from(p)
     alpha = (w1 - w0) / duration
     t = np.arange(0.0, duration, 1 / fs)
 
@@ -156,16 +152,14 @@ def runup_dataset(seed, p=None, fs=1000.0, duration=20.0, w0=20.0, w1=400.0, noi
     between samples in a new way for each seed. Sensor noise: Gaussian, per sample,
     `noise` times the peak of the noise-free signal, drawn anew.
 
-    **Arguments:** `seed` (int), `p` (the `balancing-machine` preset's parameters;
-    default its defaults), the sampling rate `fs` (Hz), the run-up's `duration`
+    **Arguments:** `seed` (int), `p` (the rig's parameters, the keys of `RIG` as
+    the `balancing-machine` preset's; default `RIG`), the sampling rate `fs` (Hz), the run-up's `duration`
     (s) from `w0` to `w1` (rad/s), the relative `noise`.
 
     **Returns:** `{"time", "tacho", "x1", "x2"}` (arrays, the columns of
     `runup.csv`), plus `"phi"` (rad) and `"noise_sd"` (m).
     """
-    from ..presets import balancing_machine as bm
-
-    p = dict(bm.PRESET.defaults) if p is None else dict(p)
+    p = dict(RIG) if p is None else dict(p)
     t, xD, xiD = _runup_clean(tuple(sorted(p.items())), float(fs), float(duration), float(w0), float(w1))
     rng = np.random.default_rng(seed)
     phi = float(rng.uniform(0.0, 2 * np.pi))
@@ -178,12 +172,11 @@ def runup_dataset(seed, p=None, fs=1000.0, duration=20.0, w0=20.0, w1=400.0, noi
 
 
 def main():
-    import rotorjax  # noqa: F401  (float64)
-    from ..presets import balancing_machine as bm
+    from .. import _config  # noqa: F401  (float64)
 
     os.makedirs(DATA, exist_ok=True)
     rng = np.random.default_rng(SEED)
-    p = dict(bm.PRESET.defaults)
+    p = dict(RIG)
     make_balancing_runs(p, rng)
     make_runup(p, rng)
     print(f"wrote {DATA}/balancing_runs.csv and runup.csv")

@@ -6,7 +6,7 @@ tachometer pulse channel). The rotor angle is `theta = 2 pi k` at the k-th pulse
 fitted over whole revolutions by least squares,
 `x(t) ~ a cos theta + b sin theta + c`, and reported as the phasor `X = a - i b`
 so that `x = Re(X e^{i theta})`: amplitude `|X|`, phase `arg X` measured from the
-mark in the direction of rotation (see `_machine`). The run's speed is the mean
+mark in the direction of rotation (see `rotorjax.models._balancing_machine`). The run's speed is the mean
 of `2 pi / (pulse period)` over the fitted revolutions.
 
 Files (CSV with a header row, or NumPy `.npz` with the same names):

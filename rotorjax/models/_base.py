@@ -6,6 +6,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from ._rotation import quarter_turn, rotate
+
 
 class Kinematics(eqx.Module):
     """What every component may see at one instant.
@@ -24,13 +26,12 @@ class Kinematics(eqx.Module):
 
     def to_fixed(self, p: jax.Array) -> jax.Array:
         """Rotate a rotor-frame vector into the fixed frame."""
-        c, s = jnp.cos(self.theta), jnp.sin(self.theta)
-        return jnp.stack([c * p[0] - s * p[1], s * p[0] + c * p[1]])
+        return rotate(self.theta, p)
 
     def velocity_of(self, p: jax.Array, p_dot: jax.Array) -> jax.Array:
         """Fixed-frame velocity of a point at rotor-frame position `p` moving at
         rotor-frame velocity `p_dot` (transport + spin + relative)."""
-        spin = self.theta_dot * jnp.stack([-p[1], p[0]])
+        spin = self.theta_dot * quarter_turn(p)
         return jnp.stack([self.xd, self.yd]) + self.to_fixed(p_dot + spin)
 
 

@@ -22,9 +22,7 @@ checks them equal to the autodiff path at random states and parameters, and
 import jax.numpy as jnp
 
 
-def _rot(theta, v):
-    c, s = jnp.cos(theta), jnp.sin(theta)
-    return jnp.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+from ._rotation import rotate as _rot
 
 
 def planar_balancer_field(rotor, supports, balancer, speed, t, y):

@@ -7,15 +7,17 @@ import numpy as np
 
 from ._balancer import AutoBalancer
 from ._base import AbstractComponent, Kinematics
+from ._contract import AbstractScene
 from ._fastpath import planar_balancer_field
 from ._lagrange import lagrange_accelerations
+from ._rotation import to_fixed_pair, to_rotating_pair
 from ._rotor import RigidRotor
 from ._speed import AbstractSpeedProfile
 from ._supports import Supports
 from ._validate import InputError, as_numpy, check_choice, is_concrete
 
 
-class Scene(eqx.Module):
+class Scene(AbstractScene):
     """A planar rotor scene.
 
     Generalised coordinates `q = (x, y, <each component's own coordinates>)`, in
@@ -174,6 +176,28 @@ class Scene(eqx.Module):
             out.update(c.outputs(kin, q[sl], qd[sl]))
         out["residual_imbalance"] = jnp.linalg.norm(self.imbalance(t, y))
         return out
+
+    def weight_coordinates(self):
+        bal = self.find(AutoBalancer)
+        if bal is None:
+            return np.zeros(0, dtype=int), True
+        sl = next(sl for c, sl in zip(self.components, self._slices()) if c is bal)
+        m = np.asarray(bal.mass) if is_concrete(bal.mass) else None
+        same = m is not None and bool(np.all(m == m[0]))
+        return np.arange(sl.start, sl.stop), same
+
+    # --- rotating frame ---------------------------------------------------------------
+    def to_rotating(self, t, y):
+        """`z = (u, psi, u', psi')`: the rotor centre in the frame spinning with the
+        rotor (the weights' coordinates are already relative to it)."""
+        n = self.n_dof
+        u, ud = to_rotating_pair(self.speed.angle(t), self.speed.speed(t), y[0:2], y[n:n + 2])
+        return jnp.concatenate([u, y[2:n], ud, y[n + 2:]])
+
+    def to_fixed(self, t, z):
+        n = self.n_dof
+        c, cd = to_fixed_pair(self.speed.angle(t), self.speed.speed(t), z[0:2], z[n:n + 2])
+        return jnp.concatenate([c, z[2:n], cd, z[n + 2:]])
 
     def rest_state(self, angles=None) -> jax.Array:
         """A state with the rotor centred and at rest, weights at `angles` (race

@@ -24,14 +24,33 @@ class AbstractSpeedProfile(eqx.Module):
         return jax.jvp(self.speed, (t,), (jnp.ones_like(t),))[1]
 
 
+def speed_alias(speed, alias, alias_name: str, owner: str):
+    """The speed passed as `speed`, or under its paper symbol `alias_name` (a
+    documented alias, by keyword); exactly one of the two."""
+    if alias is not None:
+        if speed is not None:
+            raise InputError(f"{owner}: give the speed once, as speed or as {alias_name} (its alias), "
+                             f"not both")
+        return alias
+    if speed is None:
+        raise InputError(f"{owner}: the speed is required (speed, or {alias_name})")
+    return speed
+
+
 class ConstantSpeed(AbstractSpeedProfile):
-    """`theta(t) = theta0 + speed * t` (rad/s, or the dimensionless `nu`, `n`)."""
+    """`theta(t) = theta0 + speed * t` (rad/s, or the dimensionless `nu`, `n`).
+
+    **Arguments:** `speed` (alias `omega`, the field's name: `profile.omega`),
+    `theta0`. `ConstantSpeed(2.0)`, `ConstantSpeed(speed=2.0)` and
+    `ConstantSpeed(omega=2.0)` are the same profile. (`profile.speed(t)` is the
+    speed at time `t`, as for every profile.)"""
 
     omega: jax.Array
     theta0: jax.Array
 
-    def __init__(self, omega, theta0=0.0):
-        self.omega = as_param("omega (speed)", omega, shape=())
+    def __init__(self, speed=None, theta0=0.0, *, omega=None):
+        name = "omega (speed)" if omega is not None else "speed"
+        self.omega = as_param(name, speed_alias(speed, omega, "omega", "ConstantSpeed"), shape=())
         self.theta0 = as_param("theta0", theta0, shape=())
 
     def angle(self, t):
@@ -42,18 +61,27 @@ class ConstantSpeed(AbstractSpeedProfile):
 
 
 class RunUp(AbstractSpeedProfile):
-    """Constant angular acceleration: `theta = theta0 + omega0 t + alpha t^2 / 2`.
+    """Constant angular acceleration: `theta = theta0 + speed0 t + alpha t^2 / 2`.
 
-    A negative `acceleration` is a run-down."""
+    **Arguments:** the initial speed `speed0` (alias `omega0`, the field's name:
+    `profile.omega0`), `acceleration` (a negative one is a run-down), `theta0`."""
 
     omega0: jax.Array
     acceleration_rate: jax.Array
     theta0: jax.Array
 
-    def __init__(self, omega0, acceleration, theta0=0.0):
-        self.omega0 = as_param("omega0 (initial speed)", omega0, shape=())
+    def __init__(self, speed0=None, acceleration=None, theta0=0.0, *, omega0=None):
+        name = "omega0 (initial speed)" if omega0 is not None else "speed0 (initial speed)"
+        self.omega0 = as_param(name, speed_alias(speed0, omega0, "omega0", "RunUp"), shape=())
+        if acceleration is None:
+            raise InputError("RunUp: acceleration is required")
         self.acceleration_rate = as_param("acceleration", acceleration, shape=())
         self.theta0 = as_param("theta0", theta0, shape=())
+
+    @property
+    def speed0(self):
+        """The initial speed (`omega0`)."""
+        return self.omega0
 
     def angle(self, t):
         return self.theta0 + self.omega0 * t + 0.5 * self.acceleration_rate * t**2

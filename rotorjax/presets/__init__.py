@@ -1,4 +1,4 @@
-"""The published scenes, by CLI name."""
+"""The published scenes, by CLI name; `get` also opens rotor files (`.toml`)."""
 
 from . import _anisotropic_abb as anisotropic_abb
 from . import _balancing_machine as balancing_machine
@@ -8,14 +8,26 @@ from . import _jeffcott_abb as jeffcott_abb
 from . import _ross_compare as ross_compare
 from .._errors import InputError
 from ._base import Preset as Preset
+from ._base import Setup as Setup
 
 PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross_compare.PRESET,
                                 flexible_abb.PRESET, cantilever_limiters.PRESET,
                                 balancing_machine.PRESET)}
 
 
-def get(name: str) -> Preset:
-    """The preset called `name`; an unknown name raises, listing the known ones."""
+def get(name) -> Preset:
+    """The preset called `name`, or for a path ending in `.toml` the rotor file's
+    preset (its `--set` keys are the file's scalar entries, e.g. `bearing0.kxx`); an
+    unknown name raises, listing the known ones."""
+    if str(name).endswith(".toml"):
+        import importlib.util
+
+        if importlib.util.find_spec(f"{__name__}._rotor_file") is None:
+            raise InputError(f"{name}: rotor files (.toml) are not supported by this installation "
+                             "(rotorjax.presets._rotor_file is missing)")
+        from ._rotor_file import preset_from_file
+
+        return preset_from_file(name)
     if name not in PRESETS:
         raise InputError(f"unknown preset {name!r}; known: {', '.join(sorted(PRESETS))}")
     return PRESETS[name]

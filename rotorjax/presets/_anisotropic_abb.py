@@ -28,7 +28,8 @@ import numpy as np
 from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
 from ..models import balancing_angles
-from ._base import Preset
+from ._base import Preset, Setup
+from ._hooks import scene_regimes
 
 GROUPS = ("n_eta", "mu_xi", "mu_eta", "sigma", "c", "eps", "mu_w")
 
@@ -147,7 +148,21 @@ def criterion_roots(n_eta, mu_xi, mu_eta, lo=0.0, hi=None):
     return [float(x) for x in n if lo <= x <= hi]
 
 
-def _build(p):
+def floquet_family(p, key):
+    """`value -> FloquetResult`: the main motion's Floquet analysis at `p` with the
+    parameter `key` at `value` (one-parameter continuation of its multipliers)."""
+
+    def fl(v):
+        q = dict(p, **{key: v})
+        return main_motion_floquet({k: q[k] for k in GROUPS}, q["n"], q["K"])
+
+    return fl
+
+
+def build(p) -> Setup:
+    """The scene at `p` (a run-up where `n_dot != 0`), the weights near the main
+    motion (deviated by `perturbation`), and the run's length (to `n_end` for a
+    run-up, else 200)."""
     N = n_weights_from_sigma(p["sigma"])
     scene = scene_from_groups(
         p["n_eta"], p["mu_xi"], p["mu_eta"], p["sigma"], p["c"], p["eps"], p["mu_w"],
@@ -161,7 +176,12 @@ def _build(p):
             raise InputError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
     else:
         t_end = 200.0
-    return scene, y0, t_end
+    return Setup(scene, y0, t_end)
+
+
+def _build(p):
+    """`(scene, y0, t_end)` (the tuple `build` returned before `Setup`)."""
+    return tuple(build(p))
 
 
 PRESET = Preset(
@@ -172,7 +192,7 @@ PRESET = Preset(
         "mu_w": 0.5, "n": 3.0, "n_dot": 0.0, "n0": 0.0, "n_end": 10.0, "K": 1.0,
         "perturbation": 0.1,
     },
-    build=_build,
+    build=build,
     describe_params={
         "n_eta": "wy/wx (support anisotropy)", "mu_xi": "bx/(2 Ms wx)", "mu_eta": "by/(2 Ms wx)",
         "sigma": "1/N (N weights)", "c": "m0/(N m) imbalance ratio", "eps": "N m/(K Ms)",
@@ -195,4 +215,10 @@ PRESET = Preset(
     topology_keys=("sigma",),
     # the paper's speed range and weight damping from nearly none to twice the default: three boundaries
     box={"n": (0.5, 10.0), "mu_w": (0.05, 1.0)},
+    # Floquet margins come from an adaptive integration: tangents by central differences
+    margin_gradient="fd",
+    floquet_family=floquet_family,
+    criterion_roots=lambda p, lo, hi: criterion_roots(p["n_eta"], p["mu_xi"], p["mu_eta"], lo, hi),
+    criterion_label="paper's criterion p(n) = 0 (eq. 18)",
+    regimes=scene_regimes(build, {"n_dot": 0.0}),
 )

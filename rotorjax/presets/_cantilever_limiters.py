@@ -10,9 +10,9 @@ groups `mu_R`, `beta`, `d_ratio` come from its geometry (`groups_from_si`).
 import numpy as np
 
 from .._errors import InputError
-from ..contact import CantileverScene, Limiters
-from ..flexible._cantilever import PAPER_SI, CantileverRotor, groups_from_si
-from ._base import Preset
+from ..models import CantileverScene, Limiters
+from ..models._cantilever import PAPER_SI, CantileverRotor, groups_from_si
+from ._base import Preset, Setup
 
 _G = groups_from_si(**{k: PAPER_SI[k] for k in ("l", "d", "D", "a", "E", "rho")})
 
@@ -43,13 +43,78 @@ def initial_state(scene, p):
     return y0.at[n:2 * n].add(p["perturbation"] * scene.disk[1])
 
 
-def _build(p):
+def build(p) -> Setup:
+    """The scene, straight-line rotation with a kick, `revolutions` turns; extras:
+    `events` (locate the contacts exactly), `revolutions`, `saves_per_revolution`
+    (40), `analysis_revolutions` (the paper's window: the last 300 turns) and the
+    limiters' `clearance`."""
     if not p["N"] > 0:
         raise InputError(f"N (spin speed) must be > 0: runs are measured in revolutions; got {p['N']}")
     if p["revolutions"] < 1:
         raise InputError(f"revolutions must be >= 1, got {p['revolutions']}")
     scene = build_scene(p)
-    return scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"]
+    return Setup(scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"],
+                 extras={"events": bool(p["events"]), "revolutions": int(p["revolutions"]),
+                         "saves_per_revolution": 40, "analysis_revolutions": 300, "clearance": p["chi"]})
+
+
+def _build(p):
+    """`(scene, y0, t_end)` (the tuple `build` returned before `Setup`)."""
+    return tuple(build(p))
+
+
+def hopf(p, lo, hi, n_scan=80, progress=True) -> dict:
+    """Hopf points of straight-line rotation for `N` in `[lo, hi]` (the linearised
+    rotor's eigenvalues, scan and bisection), each with its whirl direction and
+    `dN_crit/d eta_e` (implicit function theorem), and the paper's fit
+    `N_crit = 2.47 eta_e/eta_i + 1.64`; `"scan"` holds the margin scanned and
+    `"present"` the plot's labels."""
+    from ..analysis import hopf_points, hopf_speed_gradient
+
+    rotor = build_rotor(p)
+    points, scan = hopf_points(rotor.state_matrix, lo, hi, n_scan=n_scan, return_scan=True, progress=progress)
+
+    def a_of(s, eta_e):
+        return build_rotor(dict(p, eta_e=eta_e)).state_matrix(s)
+
+    out = {"unit": "speed N and whirl frequency in 1/T*", "hopf_points": []}
+    for h in points:
+        _, fwd = rotor.whirl_direction(h.speed)
+        d = h.as_dict()
+        d.update({"N_crit": h.speed, "whirl_frequency": h.frequency,
+                  "whirl": "forward" if bool(fwd) else "backward",
+                  "dN_crit_d_eta_e": hopf_speed_gradient(a_of, h.speed, p["eta_e"])})
+        out["hopf_points"].append(d)
+    if points:
+        out["N_crit"], out["whirl_frequency"] = points[0].speed, points[0].frequency
+        ratio = p["eta_e"] / p["eta_i"] if p["eta_i"] > 0 else None
+        out["eta_e_over_eta_i"] = ratio
+        if ratio is not None:
+            out["paper_fit"] = {"N_crit": 2.47 * ratio + 1.64, "formula": "N_crit = 2.47 eta_e/eta_i + 1.64"}
+    out["scan"] = scan
+    out["present"] = {
+        "title": f"straight-line rotation, eta_i = {p['eta_i']:g}, eta_e = {p['eta_e']:g}",
+        "speed_label": "spin speed N (units 1/T*)", "margin_label": "largest Re(lambda) (units 1/T*)",
+        "extra_roots": [out["paper_fit"]["N_crit"]] if "paper_fit" in out else None,
+        "extra_label": "paper's fit 2.47 eta_e/eta_i + 1.64",
+        "sensitivity": ("dN_crit_d_eta_e", "dN/d eta_e"),
+    }
+    return out
+
+
+def _limiter_part(attr):
+    def where(scene):
+        if scene.limiters is None:
+            raise InputError("needs limiters (--set n_limiters=0 removed them)")
+        return getattr(scene.limiters, attr)
+
+    return where
+
+
+#: the keys `bifurcation` sweeps, and the scene's leaf each one sets
+SWEEPABLE = {"eps": lambda s: s.eps, "N": lambda s: s.N, "phase": lambda s: s.phase,
+             "f_S": _limiter_part("friction"), "chi": _limiter_part("clearance"),
+             "kappa": _limiter_part("stiffness"), "eta_S": _limiter_part("damping")}
 
 
 PRESET = Preset(
@@ -62,7 +127,7 @@ PRESET = Preset(
         "n_elements": 8, "n_modes": 6, "events": 0, "smoothing": 1e-6, "revolutions": 600,
         "perturbation": 1e-3,
     },
-    build=_build,
+    build=build,
     describe_params={
         "N": "spin speed (units 1/T*)", "eps": "eccentricity e/l", "phase": "unbalance phase (rad)",
         "eta_i": "internal (Voigt) damping", "eta_e": "external shaft damping",
@@ -97,4 +162,6 @@ PRESET = Preset(
     kind="contact",
     # the Hopf curve of straight-line rotation runs from N = 13.2 (eta_e = 0) to 14.8 (eta_e = 0.06)
     box={"N": (1.0, 40.0), "eta_e": (0.0, 0.06)},
+    hopf=hopf,
+    sweepable=SWEEPABLE,
 )

@@ -25,7 +25,8 @@ import numpy as np
 
 from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports, weights_at
-from ._base import Preset
+from ._base import Preset, Setup
+from ._hooks import scene_regimes
 
 GROUPS = ("chi", "eps", "alpha", "rho1", "rho2", "delta_n", "delta_b")
 
@@ -118,13 +119,35 @@ def balanced_regime(p):
     return steady_state(scene, jnp.concatenate([jnp.zeros(2), psi]))
 
 
+def branch_problem(p, key):
+    """`(F(u, v), u0)`: the balanced regime of a circular race in the rotating frame,
+    as a root in `u` of the scene's rotating-frame field with the parameter `key` at
+    `v`, from the regime at `p` (one-parameter continuation)."""
+    from ..analysis import rotating_field
+
+    regime = balanced_regime(p)
+    if not bool(regime.converged):
+        raise InputError(f"no balanced regime at the starting parameters (residual {float(regime.residual):.2e})")
+
+    def F(u, v):
+        q = dict(p, **{key: v})
+        scene = scene_from_groups(q["chi"], q["eps"], q["alpha"], q["rho1"], q["rho2"], q["delta_n"],
+                                  q["delta_b"], nu=q["nu"], n_balls=p["n_balls"], K=q["K"])
+        return rotating_field(scene, 0.0, u)
+
+    return F, np.asarray(regime.z)
+
+
 def _balanced_margin(p):
     r = balanced_regime(p)
     ok = r.converged & (r.whirl_amplitude < 1e-8)
     return jnp.where(ok, r.margin, jnp.nan)
 
 
-def _build(p):
+def build(p) -> Setup:
+    """The scene at `p` (a run-up where `nu_dot != 0`), the balls at rest relative to
+    the rotor at `psi1 + j psi_spacing` from the imbalance, and the run's length (to
+    `nu_end` for a run-up, else 200)."""
     scene = scene_from_groups(
         p["chi"], p["eps"], p["alpha"], p["rho1"], p["rho2"], p["delta_n"], p["delta_b"],
         nu=p["nu"], nu_dot=p["nu_dot"], nu0=p["nu0"], n_balls=p["n_balls"], K=p["K"],
@@ -142,7 +165,12 @@ def _build(p):
             )
     else:
         t_end = 200.0
-    return scene, y0, t_end
+    return Setup(scene, y0, t_end)
+
+
+def _build(p):
+    """`(scene, y0, t_end)` (the tuple `build` returned before `Setup`)."""
+    return tuple(build(p))
 
 
 PRESET = Preset(
@@ -153,7 +181,7 @@ PRESET = Preset(
         "delta_n": 0.18, "delta_b": 40.0, "nu": 1.5, "nu_dot": 0.0, "nu0": 0.0,
         "nu_end": 4.0, "n_balls": 2, "K": 1.0, "psi1": np.pi - 0.1, "psi_spacing": 0.2,
     },
-    build=_build,
+    build=build,
     describe_params={
         "chi": "ball mass / disk mass", "eps": "eccentricity / r", "alpha": "imbalance phase (rad)",
         "rho1": "race semi-axis 1 / r", "rho2": "race semi-axis 2 / r",
@@ -179,4 +207,6 @@ PRESET = Preset(
     topology_keys=("n_balls",),
     # with rho2 = rho1: the balanced regime's boundary runs from nu = 1.001 (delta_n = 0.5) to delta_n -> 0
     box={"nu": (0.5, 4.0), "delta_n": (0.0, 0.5)},
+    branch_problem=branch_problem,
+    regimes=scene_regimes(build, {"nu_dot": 0.0}),
 )

@@ -7,9 +7,9 @@ and 6 with kxx = 1e6, kyy = 0.8e6 N/m, no damping. SI units (rad/s, m).
 
 import numpy as np
 
-from ..flexible import FlexibleRotor
+from ..models import FlexibleRotor, RotorScene
 from .._errors import InputError
-from ._base import Preset
+from ._base import Preset, Setup
 
 
 def build_rotor(p) -> FlexibleRotor:
@@ -28,7 +28,14 @@ def build_rotor(p) -> FlexibleRotor:
     )
 
 
+def build(p) -> Setup:
+    """The rotor as a scene (at rest, no initial state: the preset is analysed
+    linearly, not simulated)."""
+    return Setup(RotorScene(build_rotor(p)))
+
+
 def _build(p):
+    """`(rotor, None, None)` (the tuple `build` returned before `Setup`)."""
     return build_rotor(p), None, None
 
 
@@ -41,7 +48,7 @@ PRESET = Preset(
         "disk_Ip": 0.32956362089137037, "disk1_node": 2, "disk2_node": 4,
         "kxx": 1e6, "kyy": 0.8e6, "cxx": 0.0, "cyy": 0.0, "timoshenko": 1,
     },
-    build=_build,
+    build=build,
     describe_params={
         "shaft_length": "shaft length", "n_elements": "shaft elements (equal lengths)",
         "shaft_diameter": "shaft outer diameter", "E": "Young's modulus", "G": "shear modulus",

@@ -15,6 +15,7 @@ import jax
 import jax.numpy as jnp
 import optimistix as optx
 
+from ..models._contract import require
 from ..models._validate import InputError, as_count
 from ._results import SimulationResult
 from ._simulate import _check_inputs, _split_span, _y0
@@ -31,7 +32,8 @@ def simulate_events(scene, y0, t_span, saveat=2000, solver="dopri8", rtol=1e-8, 
     t0, t1 = _split_span(t_span)
     y0 = _y0(y0)
     max_steps = _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps)
-    if getattr(scene, "n_contacts", 0) < 1:
+    require(scene, "contact_indicator", "simulate_events")
+    if scene.n_contacts < 1:
         raise InputError("scene: simulate_events needs a scene with contacts (limiters); use simulate")
     saveat = as_count("saveat (number of saved states)", saveat, minimum=2)
     block = as_count("block", block, minimum=1)

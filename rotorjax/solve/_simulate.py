@@ -6,11 +6,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..models._contract import AbstractScene
 from ..models._validate import InputError, as_count, as_numpy, is_concrete, show
 from ._results import SimulationResult, result_code
 from ._stiffness import choose_solver
 
-_SCENE_API = ("state_size", "vector_field", "outputs", "describe")
 
 
 def _field(t, y, scene):
@@ -18,10 +18,10 @@ def _field(t, y, scene):
 
 
 def _check_scene(scene):
-    missing = [a for a in _SCENE_API if not hasattr(scene, a)]
-    if missing:
-        raise InputError(f"scene must be a rotorjax scene (Scene, CantileverScene, ModalBalancerRotor, ...); "
-                         f"a {type(scene).__name__} has no {', '.join(missing)}")
+    if not isinstance(scene, AbstractScene):
+        raise InputError(f"scene must be a rotorjax scene (rotorjax.models.AbstractScene: Scene, RotorScene, "
+                         f"CantileverScene, ModalBalancerRotor, ...); a {type(scene).__name__} has no state_size, "
+                         "vector_field, outputs")
 
 
 def _split_span(t_span):

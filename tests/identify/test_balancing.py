@@ -11,7 +11,7 @@ from rotorjax.presets import balancing_machine as bm
 from tests.helpers import central_difference
 
 P = dict(bm.PRESET.defaults)
-MACHINE, PLANES, U = bm._build(P)
+MACHINE, PLANES, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
 
 
 def trial_runs(machine, w, trials=(1e-4, 1e-4j)):

@@ -14,7 +14,7 @@ from rotorjax.identify import _make_data as md
 from rotorjax.presets import balancing_machine as bm
 
 P = dict(bm.PRESET.defaults)
-MACHINE, PLANES, U = bm._build(P)
+MACHINE, PLANES, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
 NAMES = ("k1", "k2", "c1", "c2")
 TRUTH = np.array([P[k] for k in NAMES])
 START = bm.build_machine(dict(P, k1=1.5e5, k2=3.75e5, c1=100.0, c2=266.0))

@@ -16,7 +16,8 @@ START = {"psi1": 1.0, "psi_spacing": 2.5}
 
 def _run(overrides, t_end, n_save=8, rtol=1e-9):
     p = PRESET.params(dict(START, **overrides))
-    scene, y0, _ = PRESET.build(p)
+    setup = PRESET.build(p)
+    scene, y0 = setup.scene, setup.y0
     r = rj.simulate(scene, y0, (0.0, t_end), saveat=n_save, rtol=rtol, atol=rtol * 1e-2)
     assert bool(r.success), r.message
     return p, scene, r
@@ -81,7 +82,8 @@ def test_runup_through_resonance_reproduces_fig3():
 def test_trajectory_matches_scipy_dop853(overrides, t_end):
     """Against scipy DOP853 at rtol 1e-11 on the independent paper equations."""
     p = PRESET.params(dict(START, **overrides))
-    scene, y0, _ = PRESET.build(p)
+    setup = PRESET.build(p)
+    scene, y0 = setup.scene, setup.y0
     ts = np.linspace(0.0, t_end, 7)
     r = rj.simulate(scene, y0, (0.0, t_end), saveat=ts, rtol=1e-12, atol=1e-14)
     ref = solve_ivp(rhs_000_paper, (0.0, t_end), np.asarray(y0), method="DOP853", t_eval=ts,

@@ -18,7 +18,8 @@ def test_main_motion_is_an_exact_solution():
     as at n = 6)."""
     for n, tol in ((0.7, 1e-11), (3.0, 1e-11), (6.0, 1e-8)):
         p = PRESET.params({"n": n, "perturbation": 0.0})
-        scene, y0, _ = PRESET.build(p)
+        setup = PRESET.build(p)
+        scene, y0 = setup.scene, setup.y0
         np.testing.assert_allclose(np.asarray(y0[2:4]), [2 * np.pi / 3, 4 * np.pi / 3], atol=1e-15)
         r = rj.simulate(scene, y0, (0.0, 50.0), saveat=11, rtol=1e-10, atol=1e-12)
         assert bool(r.success)
@@ -31,7 +32,8 @@ def test_perturbed_main_motion(n, returns):
     """eps = 0.01, mu_w = 0.5, n_eta = 7, mu_xi = 0.25, mu_eta = 0.5: from a perturbed
     main motion the rotor returns to it at n = 3 and does not at n = 6."""
     p = PRESET.params({"n": n, "eps": 0.01, "mu_w": 0.5})
-    scene, y0, t_end = PRESET.build(p)
+    setup = PRESET.build(p)
+    scene, y0, t_end = setup.scene, setup.y0, setup.t_end
     r = rj.simulate(scene, y0, (0.0, t_end), saveat=np.linspace(t_end - 10, t_end, 50))
     assert bool(r.success)
     amp = float(np.max(r.outputs["whirl_amplitude"]))
@@ -49,7 +51,8 @@ def test_trajectory_matches_scipy_dop853(n):
     """Against scipy DOP853 at rtol 1e-11 on the independent paper equations; speeds
     chosen away from the ill-conditioned band n = 7.2-8.2 (shared/PERFORMANCE.md)."""
     p = PRESET.params({"n": n})
-    scene, y0, _ = PRESET.build(p)
+    setup = PRESET.build(p)
+    scene, y0 = setup.scene, setup.y0
     t_end = 50.0
     ts = np.linspace(0.0, t_end, 6)
     r = rj.simulate(scene, y0, (0.0, t_end), saveat=ts, rtol=1e-12, atol=1e-14)

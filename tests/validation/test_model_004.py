@@ -11,7 +11,7 @@ import scipy.optimize
 import rotorjax as rj
 from rotorjax.analysis import hopf_points, hopf_speed_gradient, precession
 from rotorjax.contact import CantileverScene
-from rotorjax.contact._scene import energy_residual
+from rotorjax.contact import energy_residual
 from rotorjax.flexible import (PAPER_SI, CantileverRotor, groups_from_si, limiter_groups_from_si,
                                synchronous_critical_speeds)
 from rotorjax.presets import cantilever_limiters as cl

@@ -5,9 +5,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
+from ._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
                                is_concrete, per_item, show)
-from ._elements import element_matrices
+from ._fe_elements import element_matrices
 
 DOFS_PER_NODE = 4  # x, y, sx, sy
 
@@ -29,6 +29,15 @@ def _entries(name, value):
     return entries
 
 
+def _material(name, value, n_el, sign):
+    """A material constant: a scalar (the whole shaft) or one value per element."""
+    v = as_param(name, value, sign=sign)
+    if v.ndim != 0 and v.shape != (n_el,):
+        raise InputError(f"{name} must be a scalar or one value per element ({n_el}), got shape {v.shape}"
+                         + (f": {show(value)}" if is_concrete(value) else ""))
+    return v
+
+
 class FlexibleRotor(eqx.Module):
     """Shaft of `n` beam elements between `n + 1` nodes, rigid disks and linear
     bearings at nodes, assembled into `M q'' + (C + Omega G1) q' + K q = F`.
@@ -38,7 +47,9 @@ class FlexibleRotor(eqx.Module):
     (differentiable, vmappable); node indices, `theory` and `fixed_dofs` are static.
 
     **Arguments:**
-    - `lengths`, `d_out`, `d_in`: per element (m); `E`, `G`, `rho` (Pa, Pa, kg/m^3).
+    - `lengths`, `d_out`, `d_in`: per element (m); `E`, `G`, `rho` (Pa, Pa, kg/m^3)
+      and `nu` (Poisson's ratio, default `E / (2 G) - 1`, for Cowper's shear
+      coefficient): each a scalar (one material) or one value per element.
     - `disks`: `(node, mass, It, Ip)` tuples; `bearings`: `(node, kxx, kyy, cxx, cyy)` or
       `(node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx)` tuples.
     - `theory`: "timoshenko" (shear and rotary inertia), "rayleigh" (rotary inertia,
@@ -52,6 +63,7 @@ class FlexibleRotor(eqx.Module):
     E: jax.Array
     G: jax.Array
     rho: jax.Array
+    nu: jax.Array  # Poisson's ratio behind kappa (given, or E / (2 G) - 1)
     kappa: jax.Array
     disk_nodes: tuple = eqx.field(static=True)
     disk_params: jax.Array  # (n_disks, 3): mass, It, Ip
@@ -71,14 +83,15 @@ class FlexibleRotor(eqx.Module):
             raise InputError(f"d_in (inner diameter) must be smaller than d_out (outer diameter), got "
                              f"d_in = {float(d_in[k])!r} >= d_out = {float(d_out[k])!r} (element {k})")
         self.lengths, self.d_out, self.d_in = lengths, d_out, d_in
-        self.E = as_param("E (Young's modulus)", E, sign="positive", shape=())
-        self.G = as_param("G (shear modulus)", G, sign="positive", shape=())
-        self.rho = as_param("rho (density)", rho, sign="positive", shape=())
+        self.E = _material("E (Young's modulus)", E, n_el, "positive")
+        self.G = _material("G (shear modulus)", G, n_el, "positive")
+        self.rho = _material("rho (density)", rho, n_el, "positive")
         if nu is None:
             nu = self.E / (2 * self.G) - 1
         else:
-            nu = as_param("nu (Poisson's ratio)", nu, shape=())
+            nu = _material("nu (Poisson's ratio)", nu, n_el, "any")
             check("nu (Poisson's ratio)", nu, lambda a: (a > -1) & (a <= 0.5), "in (-1, 0.5]")
+        self.nu = nu
         self.kappa = cowper_shear_coefficient(nu, self.d_out, self.d_in)
         check_choice("theory", theory, ("timoshenko", "rayleigh", "euler-bernoulli"))
         self.theory = theory
@@ -151,9 +164,12 @@ class FlexibleRotor(eqx.Module):
         n = self.n_dofs
         shear = self.theory == "timoshenko"
         rotary = self.theory in ("timoshenko", "rayleigh")
+        # a material given once is closed over (unbatched); per-element values are mapped
+        axes = tuple(0 if a.ndim else None for a in (self.E, self.G, self.rho))
         Me, Ge, Ke = jax.vmap(
-            lambda L, do, di, kap: element_matrices(self.E, self.G, self.rho, do, di, L, kap, shear, rotary)
-        )(self.lengths, self.d_out, self.d_in, self.kappa)
+            lambda E, G, rho, L, do, di, kap: element_matrices(E, G, rho, do, di, L, kap, shear, rotary),
+            in_axes=axes + (0, 0, 0, 0),
+        )(self.E, self.G, self.rho, self.lengths, self.d_out, self.d_in, self.kappa)
         idx = np.arange(self.n_nodes - 1)[:, None] * DOFS_PER_NODE + np.arange(8)[None, :]
         rows = np.repeat(idx[:, :, None], 8, axis=2)
         cols = np.repeat(idx[:, None, :], 8, axis=1)
@@ -191,6 +207,6 @@ class FlexibleRotor(eqx.Module):
     def reduce(self, n_modes):
         """This rotor reduced to its `n_modes` lowest undamped modes (`ReducedRotor`;
         `1 <= n_modes <=` the number of free dofs)."""
-        from ._reduction import ReducedRotor
+        from ._fe_reduction import ReducedRotor
 
         return ReducedRotor(self, n_modes)

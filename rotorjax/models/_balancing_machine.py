@@ -13,7 +13,16 @@ support 1 gives the force `Re(D w^2 e^{i w t}) (l - a, a) / l` (eq. 8), so the
 support vibration `x = Re(X e^{i w t})` has the complex amplitudes
 `X = K(w, a) D` with the vector influence coefficients (eqs. 15, 17)
 
-    K(w, a) = (w^2 / l) (C - w^2 A + i w B)^-1 (l - a, a).
+    K(w, a) = (w^2 / l) (C - w^2 A + i w B)^-1 (l - a, a),
+
+the one frequency-response solve (`rotorjax.models._frequency`) with `M = A`,
+damping `B`, stiffness `C`.
+
+Two classes: `BalancingMachine` is the rotor on its supports (what identification
+fits: seven parameters, vmapped); `BalancingScene` is that machine with its
+correction planes, unbalances and a speed profile, an `AbstractScene` (time
+integration of eq. 8 under the rotating unbalance force, linear matrices,
+unbalance load).
 
 Phase convention (used everywhere in `rotorjax.identify`): angles are measured
 from the once-per-revolution mark in the direction of rotation; a vibration
@@ -25,7 +34,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import InputError, as_numpy, as_param, is_concrete
+from ._contract import AbstractScene, LinearMatrices
+from ._frequency import dynamic_stiffness, frequency_response
+from ._speed import AbstractSpeedProfile, ConstantSpeed
+from ._validate import InputError, as_numpy, as_param, check_type, is_concrete
 
 
 class BalancingMachine(eqx.Module):
@@ -56,13 +68,19 @@ class BalancingMachine(eqx.Module):
 
     def dynamic_stiffness(self, w):
         A, B, C = self.matrices()
-        return C - w**2 * A + 1j * w * B
+        return dynamic_stiffness(A, B, C, w)
+
+    def lever(self, planes):
+        """`(l - a_j, a_j) / l`: how a plane's force splits between the supports, `(2, n_planes)`."""
+        planes = jnp.asarray(planes, dtype=jnp.float64)
+        return jnp.stack([self.l - planes, planes]) / self.l
 
     def influence(self, w, a):
         """Vector influence coefficients `(K_1, K_2)` of a plane at distance `a` from
         support 1, at speed `w` (rad/s): eqs. (15), (17). Vmap over `w` and `a`."""
+        A, B, C = self.matrices()
         load = jnp.stack([self.l - a, a]).astype(jnp.complex128)
-        return w**2 / self.l * jnp.linalg.solve(self.dynamic_stiffness(w), load)
+        return w**2 / self.l * frequency_response(A, B, C, load, w)
 
     def influence_matrix(self, w, planes):
         """`K[i, j]`: support `i`, plane `j` at `planes[j]` (distances from support 1)."""
@@ -87,6 +105,83 @@ class BalancingMachine(eqx.Module):
         amp = jnp.real(jnp.asarray(unbalances) * (theta_d**2 - 1j * theta_dd) * jnp.exp(1j * theta))
         f = lever @ amp
         return jnp.concatenate([v, jnp.linalg.solve(A, f - B @ v - C @ x)])
+
+
+class BalancingScene(AbstractScene):
+    """A `BalancingMachine` with unbalances `D_j` (kg m, complex, angles from the
+    mark) in correction planes at `a_j` (m from support 1), spun by a speed
+    profile: model 002 as a scene.
+
+    State `y = (x1, x2, x1', x2')` (m, m/s); outputs `x1`, `x2`. Linear matrices
+    `M = A`, `C = B`, `G = 0`, `K = C` of eq. (9) at every speed; the unbalance load
+    at speed `w` is `F = (w^2 / l) sum_j D_j (l - a_j, a_j)`, so
+    `frequency_response(M, C, K, F, w)` is `machine.response(w, planes, unbalances)`.
+
+    **Arguments:** `machine`, `planes` (1-D, distinct, within `[0, l]`),
+    `unbalances` (complex, one per plane), `speed` (an `AbstractSpeedProfile` or a
+    constant speed in rad/s; default 0).
+    """
+
+    machine: BalancingMachine
+    planes: jax.Array
+    unbalance_re: jax.Array   # real leaves (diffrax integrates real pytrees): D = re + i im
+    unbalance_im: jax.Array
+    speed: AbstractSpeedProfile
+
+    def __init__(self, machine, planes, unbalances, speed=0.0):
+        check_type("machine", machine, BalancingMachine, "a BalancingMachine")
+        n = _check_planes(planes)
+        if is_concrete(planes):
+            a = np.asarray(planes, dtype=np.float64)
+            if is_concrete(machine.l):
+                l = float(machine.l)
+                if np.any(a < 0) or np.any(a > l) or np.unique(a).size != a.size:
+                    raise InputError(f"planes {a.tolist()} must be distinct positions within the span [0, l={l}] "
+                                     "(distances from support 1)")
+        if is_concrete(unbalances):
+            as_numpy("unbalances", unbalances, shape=(n,), dtype=np.complex128)
+        self.machine = machine
+        self.planes = jnp.asarray(planes, dtype=jnp.float64)
+        unbalances = jnp.asarray(unbalances, dtype=jnp.complex128)
+        self.unbalance_re, self.unbalance_im = jnp.real(unbalances), jnp.imag(unbalances)
+        self.speed = speed if isinstance(speed, AbstractSpeedProfile) else ConstantSpeed(speed)
+
+    @property
+    def unbalances(self) -> jax.Array:
+        """The unbalances `D_j` (kg m, complex)."""
+        return self.unbalance_re + 1j * self.unbalance_im
+
+    @property
+    def state_size(self) -> int:
+        return 4
+
+    @property
+    def n_dof(self) -> int:
+        return 2
+
+    def describe(self) -> str:
+        return f"balancing machine, {self.planes.shape[0]} correction plane(s)"
+
+    def vector_field(self, t, y, args=None):
+        s = self.speed
+        return self.machine.vector_field(t, y, s.angle(t), s.speed(t), s.acceleration(t), self.planes,
+                                         self.unbalances)
+
+    def outputs(self, t, y) -> dict:
+        return {"x1": y[0], "x2": y[1]}
+
+    def linear_matrices(self, speed) -> LinearMatrices:
+        A, B, C = self.machine.matrices()
+        return LinearMatrices(M=A, C=B, G=jnp.zeros_like(A), K=C)
+
+    def unbalance_load(self, speed) -> jax.Array:
+        return speed**2 * (self.machine.lever(self.planes) @ self.unbalances)
+
+    def steady_state(self, w):
+        """The state on the steady response at constant speed `w` and angle 0."""
+        lm = self.linear_matrices(w)
+        X = frequency_response(lm.M, lm.C + lm.G, lm.K, self.unbalance_load(w), w)
+        return jnp.concatenate([jnp.real(X), jnp.real(1j * w * X)])
 
 
 def _check_planes(planes):

@@ -29,7 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_param, as_vector, per_item
+from ._validate import as_param, as_vector, per_item
 
 
 class Limiters(eqx.Module):
@@ -74,11 +74,18 @@ class Limiters(eqx.Module):
         delta = e @ pos - self.clearance
         return delta, e @ vel, N * radius + t @ vel
 
-    def indicator(self, pos, vel):
-        """`min(delta_k, R_k)`: positive exactly where limiter `k` pushes."""
+    def indicator(self, pos, vel, in_length=False):
+        """`min(delta_k, R_k)`: positive exactly where limiter `k` pushes. With
+        `in_length`, `min(delta_k, R_k / kappa_k)` (same sign, both branches lengths):
+        in SI units `R` is ~1e7 `delta`, the kink `R = delta` sits a micro-newton from
+        the release `R = 0`, and an event root find cycles across it (tested on the
+        FE rotor's limiters, `LimitersAt`)."""
         e, _ = self.axes()
         delta = e @ pos - self.clearance
-        return jnp.minimum(delta, self.stiffness * delta + self.damping * (e @ vel))
+        force = self.stiffness * delta + self.damping * (e @ vel)
+        if in_length:
+            force = force / jnp.where(self.stiffness > 0, self.stiffness, 1.0)
+        return jnp.minimum(delta, force)
 
     def normal_forces(self, pos, vel, active=None):
         """Normal forces `R_k H(delta_k) H(R_k)` (exact, `active` the contact set) or

@@ -14,17 +14,24 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._speed import ConstantSpeed
-from ..flexible._cantilever import CantileverRotor
-from ..models._validate import InputError, as_param, check_type
+from ._cantilever import CantileverRotor
+from ._contract import AbstractScene, LinearMatrices
+from ._frequency import frequency_response
 from ._limiters import Limiters
+from ._speed import ConstantSpeed
+from ._validate import InputError, as_param, check_type
 
 
-class CantileverScene(eqx.Module):
-    """Model 004 at spin speed `N` with mass eccentricity `eps` (phase `phase`),
-    weight `gamma` (0: vertical axis or weight neglected, as in the paper), and
-    `limiters` (`rotorjax.contact.Limiters`, or None). `n_modes`: simulate on the
-    lowest undamped modes (None: all FE dofs)."""
+class CantileverScene(AbstractScene):
+    """Model 004 at spin speed `N` (the paper's symbol for the speed; `scene.speed` is
+    its `ConstantSpeed`) with mass eccentricity `eps` (phase `phase`), weight `gamma`
+    (0: vertical axis or weight neglected, as in the paper), and `limiters`
+    (`rotorjax.contact.Limiters`, or None). `n_modes`: simulate on the lowest
+    undamped modes (None: all FE dofs).
+
+    A scene with linear matrices (`linear_matrices`, `unbalance_load`, on its
+    coordinates `q`), contacts (`contact_indicator`, `vector_field(t, y, active)`)
+    and an energy balance (`energy`, the work state `W`)."""
 
     rotor: eqx.Module
     limiters: eqx.Module | None
@@ -71,11 +78,16 @@ class CantileverScene(eqx.Module):
         return 2 * self.n_coords + 1
 
     @property
+    def n_dof(self) -> int:
+        return self.n_coords
+
+    @property
     def n_contacts(self) -> int:
         return 0 if self.limiters is None else self.limiters.n
 
     @property
     def speed(self):
+        """The speed profile: `ConstantSpeed(N)`."""
         return ConstantSpeed(self.N)
 
     @property
@@ -143,12 +155,24 @@ class CantileverScene(eqx.Module):
         q = jnp.linalg.solve(self.K + self.N * self.CiJ, self.gamma * self.unit_weight)
         return jnp.concatenate([q, jnp.zeros(self.n_coords), jnp.zeros(1)])
 
+    def linear_matrices(self, speed=None) -> LinearMatrices:
+        """`M q'' + (D + speed G1) q' + (K + speed CiJ) q = f` on the scene's
+        coordinates at `speed` (default: the scene's `N`), `D = C + Ci`."""
+        speed = self.N if speed is None else speed
+        return LinearMatrices(self.M, self.D, speed * self.G1, self.K + speed * self.CiJ)
+
+    def unbalance_load(self, speed=None) -> jax.Array:
+        """The unbalance's complex load on the coordinates at `speed` (default `N`):
+        `eps speed^2 e^{i phase}` along x at the disk, `-i` times that along y."""
+        speed = self.N if speed is None else speed
+        fx = self.eps * speed**2 * jnp.exp(1j * self.phase)
+        return self.disk[0] * fx + self.disk[1] * (-1j * fx)
+
     def synchronous_state(self):
         """The linear steady unbalance response at `t = 0` (no contact, no weight)."""
-        M, D, G1, K, CiJ, N = self.M, self.D, self.G1, self.K, self.CiJ, self.N
-        fx = self.eps * N**2 * jnp.exp(1j * self.phase)
-        F = self.disk[0] * fx + self.disk[1] * (-1j * fx)
-        Q = jnp.linalg.solve(K + N * CiJ - N**2 * M + 1j * N * (D + N * G1), F)
+        N = self.N
+        lin = self.linear_matrices(N)
+        Q = frequency_response(lin.M, lin.C + lin.G, lin.K, self.unbalance_load(N), N)
         return jnp.concatenate([jnp.real(Q), jnp.real(1j * N * Q), jnp.zeros(1)])
 
 

@@ -6,7 +6,8 @@ Units: length `l` (the shaft), mass `M` (the disk), time
 `T* = sqrt(M l^3 / (E I_R))`; so `E I_R = 1`, the shaft's mass per unit length is
 `mu_R = m_R l / M`, the disk's transverse inertia `beta = B / (M l^2) = eps_D^2 / 16`
 (`eps_D = D / l`) and its polar inertia `2 beta` (thin disk). The spin speed is
-`N = Omega T*`.
+`N = Omega T*` (`speed` in the methods' signatures, with the paper's `N` accepted
+as an alias).
 
 Equations (fixed frame, free dofs of the clamped shaft `q`):
 
@@ -28,9 +29,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import as_count, as_param
-from ._reduction import undamped_modes
-from ._rotor import DOFS_PER_NODE, FlexibleRotor
+from ._contract import LinearMatrices
+from ._fe_reduction import undamped_modes
+from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
+from ._rotation import quarter_turn_matrix
+from ._frequency import frequency_response
+from ._speed import speed_alias
+from ._validate import InputError, as_count, as_param
 
 #: The paper's base case (SI): shaft length, shaft and disk diameters, disk thickness;
 #: steel (E, rho), eccentricity, limiter clearance and stiffness.
@@ -59,13 +64,6 @@ def limiter_groups_from_si(k, h, d_S, l, M, EI):
                           ("l", l, "positive"), ("M", M, "positive"), ("EI", EI, "positive")):
         as_param(name, v, sign=sign, shape=())
     return {"kappa": k * l**3 / EI, "chi": h / l, "eta": d_S * np.sqrt(l**3 / (M * EI))}
-
-
-def quarter_turn(n_nodes):
-    """`J`: per node `(x, y, sx, sy) -> (y, -x, sy, -sx)` (multiplication of the
-    complex displacement `x + i y` by `-i`)."""
-    blk = np.array([[0, 1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1], [0, 0, -1, 0]], dtype=float)
-    return np.kron(np.eye(n_nodes), blk)
 
 
 class CantileverRotor(eqx.Module):
@@ -137,23 +135,31 @@ class CantileverRotor(eqx.Module):
         d = self.disk_dofs
         C = 2 * self.eta_e * M1
         C = C.at[d[:2], d[:2]].add(2 * self.eta_Dxi).at[d[2:], d[2:]].add(2 * self.eta_Dtheta)
-        J = jnp.asarray(quarter_turn(self.n_elements))
+        J = jnp.asarray(quarter_turn_matrix(self.n_elements))
         return M, C, G1, K, 2 * self.eta_i * K, J
 
-    def state_matrix(self, N):
-        """First-order matrix of the free (load-free) motion at speed `N`."""
+    def linear_matrices(self, speed) -> LinearMatrices:
+        """`M q'' + (C + Ci + speed G1) q' + (K + speed Ci J) q = f` at `speed` (the
+        paper's `N`) on the free dofs."""
         M, C, G1, K, Ci, J = self.matrices()
-        n = M.shape[0]
-        Minv = jnp.linalg.inv(M)
-        return jnp.block([[jnp.zeros((n, n)), jnp.eye(n)],
-                          [-Minv @ (K + N * Ci @ J), -Minv @ (C + Ci + N * G1)]])
+        return LinearMatrices(M, C + Ci, speed * G1, K + speed * Ci @ J)
 
-    def eigenvalues(self, N):
-        return jnp.linalg.eigvals(self.state_matrix(jnp.asarray(N, dtype=jnp.float64)))
+    def state_matrix(self, speed=None, *, N=None):
+        """First-order matrix of the free (load-free) motion at `speed` (the paper's
+        `N`, accepted as an alias)."""
+        speed = speed_alias(speed, N, "N", "CantileverRotor.state_matrix")
+        return self.linear_matrices(speed).state_matrix()
 
-    def stability_margin(self, N):
-        """Largest real part of the eigenvalues of straight-line rotation at `N`."""
-        return jnp.max(jnp.real(self.eigenvalues(N)))
+    def eigenvalues(self, speed=None, *, N=None):
+        """Eigenvalues of straight-line rotation at `speed` (the paper's `N`)."""
+        speed = speed_alias(speed, N, "N", "CantileverRotor.eigenvalues")
+        return jnp.linalg.eigvals(self.state_matrix(jnp.asarray(speed, dtype=jnp.float64)))
+
+    def stability_margin(self, speed=None, *, N=None):
+        """Largest real part of the eigenvalues of straight-line rotation at `speed`
+        (the paper's `N`)."""
+        speed = speed_alias(speed, N, "N", "CantileverRotor.stability_margin")
+        return jnp.max(jnp.real(self.eigenvalues(speed)))
 
     def modal_basis(self, n_modes):
         """The `n_modes` lowest undamped non-rotating modes (mass-normalised), for a
@@ -163,21 +169,26 @@ class CantileverRotor(eqx.Module):
         M, _, _, K, _, _ = self.matrices()
         return jax.lax.stop_gradient(undamped_modes(M, K)[1][:, :n_modes])
 
-    def unbalance_response(self, N, eps, phase=0.0):
-        """Steady response to the unbalance at speed `N` (no contact, no gravity):
-        complex amplitudes of all free dofs, `q = Re(Q e^{i N t})`. In synchronous
-        forward whirl the shaft does not deform in the rotating frame, so internal
-        friction does no work and drops out (a check, tested)."""
-        M, C, G1, K, Ci, J = self.matrices()
+    def unbalance_response(self, speed=None, eps=None, phase=0.0, *, N=None):
+        """Steady response to the unbalance `eps` at `speed` (the paper's `N`, accepted
+        as an alias; no contact, no gravity): complex amplitudes of all free dofs,
+        `q = Re(Q e^{i speed t})`, from `rotorjax.models.frequency_response`. In
+        synchronous forward whirl the shaft does not deform in the rotating frame, so
+        internal friction does no work and drops out (a check, tested)."""
+        N = speed_alias(speed, N, "N", "CantileverRotor.unbalance_response")
+        if eps is None:
+            raise InputError("CantileverRotor.unbalance_response: eps (the eccentricity) is required")
+        lin = self.linear_matrices(N)
         d = self.disk_dofs
         fx = eps * N**2 * jnp.exp(1j * phase)
-        F = jnp.zeros(M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
-        return jnp.linalg.solve(K + N * Ci @ J - N**2 * M + 1j * N * (C + Ci + N * G1), F)
+        F = jnp.zeros(lin.M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
+        return frequency_response(lin.M, lin.C + lin.G, lin.K, F, N)
 
-    def whirl_direction(self, N):
-        """Eigenvalue of largest real part at `N` and whether its mode whirls forward
-        (in the spin's direction) at the disk."""
-        lam, vec = jnp.linalg.eig(self.state_matrix(jnp.asarray(N, dtype=jnp.float64)))
+    def whirl_direction(self, speed=None, *, N=None):
+        """Eigenvalue of largest real part at `speed` (the paper's `N`) and whether its
+        mode whirls forward (in the spin's direction) at the disk."""
+        speed = speed_alias(speed, N, "N", "CantileverRotor.whirl_direction")
+        lam, vec = jnp.linalg.eig(self.state_matrix(jnp.asarray(speed, dtype=jnp.float64)))
         k = jnp.argmax(jnp.real(lam) + 1e-9 * jnp.sign(jnp.imag(lam)))  # the Im > 0 member
         x, y = vec[self.disk_dofs[0], k], vec[self.disk_dofs[1], k]
         fwd = jnp.abs(x + 1j * y) >= jnp.abs(x - 1j * y)

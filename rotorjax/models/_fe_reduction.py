@@ -19,7 +19,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._validate import InputError, as_count
+from ._validate import InputError, as_count
 
 
 def undamped_modes(M, K):

@@ -1,0 +1,33 @@
+"""Linear analyses of any scene with the linear capability: its unbalance
+response and the stability margin of its reference motion."""
+
+import jax
+import jax.numpy as jnp
+
+from ..models._contract import require
+from ..models._frequency import frequency_response
+from ..models._validate import as_numpy, is_concrete
+
+
+def scene_unbalance_response(scene, speeds):
+    """Complex amplitudes `Q` (rows: speeds) of the synchronous response of the
+    scene's coordinates to its unbalance, `q = Re(Q e^{i speed t})`, from
+    `linear_matrices(speed)` and `unbalance_load(speed)` (vmapped over speeds)."""
+    require(scene, "linear_matrices", "an unbalance response")
+    require(scene, "unbalance_load", "an unbalance response")
+    if is_concrete(speeds):
+        as_numpy("speeds", speeds, ndim=1)
+
+    def one(w):
+        lin = scene.linear_matrices(w)
+        return frequency_response(lin.M, lin.C + lin.G, lin.K, scene.unbalance_load(w), w)
+
+    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
+
+
+def linear_margin(scene, speed):
+    """Largest real part of the eigenvalues of the scene's linear(ised) equations
+    about its reference motion at `speed` (< 0: stable). Traceable in the speed and
+    the scene's parameters."""
+    require(scene, "linear_matrices", "a linear stability margin")
+    return jnp.max(jnp.real(jnp.linalg.eigvals(scene.linear_matrices(speed).state_matrix())))

@@ -1,0 +1,161 @@
+"""The one scan-and-bisect root finder, and the derivative of a root by the
+implicit function theorem.
+
+Critical speeds, Hopf points, Floquet crossings, the Campbell diagram's meetings
+with the 1x line and the published closed forms (model 003's eq. 17, its
+pseudo-balanced regime) all locate the zeros of a scalar function `g(x)` of one
+parameter the same way:
+
+1. sample `g` on `n_scan` equally spaced points of `[lo, hi]` (per point, or
+   vectorised by the caller: `jax.vmap`, `rotorjax.sweep`);
+2. bracket every change of sign between two finite samples (a bracket whose left
+   sample is exactly zero is left to its left neighbour, so a zero on a sample is
+   found once);
+3. bisect each bracket to `xtol` (the end whose sign the midpoint shares moves;
+   an exact zero counts as the other sign, so a plateau of zeros is approached
+   from outside; a non-finite midpoint stops the bracket where it is);
+4. where `g` has poles (a sign change through infinity, e.g. the modal sums at the
+   bare shaft's frequencies), reject a refined bracket whose `|g|` at the midpoint
+   is not small against the samples around it.
+
+A root `x*` of `g(x, p) = 0` moves with a parameter `p` as
+`dx*/dp = -(dg/dp) / (dg/dx)` (`root_gradient`, both derivatives by autodiff).
+"""
+
+import dataclasses
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..models._validate import InputError, as_count, as_numpy, check_span
+
+
+@dataclasses.dataclass(frozen=True)
+class Root:
+    """A refined sign change of `g`: `x` the midpoint of the final bracket
+    `bracket = (a, b)`, `values = (g(a), g(b))` (`g(b)` None where `b` never moved
+    and was not given), `slope` the secant `dg/dx` across the bracket (NaN for a
+    bracket of zero width or an unknown end), `residual` `|g(x)|` where evaluated
+    (the pole check), else NaN."""
+
+    x: float
+    bracket: tuple
+    values: tuple
+    slope: float
+    residual: float = float("nan")
+
+
+def grid(lo: float, hi: float, n_scan: int) -> np.ndarray:
+    """The scan points: `n_scan` equally spaced points from `lo` to `hi`."""
+    return np.linspace(lo, hi, n_scan)
+
+
+def sign_changes(values) -> np.ndarray:
+    """Indices `i` where `values[i]` and `values[i + 1]` are finite, of different
+    sign, and `values[i] != 0`: the brackets `[x_i, x_{i+1}]` to refine."""
+    v = np.asarray(values, dtype=float)
+    ok = np.isfinite(v[:-1]) & np.isfinite(v[1:]) & (np.sign(v[:-1]) != np.sign(v[1:])) & (v[:-1] != 0)
+    return np.flatnonzero(ok)
+
+
+def bisect(g: Callable, a: float, b: float, ga: float, gb=None, *, xtol: float = 1e-10, rtol: float = 0.0,
+           max_iter=None) -> Root:
+    """Bisect `g` on `[a, b]` (`ga = g(a)`, `gb = g(b)` or None) until the bracket
+    is at most `max(xtol, rtol |b|)` wide, `max_iter` halvings are done, no
+    floating-point midpoint is left, or a midpoint is non-finite. `g(x)` is called
+    with a numpy float64 and must return something `float()` accepts."""
+    a, b, ga = np.float64(a), np.float64(b), float(ga)
+    gb = None if gb is None else float(gb)
+    it = 0
+    while b - a > max(xtol, rtol * abs(b)) and (max_iter is None or it < max_iter):
+        c = 0.5 * (a + b)
+        if not a < c < b:
+            break
+        gc = float(g(c))
+        if not np.isfinite(gc):
+            break
+        if np.sign(gc) == np.sign(ga):
+            a, ga = c, gc
+        else:
+            b, gb = c, gc
+        it += 1
+    slope = float((gb - ga) / (b - a)) if gb is not None and b > a else float("nan")
+    return Root(x=float(0.5 * (a + b)), bracket=(float(a), float(b)), values=(ga, gb), slope=slope)
+
+
+def find_roots(g: Callable, lo: float, hi: float, n_scan: int = 200, *, values=None, xtol: float = 1e-10,
+               rtol: float = 0.0, max_iter=None, pole_tol=None, progress: bool = False,
+               return_scan: bool = False):
+    """Every sign change of `g` on `[lo, hi]`, bisected (see the module docstring).
+
+    **Arguments:**
+
+    - `g`: the function, called per point in the bisection (a numpy float64 in,
+      something `float()` accepts out; jit it first if it is a JAX function).
+    - `lo`, `hi`, `n_scan`: the scan, `grid(lo, hi, n_scan)`.
+    - `values`: the samples of `g` on that grid: None (`g` called at every point),
+      an array of `n_scan` values, or a function of the grid array returning them
+      (vectorised: e.g. `lambda x: jax.vmap(g)(x)`, or through `rotorjax.sweep`).
+      Non-finite samples are skipped.
+    - `xtol`, `rtol`, `max_iter`: bisection to a bracket of `max(xtol, rtol |b|)`
+      (see `bisect`).
+    - `pole_tol`: None, or reject a refined sign change unless
+      `|g(x)| < pole_tol (1 + |g(x_i)| + |g(x_{i+1})|)` (a sign change through a
+      pole; kept roots carry `residual = |g(x)|`).
+    - `progress`: a tqdm bar over the bisections.
+    - `return_scan`: also return the scan `(x, values)`.
+
+    **Returns:** the `Root`s in increasing `x` (with `return_scan`,
+    `(roots, (x, values))`); `[]` when no sign change is found.
+    """
+    if not callable(g):
+        raise InputError(f"g must be a function of one number, got {g!r}")
+    lo, hi = check_span("lo", lo, "hi", hi)
+    n_scan = as_count("n_scan", n_scan, minimum=2)
+    xtol = float(as_numpy("xtol", xtol, sign="nonnegative", shape=()))
+    rtol = float(as_numpy("rtol", rtol, sign="nonnegative", shape=()))
+    if max_iter is not None:
+        max_iter = as_count("max_iter", max_iter, minimum=0)
+    if pole_tol is not None:
+        pole_tol = float(as_numpy("pole_tol", pole_tol, sign="positive", shape=()))
+    x = grid(lo, hi, n_scan)
+    if values is None:
+        v = np.array([float(g(xi)) for xi in x])
+    else:
+        v = values(x) if callable(values) else values
+        v = np.asarray(v, dtype=float)
+        if v.shape != (n_scan,):
+            raise InputError(f"values must hold one sample of g per scan point, shape ({n_scan},), got shape "
+                             f"{v.shape}")
+    brackets = sign_changes(v)
+    if progress and brackets.size:
+        from tqdm.auto import tqdm
+
+        brackets = tqdm(brackets, desc="bisection", unit="root", leave=False)
+    roots = []
+    for i in brackets:
+        r = bisect(g, x[i], x[i + 1], v[i], v[i + 1], xtol=xtol, rtol=rtol, max_iter=max_iter)
+        if pole_tol is not None:
+            res = abs(float(g(np.float64(r.x))))
+            if not res < pole_tol * (1 + abs(v[i]) + abs(v[i + 1])):
+                continue
+            r = dataclasses.replace(r, residual=res)
+        roots.append(r)
+    return (roots, (x, v)) if return_scan else roots
+
+
+def root_gradient(g2: Callable, x, p):
+    """`dx*/dp` of the root `x*` of `g2(x, p) = 0` through `(x, p)`, by the
+    implicit function theorem: `-(dg2/dp) / (dg2/dx)`, both by autodiff. `p` may be
+    a pytree of parameters (the result has its structure). Traceable (no `float()`);
+    infinite where the root is not simple (`dg2/dx = 0`)."""
+    if not callable(g2):
+        raise InputError(f"g2 must be a function g2(x, p), got {g2!r}")
+    x = jnp.asarray(x, dtype=jnp.float64)
+    if x.shape != ():
+        raise InputError(f"x (the root) must be a scalar, got shape {x.shape}")
+    p = jax.tree_util.tree_map(lambda v: jnp.asarray(v, dtype=jnp.float64), p)
+    gx, gp = jax.grad(g2, argnums=(0, 1))(x, p)
+    return jax.tree_util.tree_map(lambda d: -d / gx, gp)

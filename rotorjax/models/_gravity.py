@@ -1,0 +1,32 @@
+"""Gravity on a finite-element rotor."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._fe_rotor import DOFS_PER_NODE
+from ._rotor_component import AbstractRotorComponent
+from ._validate import as_param
+
+
+class Gravity(AbstractRotorComponent):
+    """Weight of the shaft and everything on it: acceleration `g` (m/s^2) along
+    the direction at `angle` (rad) in the x-y plane (default `-pi/2`: along -y).
+    The load is `g M e`, with `M` the full mass matrix and `e` the rigid unit
+    translation along that direction (consistent element loads)."""
+
+    g: jax.Array
+    angle: jax.Array
+
+    def __init__(self, g=9.81, angle=-np.pi / 2):
+        self.g = as_param("g (gravity)", g, sign="nonnegative", shape=())
+        self.angle = as_param("gravity angle", angle, shape=())
+
+    def static_load(self, rotor):
+        M = rotor.matrices()[0]
+        e = jnp.zeros(rotor.n_dofs).at[0::DOFS_PER_NODE].set(jnp.cos(self.angle))
+        e = e.at[1::DOFS_PER_NODE].set(jnp.sin(self.angle))
+        return self.g * (M @ e)
+
+    def describe(self):
+        return "gravity"

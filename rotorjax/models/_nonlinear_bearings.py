@@ -1,0 +1,108 @@
+"""Nonlinear bearings at a node: cubic hardening, and a clearance (dead band)."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ._fe_rotor import DOFS_PER_NODE
+from ._rotor_component import AbstractRotorComponent, node_index
+from ._validate import as_param
+
+
+def _radial(p):
+    r = jnp.sqrt(p @ p + 1e-300)
+    return r, p / r
+
+
+class CubicBearing(AbstractRotorComponent):
+    """An isotropic bearing with hardening stiffness at `node`:
+
+        f = -(k + k3 |u|^2) u - c u',
+
+    `u` the node's displacement. `k` (N/m) and `c` (N s/m) are its linear part (in
+    every linear analysis), `k3` (N/m^3) the cubic hardening (a Duffing bearing:
+    the unbalance response bends over and jumps). Being isotropic, it keeps the
+    synchronous orbit a rest point of the rotating frame."""
+
+    node_index: int = eqx.field(static=True)
+    k: jax.Array
+    k3: jax.Array
+    c: jax.Array
+
+    def __init__(self, node, k3, k=0.0, c=0.0):
+        self.node_index = node_index(node)
+        self.k3 = as_param("k3 (cubic stiffness)", k3, sign="nonnegative", shape=())
+        self.k = as_param("k (bearing stiffness)", k, sign="nonnegative", shape=())
+        self.c = as_param("c (bearing damping)", c, sign="nonnegative", shape=())
+
+    @property
+    def node(self):
+        return self.node_index
+
+    def linear_part(self, rotor):
+        b = DOFS_PER_NODE * self.node
+        z = jnp.zeros((rotor.n_dofs, rotor.n_dofs))
+        K = z.at[b, b].set(self.k).at[b + 1, b + 1].set(self.k)
+        C = z.at[b, b].set(self.c).at[b + 1, b + 1].set(self.c)
+        return C, K, z
+
+    def force(self, s, q, qd, active=None):
+        u = s.position(self.node)
+        return s.place(self.node, -self.k3 * (u @ u) * u)
+
+    def potential_energy(self, u):
+        """Energy of the cubic part, `k3 |u|^4 / 4` (the linear part is in `K`)."""
+        return 0.25 * self.k3 * (u @ u) ** 2
+
+    def describe(self):
+        return f"cubic bearing at node {self.node}"
+
+
+class ClearanceBearing(AbstractRotorComponent):
+    """A bearing with a radial clearance (dead band) `clearance` (m) at `node`: no
+    force while `|u| < clearance`, then a stiffness `k` (N/m) and damping `c`
+    (N s/m) on the penetration `d = |u| - clearance`,
+
+        f = -(k d + c d') e_r   in contact, 0 outside,
+
+    exactly, with the contact set located by events (`simulate_events`), or
+    smoothed over `smoothing` (m: `d -> smoothing softplus(d / smoothing)`)."""
+
+    node_index: int = eqx.field(static=True)
+    clearance: jax.Array
+    k: jax.Array
+    c: jax.Array
+    smoothing: jax.Array
+
+    def __init__(self, node, clearance, k, c=0.0, smoothing=None):
+        self.node_index = node_index(node)
+        self.clearance = as_param("clearance", clearance, sign="positive", shape=())
+        self.k = as_param("k (bearing stiffness)", k, sign="positive", shape=())
+        self.c = as_param("c (bearing damping)", c, sign="nonnegative", shape=())
+        smoothing = 1e-3 * self.clearance if smoothing is None else smoothing
+        self.smoothing = as_param("smoothing", smoothing, sign="positive", shape=())
+
+    @property
+    def node(self):
+        return self.node_index
+
+    @property
+    def n_contacts(self) -> int:
+        return 1
+
+    def contact_indicator(self, s, q, qd):
+        r, _ = _radial(s.position(self.node))
+        return (r - self.clearance)[None]
+
+    def force(self, s, q, qd, active=None):
+        r, e = _radial(s.position(self.node))
+        d, rate = r - self.clearance, e @ s.velocity(self.node)
+        if active is None:
+            ell = self.smoothing
+            mag = self.k * ell * jax.nn.softplus(d / ell) + self.c * rate * jax.nn.sigmoid(d / ell)
+        else:
+            mag = jnp.where(active[0], self.k * d + self.c * rate, 0.0)
+        return s.place(self.node, -mag * e)
+
+    def describe(self):
+        return f"clearance bearing at node {self.node}"

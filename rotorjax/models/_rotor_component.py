@@ -1,0 +1,124 @@
+"""What a component on a finite-element rotor states, and what it sees.
+
+A component of a `RotorScene` sits at a node (or acts on the whole shaft) and
+states, once, only what it adds:
+
+- `linear_part(rotor)`: its contribution to the linear equations about the
+  straight, resting shaft, as full-dof matrices `(C, K, K_speed)` (the last times
+  the speed: circulatory terms) or `None`;
+- `force(s, q, qd, active)`: the rest of its force, on all dofs of the shaft
+  (`s` the shaft's state, `q, qd` the component's own coordinates, `active` its
+  contact set for event-located integration, or `None` for a smooth law);
+- `static_load(rotor)`: a constant load (weight), or `None`;
+- `kinetic`, `potential`, `dissipation`: energies, for components with
+  coordinates of their own at a node (an auto-balancer's weights), as functions
+  of the node's kinematics (`Kinematics`) and those coordinates, through
+  Lagrange's equations of the node's two displacements and the own coordinates
+  (assembled into the shaft's equations by the node's rows of the basis);
+- `unbalance_load(rotor, speed)`: the complex synchronous load, for unbalances.
+
+The scene sums what is present; nothing absent is evaluated.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from ._base import Kinematics
+from ._fe_rotor import DOFS_PER_NODE
+from ._validate import InputError, is_concrete, show
+
+
+class ShaftState(eqx.Module):
+    """The shaft at one instant: all-dof displacements `x` and velocities `v`
+    (node order `(x, y, sx, sy)`), the spin angle, speed and acceleration."""
+
+    t: jax.Array
+    theta: jax.Array
+    theta_dot: jax.Array
+    theta_ddot: jax.Array
+    x: jax.Array
+    v: jax.Array
+
+    def at(self, node: int) -> Kinematics:
+        """The kinematic context of `node`'s centre (for planar components)."""
+        b = DOFS_PER_NODE * node
+        return Kinematics(t=self.t, theta=self.theta, theta_dot=self.theta_dot, x=self.x[b], y=self.x[b + 1],
+                          xd=self.v[b], yd=self.v[b + 1])
+
+    def position(self, node: int) -> jax.Array:
+        b = DOFS_PER_NODE * node
+        return self.x[b:b + 2]
+
+    def velocity(self, node: int) -> jax.Array:
+        b = DOFS_PER_NODE * node
+        return self.v[b:b + 2]
+
+    def place(self, node: int, f2) -> jax.Array:
+        """A force `f2 = (f_x, f_y)` at `node`, as an all-dof load."""
+        b = DOFS_PER_NODE * node
+        return jnp.zeros_like(self.x).at[b:b + 2].set(f2)
+
+
+class AbstractRotorComponent(eqx.Module):
+    """A component of a `RotorScene` (see the module docstring). `node` is the
+    node it acts at (None for whole-shaft components)."""
+
+    @property
+    def node(self):
+        return None
+
+    @property
+    def n_coords(self) -> int:
+        return 0
+
+    @property
+    def n_contacts(self) -> int:
+        return 0
+
+    def linear_part(self, rotor):
+        return None
+
+    def static_load(self, rotor):
+        return None
+
+    def unbalance_load(self, rotor, speed):
+        return None
+
+    def force(self, s: ShaftState, q, qd, active=None):
+        return None
+
+    def kinetic(self, kin: Kinematics, q, qd):
+        return jnp.zeros(())
+
+    def potential(self, kin: Kinematics, q):
+        return jnp.zeros(())
+
+    def dissipation(self, kin: Kinematics, q, qd):
+        return jnp.zeros(())
+
+    def contact_indicator(self, s: ShaftState, q, qd):
+        return jnp.zeros(0)
+
+    def outputs(self, s: ShaftState, q, qd) -> dict:
+        return {}
+
+    def rest_coords(self):
+        """Own coordinates of the reference state (weights spread evenly)."""
+        return jnp.zeros(self.n_coords)
+
+    def describe(self) -> str:
+        return type(self).__name__
+
+
+def node_index(node) -> int:
+    """A component's node: a non-negative integer (the scene checks it exists)."""
+    if isinstance(node, (bool, str, bytes)) or not is_concrete(node):
+        raise InputError(f"node must be a non-negative integer node index, got {show(node)}")
+    try:
+        f = float(node)
+    except (TypeError, ValueError):
+        raise InputError(f"node must be a non-negative integer node index, got {show(node)}") from None
+    if not (f >= 0 and f == int(f)):
+        raise InputError(f"node must be a non-negative integer node index, got {show(node)}")
+    return int(f)

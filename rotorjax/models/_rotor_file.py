@@ -1,0 +1,874 @@
+"""Rotor files: a finite-element rotor scene as a TOML file (SI units).
+
+`load_rotor(path)` reads a file into a `RotorScene`; `save_rotor(scene, path)`
+writes one back (exactly: `load_rotor(save_rotor(scene))` has the same arrays).
+
+Tables (array tables `[[...]]` hold one entry per item; indices in messages and
+in override keys count from 0 in file order). A key with a default (after `=`)
+may be left out; the others are required, except where two ways are offered
+(`angles` or `n`, `masses` or `n_weights` + `mass`, `radius` or `r1` + `r2`):
+
+| table                   | keys (defaults after `=`)                                                   |
+|-------------------------|-----------------------------------------------------------------------------|
+| `[rotor]`               | `name` (= file stem), `theory` ("euler-bernoulli", "rayleigh",             |
+|                         | "timoshenko"), `n_modes` (optional: modal reduction), `speed` (rad/s, = 0) |
+| `[[material]]`          | `name`, `E` (Pa), `G` (Pa), `rho` (kg/m^3), `nu` (= E / (2 G) - 1)          |
+| `[[shaft]]`             | `L` (m), `od` (m), `id` (m, = 0), `material` (a material's name);          |
+|                         | element i joins nodes i and i + 1                                           |
+| `[[disk]]`              | `node`, `m` (kg), `Id` (kg m^2, diametral), `Ip` (kg m^2, polar)            |
+| `[[bearing]]`           | `node`, `kxx`, `kyy` (= kxx), `kxy`, `kyx` (= 0) (N/m), `cxx` (= 0),        |
+|                         | `cyy` (= cxx), `cxy`, `cyx` (= 0) (N s/m)                                   |
+| `[[fixed]]`             | `node`, `dofs` (= ["x", "y", "sx", "sy"])                                  |
+| `[[unbalance]]`         | `node`, `magnitude` (kg m), `phase` (rad, = 0)                              |
+| `[internal_damping]`    | `relaxation_time` (s, Voigt)                                                |
+| `[gravity]`             | `g` (m/s^2, = 9.81), `angle` (rad, = -pi/2: along -y)                       |
+| `[[cubic_bearing]]`     | `node`, `k3` (N/m^3), `k` (N/m, = 0), `c` (N s/m, = 0)                      |
+| `[[clearance_bearing]]` | `node`, `clearance` (m), `k` (N/m), `c` (N s/m, = 0),                       |
+|                         | `smoothing` (m, = clearance / 1000)                                         |
+| `[[limiters]]`          | `node`, `angles` (rad, list) or `n` + `first_angle` (= 0), `clearance` (m), |
+|                         | `stiffness` (N/m), `damping` (N s/m, = 0), `friction` (= 0) (each a number  |
+|                         | or one per limiter), `radius` (m, rim), `smoothing` (m, = 1e-6)             |
+| `[[auto_balancer]]`     | `node`, `masses` (kg, list) or `n_weights` + `mass`, `radius` or `r1` +     |
+|                         | `r2` (m), `center` (m, = [0, 0]), `drag` (N s/m, = 0), `kind` ("ball",      |
+|                         | "roller", "pendulum"; = "ball") or `inertia_factor`                         |
+
+The scene's components come in this order, each table's entries in file order:
+unbalances, internal damping, gravity, cubic bearings, clearance bearings,
+limiters, auto-balancers (whose weights' coordinates follow the shaft's in the
+state). A shaft whose elements all have the same material constants gets
+scalar `E`, `G`, `rho`, `nu` (the exact arrays of a one-material `FlexibleRotor`);
+otherwise they are per element.
+
+Every check happens here, before anything is constructed, so an error names the
+file, the table, the index and the key as the user wrote them
+(`rotor.toml: shaft[4].od must be > id (got od = 0.05, id = 0.06)`), as an
+`InputError`. Overrides (`load_rotor(path, {"bearing0.kxx": 2e7})`, the CLI's
+`--set`) name an entry as `<table><index>.<key>` for array tables,
+`<table>.<key>` for single tables, and `speed` for `[rotor] speed`.
+"""
+
+import dataclasses
+import difflib
+import importlib.resources
+import json
+import math
+import os
+import pathlib
+import re
+import tomllib
+
+import numpy as np
+
+from .._errors import InputError
+from ._balancer import INERTIA_FACTORS, AutoBalancer, Race
+from ._fe_reduction import ReducedRotor
+from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
+from ._gravity import Gravity
+from ._internal_damping import InternalDamping
+from ._limiters import Limiters
+from ._node_parts import BalancerAt, LimitersAt
+from ._nonlinear_bearings import ClearanceBearing, CubicBearing
+from ._rotor_scene import RotorScene
+from ._speed import ConstantSpeed
+from ._unbalance import Unbalance
+from ._validate import is_concrete
+
+DOF_NAMES = ("x", "y", "sx", "sy")
+THEORIES = ("euler-bernoulli", "rayleigh", "timoshenko")
+KINDS = ("ball", "roller", "pendulum")
+
+
+# --- the schema -----------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class _Key:
+    """One key of a table. `kind`: "number", "count" (an integer), "node", "string",
+    "numbers" (a list), "number_or_numbers" or "strings"; `sign` for numbers (and
+    every entry of a list): "positive", "nonnegative" or "any"."""
+
+    kind: str
+    unit: str = ""
+    meaning: str = ""
+    sign: str = "any"
+    required: bool = False
+    choices: tuple = ()
+    domain: str = ""  # a preset domain when the sign does not say it (nu, inertia_factor)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Table:
+    array: bool
+    keys: dict
+    meaning: str
+
+
+def _node(what):
+    return _Key("node", "node", f"node of the {what}", required=True)
+
+
+_N, _S = "number", "string"
+SCHEMA = {
+    "rotor": _Table(False, {
+        "name": _Key(_S, meaning="the rotor's name"),
+        "theory": _Key(_S, meaning="shaft element theory", required=True, choices=THEORIES),
+        "n_modes": _Key("count", "count", "modes kept by modal reduction of the linear part"),
+        "speed": _Key(_N, "rad/s", "operating speed"),
+    }, "the rotor"),
+    "material": _Table(True, {
+        "name": _Key(_S, meaning="material name", required=True),
+        "E": _Key(_N, "Pa", "Young's modulus", "positive", True),
+        "G": _Key(_N, "Pa", "shear modulus", "positive", True),
+        "rho": _Key(_N, "kg/m^3", "density", "positive", True),
+        "nu": _Key(_N, "dimensionless", "Poisson's ratio (Cowper's shear coefficient)", domain="(-1,0.5]"),
+    }, "a shaft material"),
+    "shaft": _Table(True, {
+        "L": _Key(_N, "m", "element length", "positive", True),
+        "od": _Key(_N, "m", "outer diameter", "positive", True),
+        "id": _Key(_N, "m", "inner diameter", "nonnegative"),
+        "material": _Key(_S, meaning="material (a [[material]] name)", required=True),
+    }, "a shaft element"),
+    "disk": _Table(True, {
+        "node": _node("disk"),
+        "m": _Key(_N, "kg", "mass", "positive", True),
+        "Id": _Key(_N, "kg m^2", "diametral (transverse) inertia", "nonnegative", True),
+        "Ip": _Key(_N, "kg m^2", "polar inertia", "nonnegative", True),
+    }, "a rigid disk"),
+    "bearing": _Table(True, {
+        "node": _node("bearing"),
+        "kxx": _Key(_N, "N/m", "stiffness xx", "nonnegative", True),
+        "kyy": _Key(_N, "N/m", "stiffness yy", "nonnegative"),
+        "kxy": _Key(_N, "N/m", "cross stiffness xy"),
+        "kyx": _Key(_N, "N/m", "cross stiffness yx"),
+        "cxx": _Key(_N, "N s/m", "damping xx", "nonnegative"),
+        "cyy": _Key(_N, "N s/m", "damping yy", "nonnegative"),
+        "cxy": _Key(_N, "N s/m", "cross damping xy"),
+        "cyx": _Key(_N, "N s/m", "cross damping yx"),
+    }, "a linear bearing"),
+    "fixed": _Table(True, {
+        "node": _node("fixed dofs"),
+        "dofs": _Key("strings", meaning="dofs held at zero", choices=DOF_NAMES),
+    }, "dofs held at zero"),
+    "unbalance": _Table(True, {
+        "node": _node("unbalance"),
+        "magnitude": _Key(_N, "kg m", "unbalance (mass times eccentricity)", "nonnegative", True),
+        "phase": _Key(_N, "rad", "angle from the reference mark"),
+    }, "an unbalance"),
+    "internal_damping": _Table(False, {
+        "relaxation_time": _Key(_N, "s", "Voigt relaxation time T_V", "nonnegative", True),
+    }, "Voigt internal damping of the shaft"),
+    "gravity": _Table(False, {
+        "g": _Key(_N, "m/s^2", "gravitational acceleration", "nonnegative"),
+        "angle": _Key(_N, "rad", "direction of gravity in the x-y plane"),
+    }, "gravity"),
+    "cubic_bearing": _Table(True, {
+        "node": _node("cubic bearing"),
+        "k3": _Key(_N, "N/m^3", "cubic (hardening) stiffness", "nonnegative", True),
+        "k": _Key(_N, "N/m", "linear stiffness", "nonnegative"),
+        "c": _Key(_N, "N s/m", "damping", "nonnegative"),
+    }, "an isotropic bearing with cubic stiffness"),
+    "clearance_bearing": _Table(True, {
+        "node": _node("clearance bearing"),
+        "clearance": _Key(_N, "m", "radial clearance", "positive", True),
+        "k": _Key(_N, "N/m", "contact stiffness", "positive", True),
+        "c": _Key(_N, "N s/m", "contact damping", "nonnegative"),
+        "smoothing": _Key(_N, "m", "contact smoothing length", "positive"),
+    }, "a bearing with a radial clearance"),
+    "limiters": _Table(True, {
+        "node": _node("limiters"),
+        "angles": _Key("numbers", "rad", "angles of the limiters"),
+        "n": _Key("count", "count", "number of evenly spaced limiters"),
+        "first_angle": _Key(_N, "rad", "angle of the first of n evenly spaced limiters"),
+        "clearance": _Key("number_or_numbers", "m", "clearance to the rim", "positive", True),
+        "stiffness": _Key("number_or_numbers", "N/m", "contact stiffness", "nonnegative", True),
+        "damping": _Key("number_or_numbers", "N s/m", "contact damping", "nonnegative"),
+        "friction": _Key("number_or_numbers", "dimensionless", "Coulomb friction coefficient", "nonnegative"),
+        "radius": _Key(_N, "m", "rim radius (friction slip speed)", "nonnegative", True),
+        "smoothing": _Key(_N, "m", "contact smoothing length", "positive"),
+    }, "visco-elastic limiters with friction around a node"),
+    "auto_balancer": _Table(True, {
+        "node": _node("auto-balancer"),
+        "masses": _Key("numbers", "kg", "mass of each weight", "positive"),
+        "n_weights": _Key("count", "count", "number of identical weights"),
+        "mass": _Key(_N, "kg", "mass of each of n_weights weights", "positive"),
+        "radius": _Key(_N, "m", "race radius", "positive"),
+        "r1": _Key(_N, "m", "race semi-axis along the rotor-frame x axis", "positive"),
+        "r2": _Key(_N, "m", "race semi-axis along the rotor-frame y axis", "positive"),
+        "center": _Key("numbers", "m", "race centre in the rotor frame (x, y)"),
+        "drag": _Key(_N, "N s/m", "viscous drag on the weights' relative motion", "nonnegative"),
+        "kind": _Key(_S, meaning="weight kind", choices=KINDS),
+        "inertia_factor": _Key(_N, "dimensionless", "inertia factor (instead of kind)", domain=">=1"),
+    }, "a ball, roller or pendulum auto-balancer"),
+}
+SINGLE_KEY_ALIASES = {"speed": ("rotor", None, "speed")}
+
+
+# --- reading ------------------------------------------------------------------------
+class _Ctx:
+    """The file being read: its label (the path as given) and the entries set by
+    overrides (named in messages as well)."""
+
+    def __init__(self, label):
+        self.label = label
+        self.overridden = {}
+
+    def fail(self, msg, loc=None):
+        note = f" (set by the override {self.overridden[loc]})" if loc in self.overridden else ""
+        raise InputError(f"{self.label}: {msg}{note}")
+
+
+def _loc(table, index, key=None):
+    s = table if index is None else f"{table}[{index}]"
+    return s if key is None else f"{s}.{key}"
+
+
+def _toml_repr(value):
+    """A value as TOML would write it (for messages)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_repr(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml_repr(v)}" for k, v in value.items()) + "}"
+    return str(value)
+
+
+def _what(value):
+    """`value`'s TOML type in words, with the value."""
+    if isinstance(value, bool):
+        return f"a boolean ({_toml_repr(value)})"
+    if isinstance(value, str):
+        return f"a string ({_toml_repr(value)})"
+    if isinstance(value, list):
+        return f"a list ({_toml_repr(value)})"
+    if isinstance(value, dict):
+        return "a table"
+    if isinstance(value, (int, float)):
+        return f"the number {_toml_repr(value)}"
+    return f"a {type(value).__name__} ({value})"
+
+
+def _suggest(name, known):
+    close = difflib.get_close_matches(name, known, n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _read(path):
+    """The file's label and its parsed TOML."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"rotor file: expected a path, got {type(path).__name__}")
+    label = os.fspath(path)
+    p = pathlib.Path(label)
+    if not p.exists():
+        raise InputError(f"{label}: no such rotor file")
+    if not p.is_file():
+        raise InputError(f"{label}: not a file (a rotor file is a TOML file)")
+    try:
+        raw = p.read_bytes()
+    except OSError as e:
+        raise InputError(f"{label}: cannot be read ({e.strerror})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise InputError(f"{label}: not UTF-8 text (byte 0x{raw[e.start]:02x} at offset {e.start}); "
+                         f"a rotor file is UTF-8 TOML") from None
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"{label}: not valid TOML: {e}") from None
+    return label, doc
+
+
+# --- overrides ------------------------------------------------------------------------
+_OVERRIDE = re.compile(r"^([a-z_]+?)(\d+)?\.([A-Za-z_][A-Za-z0-9_]*)$")
+
+
+def _parse_override_key(ctx, okey):
+    """`(table, index, key)` of an override key (`bearing0.kxx`, `gravity.g`, `speed`)."""
+    if not isinstance(okey, str):
+        ctx.fail(f"override key {okey!r} must be a string such as 'bearing0.kxx'")
+    if okey in SINGLE_KEY_ALIASES:
+        return SINGLE_KEY_ALIASES[okey]
+    m = _OVERRIDE.match(okey)
+    if not m:
+        ctx.fail(f"override {okey}: expected <table><index>.<key> (e.g. bearing0.kxx) or <table>.<key> "
+                 f"(e.g. gravity.g)")
+    table, index, key = m.group(1), m.group(2), m.group(3)
+    if table not in SCHEMA:
+        ctx.fail(f"override {okey}: unknown table {table!r}{_suggest(table, list(SCHEMA))}; "
+                 f"known: {', '.join(SCHEMA)}")
+    spec = SCHEMA[table]
+    if spec.array and index is None:
+        ctx.fail(f"override {okey}: [[{table}]] has one entry per item: name it as {table}<index>.{key} "
+                 f"(e.g. {table}0.{key})")
+    if not spec.array and index is not None:
+        ctx.fail(f"override {okey}: [{table}] is a single table: name it as {table}.{key}")
+    if key not in spec.keys:
+        ctx.fail(f"override {okey}: unknown key {key!r} of [{'[' if spec.array else ''}{table}"
+                 f"{']' if spec.array else ''}]{_suggest(key, list(spec.keys))}; known: {', '.join(spec.keys)}")
+    return table, None if index is None else int(index), key
+
+
+def _override_value(ctx, okey, spec, value):
+    """An override's value as the file would hold it (strings parsed for numeric keys)."""
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+        if not is_concrete(value):
+            ctx.fail(f"override {okey}: a traced value cannot be written into a rotor file; "
+                     f"overrides are concrete")
+        value = value.tolist()
+    if isinstance(value, tuple):
+        value = list(value)
+    if isinstance(value, str) and spec.kind in ("number", "count", "node", "number_or_numbers"):
+        text = value.strip()
+        try:
+            value = int(text) if spec.kind in ("count", "node") else float(text)
+        except ValueError:
+            try:
+                value = float(text)
+            except ValueError:
+                ctx.fail(f"override {okey}={value}: must be a number")
+    if spec.kind in ("count", "node") and isinstance(value, float) and value.is_integer():
+        value = int(value)
+    return value
+
+
+def _apply_overrides(ctx, doc, overrides):
+    if not overrides:
+        return doc
+    if not isinstance(overrides, dict):
+        ctx.fail(f"overrides must be a dict such as {{'bearing0.kxx': 2e7}}, got {type(overrides).__name__}")
+    doc = {k: ([dict(e) if isinstance(e, dict) else e for e in v] if isinstance(v, list)
+               else dict(v) if isinstance(v, dict) else v) for k, v in doc.items()}
+    for okey, value in overrides.items():
+        table, index, key = _parse_override_key(ctx, okey)
+        spec = SCHEMA[table]
+        if table not in doc:
+            if table == "rotor":
+                ctx.fail(f"override {okey}: the file has no [rotor] table")
+            ctx.fail(f"override {okey}: the file has no {'[[' if spec.array else '['}{table}"
+                     f"{']]' if spec.array else ']'} table (overrides change entries, they do not add them)")
+        entries = doc[table]
+        if spec.array:
+            if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+                continue  # reported by the validation
+            if not index < len(entries):
+                have = f"{table}0..{table}{len(entries) - 1}" if len(entries) > 1 else f"{table}0"
+                ctx.fail(f"override {okey}: the file has {len(entries)} [[{table}]] "
+                         f"entr{'y' if len(entries) == 1 else 'ies'} ({have})")
+            entry = entries[index]
+        else:
+            if not isinstance(entries, dict):
+                continue
+            entry = entries
+        entry[key] = _override_value(ctx, okey, spec.keys[key], value)
+        ctx.overridden[_loc(table, index, key)] = f"{okey}={_toml_repr(entry[key])}"
+    return doc
+
+
+# --- validation -----------------------------------------------------------------------
+_SIGN_TEST = {"positive": (lambda v: v > 0, "> 0"), "nonnegative": (lambda v: v >= 0, ">= 0")}
+
+
+def _number(ctx, where, value, sign="any", loc=None):
+    loc = where if loc is None else loc
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        ctx.fail(f"{where} must be a number, got {_what(value)}", loc)
+    try:
+        v = float(value)
+    except OverflowError:
+        ctx.fail(f"{where} must be finite, got {value}", loc)
+    if not math.isfinite(v):
+        ctx.fail(f"{where} must be finite, got {_toml_repr(v)}", loc)
+    if sign in _SIGN_TEST and not _SIGN_TEST[sign][0](v):
+        ctx.fail(f"{where} must be {_SIGN_TEST[sign][1]} (got {_toml_repr(value)})", loc)
+    return v
+
+
+def _value(ctx, table, index, key, spec, value, n_nodes):
+    """One key's value checked against its spec (node ranges included)."""
+    where = _loc(table, index, key)
+    kind = spec.kind
+    if kind == "number":
+        v = _number(ctx, where, value, spec.sign)
+        if key == "nu" and not -1 < v <= 0.5:
+            ctx.fail(f"{where} must be in (-1, 0.5] (got {_toml_repr(value)})", where)
+        if key == "inertia_factor" and not v >= 1:
+            ctx.fail(f"{where} must be >= 1 (1 pendulum, 7/5 ball, 3/2 roller; got {_toml_repr(value)})", where)
+        return v
+    if kind in ("count", "node"):
+        if isinstance(value, bool) or not isinstance(value, int):
+            ctx.fail(f"{where} must be an integer, got {_what(value)}", where)
+        if kind == "node" and not 0 <= value < n_nodes:
+            ctx.fail(f"{where} = {value}: the shaft has nodes 0..{n_nodes - 1}", where)
+        if kind == "count" and value < 1:
+            ctx.fail(f"{where} must be >= 1 (got {value})", where)
+        return value
+    if kind == "string":
+        if not isinstance(value, str):
+            ctx.fail(f"{where} must be a string, got {_what(value)}", where)
+        if spec.choices and value not in spec.choices:
+            ctx.fail(f"{where} must be one of {', '.join(json.dumps(c) for c in spec.choices)} "
+                     f"(got {_toml_repr(value)})", where)
+        return value
+    if kind in ("numbers", "number_or_numbers"):
+        if kind == "number_or_numbers" and not isinstance(value, list):
+            return _number(ctx, where, value, spec.sign)
+        if not isinstance(value, list):
+            ctx.fail(f"{where} must be a list of numbers, got {_what(value)}", where)
+        if not value:
+            ctx.fail(f"{where} must be a non-empty list of numbers, got []", where)
+        return [_number(ctx, f"{where}[{j}]", v, spec.sign, loc=where) for j, v in enumerate(value)]
+    if kind == "strings":
+        if not isinstance(value, list) or not value:
+            ctx.fail(f"{where} must be a non-empty list of strings, got {_what(value)}", where)
+        for j, v in enumerate(value):
+            if not isinstance(v, str) or v not in spec.choices:
+                ctx.fail(f"{where}[{j}] must be one of {', '.join(json.dumps(c) for c in spec.choices)} "
+                         f"(got {_toml_repr(v)})", where)
+        if len(set(value)) != len(value):
+            ctx.fail(f"{where} names a dof twice (got {_toml_repr(value)})", where)
+        return list(value)
+    raise AssertionError(kind)
+
+
+def _entries(ctx, doc, table):
+    """The raw entries of `table` as a list of `(index, dict)` (index None for single tables)."""
+    spec = SCHEMA[table]
+    if table not in doc:
+        return []
+    raw = doc[table]
+    if spec.array:
+        if isinstance(raw, dict):
+            ctx.fail(f"{table} must be an array of tables: write [[{table}]] (one per entry), not [{table}]",
+                     table)
+        if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
+            ctx.fail(f"{table} must be an array of tables ([[{table}]]), got {_what(raw)}", table)
+        return list(enumerate(raw))
+    if isinstance(raw, list):
+        ctx.fail(f"{table} must be a single table: write [{table}], not [[{table}]]", table)
+    if not isinstance(raw, dict):
+        ctx.fail(f"{table} must be a table ([{table}]), got {_what(raw)}", table)
+    return [(None, raw)]
+
+
+def _check_keys(ctx, table, index, entry, n_nodes):
+    """Known keys present, required ones there; values checked. Returns a dict."""
+    spec = SCHEMA[table]
+    head = f"[[{table}]]" if spec.array else f"[{table}]"
+    for key in entry:
+        if key not in spec.keys:
+            ctx.fail(f"{_loc(table, index, key)}: unknown key{_suggest(key, list(spec.keys))}; "
+                     f"the keys of {head} are {', '.join(spec.keys)}", _loc(table, index, key))
+    for key, k in spec.keys.items():
+        if k.required and key not in entry:
+            what = ", ".join(s for s in (k.meaning, k.unit) if s and s not in ("node", "count"))
+            ctx.fail(f"{_loc(table, index, key)} is missing (required: {what or key})")
+    return {key: _value(ctx, table, index, key, spec.keys[key], v, n_nodes) for key, v in entry.items()}
+
+
+def _validate(ctx, doc):
+    """The file's content, checked, as plain Python values per table."""
+    for name, value in doc.items():
+        if name not in SCHEMA:
+            if isinstance(value, (dict, list)):
+                ctx.fail(f"unknown table [{name}]{_suggest(name, list(SCHEMA))}; known tables: "
+                         f"{', '.join(SCHEMA)}", name)
+            ctx.fail(f"{name} = {_toml_repr(value)}: a key outside any table; rotor files hold tables only "
+                     f"(known: {', '.join(SCHEMA)})", name)
+    if "rotor" not in doc:
+        ctx.fail("missing table [rotor] (with theory = \"timoshenko\", \"rayleigh\" or \"euler-bernoulli\")")
+    _entries(ctx, doc, "rotor")
+    shafts = _entries(ctx, doc, "shaft")
+    if not shafts:
+        ctx.fail("no [[shaft]] entries: a rotor needs at least one shaft element", "shaft")
+    n_nodes = len(shafts) + 1
+    out = {}
+    for table in SCHEMA:
+        out[table] = [_check_keys(ctx, table, i, e, n_nodes) for i, e in _entries(ctx, doc, table)]
+
+    materials = {}
+    if not out["material"]:
+        ctx.fail("no [[material]] entries: every [[shaft]] element names one", "material")
+    for i, m in enumerate(out["material"]):
+        if m["name"] in materials:
+            ctx.fail(f"material[{i}].name = {_toml_repr(m['name'])}: duplicate material name "
+                     f"(also material[{materials[m['name']]}])", _loc("material", i, "name"))
+        materials[m["name"]] = i
+    for i, s in enumerate(out["shaft"]):
+        s.setdefault("id", 0.0)
+        if not s["od"] > s["id"]:
+            od, idd = _loc("shaft", i, "od"), _loc("shaft", i, "id")
+            ctx.fail(f"{od} must be > id (got od = {_toml_repr(s['od'])}, id = {_toml_repr(s['id'])})",
+                     od if od in ctx.overridden else idd)
+        if s["material"] not in materials:
+            ctx.fail(f"shaft[{i}].material = {_toml_repr(s['material'])}: no [[material]] of that name"
+                     f"{_suggest(s['material'], list(materials))}; defined: "
+                     f"{', '.join(json.dumps(n) for n in materials)}", _loc("shaft", i, "material"))
+
+    for i, b in enumerate(out["bearing"]):
+        b.setdefault("kyy", b["kxx"])
+        b.setdefault("cxx", 0.0)
+        b.setdefault("cyy", b["cxx"])
+        for k in ("kxy", "kyx", "cxy", "cyx"):
+            b.setdefault(k, 0.0)
+    fixed = set()
+    for i, f in enumerate(out["fixed"]):
+        f.setdefault("dofs", list(DOF_NAMES))
+        fixed.update(DOFS_PER_NODE * f["node"] + DOF_NAMES.index(d) for d in f["dofs"])
+    n_free = DOFS_PER_NODE * n_nodes - len(fixed)
+    if n_free == 0:
+        ctx.fail("fixed: the [[fixed]] entries hold every dof of the shaft at zero: nothing is left to move",
+                 "fixed")
+    r = out["rotor"][0]
+    r.setdefault("name", pathlib.Path(ctx.label).stem)
+    r.setdefault("speed", 0.0)
+    if "n_modes" in r and not r["n_modes"] <= n_free:
+        ctx.fail(f"rotor.n_modes = {r['n_modes']}: the shaft has {n_free} free dofs (n_modes must be "
+                 f"1..{n_free})", "rotor.n_modes")
+    for u in out["unbalance"]:
+        u.setdefault("phase", 0.0)
+    for g in out["gravity"]:
+        g.setdefault("g", 9.81)
+        g.setdefault("angle", -np.pi / 2)
+    for c in out["cubic_bearing"]:
+        c.setdefault("k", 0.0)
+        c.setdefault("c", 0.0)
+    for c in out["clearance_bearing"]:
+        c.setdefault("c", 0.0)
+        c.setdefault("smoothing", None)
+
+    for i, lim in enumerate(out["limiters"]):
+        where = _loc("limiters", i)
+        if ("angles" in lim) == ("n" in lim):
+            ctx.fail(f"{where}: give either angles = [...] or n (with first_angle)"
+                     f"{', not both' if 'angles' in lim else '; got neither'}", where)
+        if "angles" in lim and "first_angle" in lim:
+            ctx.fail(f"{where}.first_angle goes with n (evenly spaced limiters), not with angles",
+                     _loc("limiters", i, "first_angle"))
+        if "n" in lim:
+            first, count = lim.pop("first_angle", 0.0), lim.pop("n")
+            lim["angles"] = [float(a) for a in first + 2 * np.pi * np.arange(count) / count]
+        n = len(lim["angles"])
+        lim.setdefault("damping", 0.0)
+        lim.setdefault("friction", 0.0)
+        lim.setdefault("smoothing", 1e-6)
+        for key in ("clearance", "stiffness", "damping", "friction"):
+            if isinstance(lim[key], list) and len(lim[key]) != n:
+                ctx.fail(f"{_loc('limiters', i, key)} must be a number or one value per limiter ({n}), "
+                         f"got {len(lim[key])} values", _loc("limiters", i, key))
+
+    for i, ab in enumerate(out["auto_balancer"]):
+        where = _loc("auto_balancer", i)
+        has_list, has_count = "masses" in ab, ("n_weights" in ab or "mass" in ab)
+        if has_list == has_count:
+            ctx.fail(f"{where}: give either masses = [...] or n_weights and mass"
+                     f"{', not both' if has_list else '; got neither'}", where)
+        if has_count:
+            for key in ("n_weights", "mass"):
+                if key not in ab:
+                    ctx.fail(f"{_loc('auto_balancer', i, key)} is missing (n_weights and mass go together)")
+            ab["masses"] = [ab.pop("mass")] * ab.pop("n_weights")
+        if ("radius" in ab) == ("r1" in ab or "r2" in ab):
+            ctx.fail(f"{where}: give either radius or r1 and r2 (an elliptic race)"
+                     f"{', not both' if 'radius' in ab else '; got neither'}", where)
+        if "radius" in ab:
+            ab["r1"] = ab["r2"] = ab.pop("radius")
+        for key in ("r1", "r2"):
+            if key not in ab:
+                ctx.fail(f"{_loc('auto_balancer', i, key)} is missing (r1 and r2 go together)")
+        ab.setdefault("center", [0.0, 0.0])
+        if len(ab["center"]) != 2:
+            ctx.fail(f"{_loc('auto_balancer', i, 'center')} must be [x, y] (2 numbers), got "
+                     f"{len(ab['center'])}", _loc("auto_balancer", i, "center"))
+        if "kind" in ab and "inertia_factor" in ab:
+            ctx.fail(f"{where}: give kind or inertia_factor, not both", where)
+        ab.setdefault("drag", 0.0)
+    return out
+
+# --- building -------------------------------------------------------------------------
+def _material_constants(spec):
+    """`E, G, rho, nu` for `FlexibleRotor`: scalars when every element has the same
+    constants, per-element arrays otherwise (`nu` None where no material gives it)."""
+    mats = {m["name"]: m for m in spec["material"]}
+    used = [mats[s["material"]] for s in spec["shaft"]]
+
+    def default_nu(m):
+        return m["E"] / (2 * m["G"]) - 1  # as FlexibleRotor computes it (IEEE: the same bits)
+
+    eff = [(m["E"], m["G"], m["rho"], m.get("nu", default_nu(m))) for m in used]
+    given = any("nu" in m for m in used)
+    if all(e == eff[0] for e in eff):
+        E, G, rho, nu = eff[0]
+        return E, G, rho, (nu if given else None)
+    E, G, rho, nu = (np.array(col, dtype=np.float64) for col in zip(*eff))
+    return E, G, rho, (nu if given else None)
+
+
+def _build(ctx, spec, track_work):
+    r = spec["rotor"][0]
+    E, G, rho, nu = _material_constants(spec)
+    shafts = spec["shaft"]
+    try:
+        rotor = FlexibleRotor(
+            np.array([s["L"] for s in shafts]), np.array([s["od"] for s in shafts]),
+            np.array([s["id"] for s in shafts]), E=E, G=G, rho=rho, nu=nu,
+            disks=tuple((d["node"], d["m"], d["Id"], d["Ip"]) for d in spec["disk"]),
+            bearings=tuple((b["node"], b["kxx"], b["kyy"], b["cxx"], b["cyy"], b["kxy"], b["kyx"], b["cxy"],
+                            b["cyx"]) for b in spec["bearing"]),
+            theory=r["theory"],
+            fixed_dofs=tuple((f["node"], DOF_NAMES.index(d)) for f in spec["fixed"] for d in f["dofs"]))
+        if "n_modes" in r:
+            rotor = rotor.reduce(r["n_modes"])
+        parts = [Unbalance(u["node"], u["magnitude"], u["phase"]) for u in spec["unbalance"]]
+        parts += [InternalDamping(d["relaxation_time"]) for d in spec["internal_damping"]]
+        parts += [Gravity(g["g"], g["angle"]) for g in spec["gravity"]]
+        parts += [CubicBearing(c["node"], c["k3"], c["k"], c["c"]) for c in spec["cubic_bearing"]]
+        parts += [ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"])
+                  for c in spec["clearance_bearing"]]
+        parts += [LimitersAt(lim["node"], Limiters(np.array(lim["angles"]), np.asarray(lim["clearance"]),
+                                                   np.asarray(lim["stiffness"]), np.asarray(lim["damping"]),
+                                                   np.asarray(lim["friction"]), lim["smoothing"]), lim["radius"])
+                  for lim in spec["limiters"]]
+        for ab in spec["auto_balancer"]:
+            race = Race(ab["r1"], ab["r2"], tuple(ab["center"]))
+            if "inertia_factor" in ab:
+                bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], inertia_factor=ab["inertia_factor"])
+            else:
+                bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], kind=ab.get("kind", "ball"))
+            parts.append(BalancerAt(ab["node"], bal))
+        return RotorScene(rotor, ConstantSpeed(r["speed"]), tuple(parts), track_work=track_work)
+    except InputError as e:  # a check the loader does not repeat (e.g. nu from E and G)
+        raise InputError(f"{ctx.label}: {e}") from None
+
+
+def load_rotor(path, overrides=None, *, track_work=False) -> RotorScene:
+    """The `RotorScene` of a rotor file (see the module docstring for the tables).
+
+    **Arguments:**
+    - `path`: the TOML file.
+    - `overrides`: `{key: value}` replacing entries of the file before it is
+      checked: `"bearing0.kxx"` (array tables: table, index from 0, key),
+      `"gravity.g"` (single tables), `"speed"` (`[rotor] speed`). Strings are
+      parsed as numbers for numeric keys (as `--set` gives them).
+    - `track_work`: give the scene a work state (energy-balance checks).
+
+    **Returns:** the scene, at the constant speed `[rotor] speed` (0 by default).
+
+    **Raises:** `InputError` naming the file, table, index and key.
+    """
+    label, doc = _read(path)
+    ctx = _Ctx(label)
+    doc = _apply_overrides(ctx, doc, overrides)
+    return _build(ctx, _validate(ctx, doc), bool(track_work))
+
+
+@dataclasses.dataclass(frozen=True)
+class FileParameter:
+    """A scalar entry of a rotor file, as a `--set` key sees it."""
+
+    value: object
+    unit: str
+    meaning: str
+    domain: str
+    integer: bool
+
+
+def file_parameters(path):
+    """The file's label, its `[rotor] name` and its scalar numeric entries as
+    `{key: FileParameter}` (keys `table<index>.key`, `table.key`, and `speed`),
+    after checking the whole file (it is built once)."""
+    label, doc = _read(path)
+    ctx = _Ctx(label)
+    spec = _validate(ctx, doc)
+    scene = _build(ctx, spec, False)
+    n_el = len(spec["shaft"])
+    n_free = len(scene.rotor.free_dofs)
+    r = spec["rotor"][0]
+    out = {"speed": FileParameter(float(r["speed"]), "rad/s", "operating speed ([rotor] speed)", "any", False)}
+    for table, t in SCHEMA.items():
+        for index, entry in _entries(ctx, doc, table):
+            for key, value in entry.items():
+                k = t.keys[key]
+                scalar = k.kind in ("number", "count", "node") or (k.kind == "number_or_numbers"
+                                                                   and not isinstance(value, list))
+                if not scalar or (table, key) == ("rotor", "speed"):
+                    continue
+                name = f"{table}{index}.{key}" if t.array else f"{table}.{key}"
+                at = f" at node {entry['node']}" if "node" in entry and key != "node" else ""
+                meaning = f"{_loc(table, index)}{at}: {k.meaning}"
+                if k.kind == "node":
+                    domain = f"int[0,{n_el}]"
+                elif k.kind == "count":
+                    domain = f"int[1,{n_free}]" if key == "n_modes" else "int>=1"
+                else:
+                    domain = k.domain or {"positive": ">0", "nonnegative": ">=0", "any": "any"}[k.sign]
+                integer = k.kind in ("node", "count")
+                out[name] = FileParameter(int(value) if integer else float(value), k.unit or "dimensionless",
+                                          meaning, domain, integer)
+    return label, r["name"], out
+
+
+# --- writing --------------------------------------------------------------------------
+def _f(x) -> str:
+    """A float, exactly (shortest repr: TOML reads back the same double)."""
+    return repr(float(x))
+
+
+def _s(text: str) -> str:
+    """A TOML basic string."""
+    out = []
+    for ch in text:
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append({"\n": "\\n", "\t": "\\t", "\r": "\\r"}.get(ch, f"\\u{ord(ch):04x}"))
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
+def _floats(a) -> str:
+    return "[" + ", ".join(_f(x) for x in np.ravel(np.asarray(a))) + "]"
+
+
+def _one_or_each(a) -> str:
+    a = np.ravel(np.asarray(a))
+    return _f(a[0]) if np.all(a == a[0]) else _floats(a)
+
+
+def rotor_file_text(scene, name="rotor") -> str:
+    """The TOML text of `scene` (what `save_rotor` writes)."""
+    if not isinstance(scene, RotorScene):
+        raise InputError(f"save_rotor: scene must be a RotorScene, got {type(scene).__name__}")
+    if not isinstance(name, str):
+        raise InputError(f"save_rotor: name must be a string, got {type(name).__name__}")
+    if not is_concrete(scene):
+        raise InputError("save_rotor: the scene holds traced values (inside jit/vmap); save a concrete scene")
+    rotor, n_modes = scene.rotor, None
+    if isinstance(rotor, ReducedRotor):
+        rotor, n_modes = rotor.rotor, rotor.n_modes
+    sp = scene.speed
+    if not isinstance(sp, ConstantSpeed) or float(sp.theta0) != 0.0:
+        raise InputError(f"save_rotor: a rotor file holds a constant speed ([rotor] speed) from angle 0; "
+                         f"this scene's speed is {type(sp).__name__}"
+                         + ("" if not isinstance(sp, ConstantSpeed) else f" with theta0 = {_f(sp.theta0)}"))
+    lines = ["# A rotorjax rotor file (SI units), written by rotorjax.models.save_rotor.", "",
+             "[rotor]", f"name = {_s(name)}", f"theory = {_s(rotor.theory)}", f"speed = {_f(sp.omega)}"]
+    if n_modes is not None:
+        lines.append(f"n_modes = {n_modes}")
+
+    n_el = rotor.lengths.shape[0]
+    cols = [np.broadcast_to(np.asarray(a, dtype=np.float64), (n_el,)) for a in (rotor.E, rotor.G, rotor.rho,
+                                                                                 rotor.nu)]
+    per_el = [tuple(float(c[i]) for c in cols) for i in range(n_el)]
+    names = {}
+    for m in per_el:
+        if m not in names:
+            names[m] = f"material{len(names)}"
+            E, G, rho, nu = m
+            lines += ["", "[[material]]", f"name = {_s(names[m])}", f"E = {_f(E)}", f"G = {_f(G)}",
+                      f"rho = {_f(rho)}"]
+            if nu != E / (2 * G) - 1:
+                lines.append(f"nu = {_f(nu)}")
+    lengths, d_out, d_in = (np.asarray(a) for a in (rotor.lengths, rotor.d_out, rotor.d_in))
+    for i in range(n_el):
+        lines += ["", "[[shaft]]", f"L = {_f(lengths[i])}", f"od = {_f(d_out[i])}", f"id = {_f(d_in[i])}",
+                  f"material = {_s(names[per_el[i]])}"]
+    for node, (m, it, ip) in zip(rotor.disk_nodes, np.asarray(rotor.disk_params)):
+        lines += ["", "[[disk]]", f"node = {node}", f"m = {_f(m)}", f"Id = {_f(it)}", f"Ip = {_f(ip)}"]
+    for node, row in zip(rotor.bearing_nodes, np.asarray(rotor.bearing_params)):
+        kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx = row
+        lines += ["", "[[bearing]]", f"node = {node}", f"kxx = {_f(kxx)}", f"kyy = {_f(kyy)}"]
+        lines += [f"{k} = {_f(v)}" for k, v in (("kxy", kxy), ("kyx", kyx)) if v != 0]
+        lines += [f"cxx = {_f(cxx)}", f"cyy = {_f(cyy)}"]
+        lines += [f"{k} = {_f(v)}" for k, v in (("cxy", cxy), ("cyx", cyx)) if v != 0]
+    by_node = {}
+    for d in rotor.fixed_dofs:
+        by_node.setdefault(d // DOFS_PER_NODE, []).append(DOF_NAMES[d % DOFS_PER_NODE])
+    for node, dofs in by_node.items():
+        lines += ["", "[[fixed]]", f"node = {node}", "dofs = [" + ", ".join(_s(d) for d in dofs) + "]"]
+
+    order = (Unbalance, InternalDamping, Gravity, CubicBearing, ClearanceBearing, LimitersAt, BalancerAt)
+    groups = {cls: [] for cls in order}
+    for i, c in enumerate(scene.components):
+        cls = next((k for k in order if type(c) is k), None)
+        if cls is None:
+            raise InputError(f"save_rotor: components[{i}] ({type(c).__name__}) has no rotor-file table; "
+                             f"rotor files hold {', '.join(k.__name__ for k in order)}")
+        groups[cls].append(c)
+    for cls, table in ((InternalDamping, "internal_damping"), (Gravity, "gravity")):
+        if len(groups[cls]) > 1:
+            raise InputError(f"save_rotor: a rotor file holds one [{table}]; the scene has {len(groups[cls])} "
+                             f"{cls.__name__} components")
+    for u in groups[Unbalance]:
+        lines += ["", "[[unbalance]]", f"node = {u.node}", f"magnitude = {_f(u.magnitude)}",
+                  f"phase = {_f(u.phase)}"]
+    for d in groups[InternalDamping]:
+        lines += ["", "[internal_damping]", f"relaxation_time = {_f(d.relaxation_time)}"]
+    for g in groups[Gravity]:
+        lines += ["", "[gravity]", f"g = {_f(g.g)}", f"angle = {_f(g.angle)}"]
+    for c in groups[CubicBearing]:
+        lines += ["", "[[cubic_bearing]]", f"node = {c.node}", f"k3 = {_f(c.k3)}", f"k = {_f(c.k)}",
+                  f"c = {_f(c.c)}"]
+    for c in groups[ClearanceBearing]:
+        lines += ["", "[[clearance_bearing]]", f"node = {c.node}", f"clearance = {_f(c.clearance)}",
+                  f"k = {_f(c.k)}", f"c = {_f(c.c)}", f"smoothing = {_f(c.smoothing)}"]
+    for c in groups[LimitersAt]:
+        lim = c.limiters
+        if lim.slip_regularisation != 1e-6:
+            raise InputError(f"save_rotor: {c.describe()} has slip_regularisation = {lim.slip_regularisation!r}; "
+                             f"rotor files hold the default 1e-6")
+        lines += ["", "[[limiters]]", f"node = {c.node}", f"angles = {_floats(lim.angles)}",
+                  f"clearance = {_one_or_each(lim.clearance)}", f"stiffness = {_one_or_each(lim.stiffness)}",
+                  f"damping = {_one_or_each(lim.damping)}", f"friction = {_one_or_each(lim.friction)}",
+                  f"radius = {_f(c.radius)}", f"smoothing = {_f(lim.smoothing)}"]
+    for c in groups[BalancerAt]:
+        b = c.balancer
+        masses = np.asarray(b.mass)
+        lines += ["", "[[auto_balancer]]", f"node = {c.node}"]
+        if np.all(masses == masses[0]):
+            lines += [f"n_weights = {masses.shape[0]}", f"mass = {_f(masses[0])}"]
+        else:
+            lines.append(f"masses = {_floats(masses)}")
+        r1, r2 = float(b.race.r1), float(b.race.r2)
+        lines += [f"radius = {_f(r1)}"] if r1 == r2 else [f"r1 = {_f(r1)}", f"r2 = {_f(r2)}"]
+        if np.any(np.asarray(b.race.center) != 0):
+            lines.append(f"center = {_floats(b.race.center)}")
+        lines.append(f"drag = {_f(b.drag)}")
+        factor = float(b.inertia_factor)
+        kind = next((k for k in KINDS if INERTIA_FACTORS[k] == factor), None)
+        lines.append(f"kind = {_s(kind)}" if kind else f"inertia_factor = {_f(factor)}")
+    return "\n".join(lines) + "\n"
+
+
+def save_rotor(scene, path, name=None):
+    """Write `scene` (a `RotorScene` of the parts a rotor file holds, at a constant
+    speed) to `path` as a rotor file. Floats are written exactly, so
+    `load_rotor(path)` rebuilds the same arrays (components in the file's order;
+    materials named `material0`, ... per distinct set of constants; `track_work`
+    is a run option, not part of the file). `name`: the `[rotor] name` (default:
+    the file's stem). Returns `path`."""
+    label = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
+    if label is None:
+        raise InputError(f"save_rotor: expected a path, got {type(path).__name__}")
+    text = rotor_file_text(scene, pathlib.Path(label).stem if name is None else name)
+    try:
+        pathlib.Path(label).write_text(text, encoding="utf-8")
+    except OSError as e:
+        raise InputError(f"{label}: cannot be written ({e.strerror})") from None
+    return path
+
+
+def shipped_rotor(name: str) -> pathlib.Path:
+    """The path of a rotor file shipped with rotorjax (`"ross_compare"`, ...; the
+    `.toml` suffix is optional)."""
+    files = importlib.resources.files("rotorjax.rotors")
+    known = sorted(p.name[:-5] for p in files.iterdir() if p.name.endswith(".toml"))
+    stem = name[:-5] if isinstance(name, str) and name.endswith(".toml") else name
+    if stem not in known:
+        raise InputError(f"unknown shipped rotor {name!r}; known: {', '.join(known)}")
+    return pathlib.Path(str(files / f"{stem}.toml"))

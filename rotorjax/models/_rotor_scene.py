@@ -1,0 +1,347 @@
+"""The finite-element rotor as a scene: a shaft with disks and bearings, spun by a
+speed profile, plus only the components a study needs.
+
+Coordinates: the rotor's (`FlexibleRotor`: its free dofs; `ReducedRotor`: the
+amplitudes of its lowest undamped modes), then each component's own (an
+auto-balancer's weights). State `y = (q, q', [W])`, `W` the work of every force
+but the symmetric stiffness (with `track_work`), so that `energy(y(t)) -
+energy(y(0)) = W(t)` checks an integration.
+
+Equations: the linear part, with each component's linear contribution added,
+
+    M q'' + (C + speed G1) q' + (K + speed K_s) q = P^T (F_static + sum_k f_k(t, x, x')),
+
+where `f_k` are the components' remaining (nonlinear, time-dependent) forces on
+the shaft's physical dofs `x = P q` (`P` expands free or modal coordinates to all
+dofs: with a reduced rotor the linear part is modal, the nonlinear forces act at
+physical dofs). With components that own coordinates the equations come from
+Lagrange's equations of the summed energies with these forces added.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._contract import AbstractScene, LinearMatrices, MissingCapability
+from ._fe_reduction import ReducedRotor
+from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
+from ._base import Kinematics
+from ._lagrange import lagrange_terms
+from ._rotation import to_fixed_pair, to_rotating_pair
+from ._rotor_component import AbstractRotorComponent, ShaftState
+from ._speed import AbstractSpeedProfile, ConstantSpeed
+from ._validate import InputError
+
+
+def _full_rotor(rotor):
+    return rotor.rotor if isinstance(rotor, ReducedRotor) else rotor
+
+
+class RotorScene(AbstractScene):
+    """A finite-element rotor scene (see the module docstring).
+
+    **Arguments:**
+    - `rotor`: a `FlexibleRotor`, or a `ReducedRotor` (`rotor.reduce(n_modes)`)
+      for a modal linear part.
+    - `speed`: a speed profile (rad/s), or a number for a constant speed.
+    - `components`: rotor components (`Unbalance`, `Gravity`, `InternalDamping`,
+      `CubicBearing`, `ClearanceBearing`, `BalancerAt`, `LimitersAt`).
+    - `track_work`: add the work state `W` (energy balance checks).
+    """
+
+    rotor: eqx.Module
+    speed: AbstractSpeedProfile
+    components: tuple
+    track_work: bool = eqx.field(static=True)
+    M: jax.Array
+    Minv: jax.Array
+    C: jax.Array
+    G1: jax.Array
+    K: jax.Array
+    Ks: jax.Array          # per unit speed (circulatory)
+    F0: jax.Array          # static load, in the coordinates
+
+    def __init__(self, rotor, speed=0.0, components=(), track_work=False):
+        if not isinstance(rotor, (FlexibleRotor, ReducedRotor)):
+            raise InputError(f"rotor must be a FlexibleRotor or ReducedRotor, got {type(rotor).__name__}")
+        if not isinstance(speed, AbstractSpeedProfile):
+            speed = ConstantSpeed(speed)
+        if isinstance(components, AbstractRotorComponent):
+            components = (components,)
+        try:
+            components = tuple(components)
+        except TypeError:
+            raise InputError(f"components must be a tuple of rotor components, got "
+                             f"{type(components).__name__}") from None
+        full = _full_rotor(rotor)
+        for i, c in enumerate(components):
+            if not isinstance(c, AbstractRotorComponent):
+                raise InputError(f"components[{i}] must be a rotor component (Unbalance, BalancerAt, "
+                                 f"LimitersAt, ...), got {type(c).__name__}")
+            if c.node is not None and not c.node < full.n_nodes:
+                raise InputError(f"components[{i}] ({c.describe()}): the shaft has nodes 0..{full.n_nodes - 1}")
+        if track_work and any(c.n_coords for c in components):
+            raise InputError("track_work: the energy balance is kept for shafts without components that own "
+                             "coordinates (an auto-balancer's weights)")
+        self.rotor, self.speed, self.components, self.track_work = rotor, speed, components, bool(track_work)
+        M, C, G1, K = rotor.reduced_matrices()
+        n_full = full.n_dofs
+        Cf, Kf, Ksf = (jnp.zeros((n_full, n_full)) for _ in range(3))
+        F0 = jnp.zeros(n_full)
+        for c in components:
+            part = c.linear_part(full)
+            if part is not None:
+                Cf, Kf, Ksf = Cf + part[0], Kf + part[1], Ksf + part[2]
+            load = c.static_load(full)
+            if load is not None:
+                F0 = F0 + load
+        self.M, self.G1 = M, G1
+        self.C, self.K, self.Ks = C + self._coords(Cf), K + self._coords(Kf), self._coords(Ksf)
+        self.Minv = jnp.linalg.inv(M)
+        self.F0 = self._load(F0)
+
+    # --- coordinates -------------------------------------------------------------------
+    def _coords(self, a_full):
+        f = self.rotor.free_dofs
+        a = a_full[np.ix_(f, f)]
+        if isinstance(self.rotor, ReducedRotor):
+            a = self.rotor.basis.T @ a @ self.rotor.basis
+        return a
+
+    def _load(self, f_full):
+        return self.rotor.project(f_full[self.rotor.free_dofs])
+
+    @property
+    def n_shaft(self) -> int:
+        """Number of shaft coordinates (free dofs, or modes)."""
+        return self.M.shape[0]
+
+    @property
+    def n_dof(self) -> int:
+        return self.n_shaft + sum(c.n_coords for c in self.components)
+
+    @property
+    def state_size(self) -> int:
+        return 2 * self.n_dof + (1 if self.track_work else 0)
+
+    @property
+    def n_nodes(self) -> int:
+        return _full_rotor(self.rotor).n_nodes
+
+    @property
+    def n_contacts(self) -> int:
+        return sum(c.n_contacts for c in self.components)
+
+    def _own_slices(self):
+        start, out = self.n_shaft, []
+        for c in self.components:
+            out.append(slice(start, start + c.n_coords))
+            start += c.n_coords
+        return out
+
+    def _contact_slices(self):
+        start, out = 0, []
+        for c in self.components:
+            out.append(slice(start, start + c.n_contacts))
+            start += c.n_contacts
+        return out
+
+    def shaft_state(self, t, q, qd) -> ShaftState:
+        """The shaft's physical state at `t` from the coordinates `q, q'` (all of them)."""
+        t = jnp.asarray(t, dtype=jnp.float64)
+        ns = self.n_shaft
+        return ShaftState(t=t, theta=self.speed.angle(t), theta_dot=self.speed.speed(t),
+                          theta_ddot=self.speed.acceleration(t), x=self.rotor.expand(q[:ns]),
+                          v=self.rotor.expand(qd[:ns]))
+
+    def split(self, y):
+        n = self.n_dof
+        return y[:n], y[n:2 * n]
+
+    # --- equations ----------------------------------------------------------------------
+    def _forces(self, t, q, qd, active):
+        """Generalised force on the shaft coordinates: linear part and components."""
+        ns = self.n_shaft
+        s = self.shaft_state(t, q, qd)
+        f_full = jnp.zeros_like(s.x)
+        for c, sl, cs in zip(self.components, self._own_slices(), self._contact_slices()):
+            f = c.force(s, q[sl], qd[sl], None if active is None else active[cs])
+            if f is not None:
+                f_full = f_full + f
+        qs, qsd = q[:ns], qd[:ns]
+        w = s.theta_dot
+        return (self.F0 + self._load(f_full) - (self.C + w * self.G1) @ qsd - (self.K + w * self.Ks) @ qs), s
+
+    def vector_field(self, t, y, args=None):
+        """`dy/dt`; `args` is the contact set (booleans, one per contact) for
+        event-located integration, `None` for smooth contact laws."""
+        q, qd = self.split(y)
+        f, _ = self._forces(t, q, qd, args)
+        if any(c.n_coords for c in self.components):
+            qdd = self._with_own_coordinates(t, q, qd, f)
+        else:
+            qdd = self.Minv @ f
+        out = [qd, qdd]
+        if self.track_work:
+            ns = self.n_shaft
+            power = qd[:ns] @ (f + self._Ksym() @ q[:ns])
+            out.append(power[None])
+        return jnp.concatenate(out)
+
+    def _Ksym(self):
+        return 0.5 * (self.K + self.K.T)
+
+    def _node_rows(self, node):
+        """`P_k`: the node's `(x, y)` as a linear map of the shaft coordinates."""
+        b = DOFS_PER_NODE * node
+        return self.rotor.expand(jnp.eye(self.n_shaft))[b:b + 2]
+
+    def _with_own_coordinates(self, t, q, qd, f):
+        """Accelerations with components that own coordinates: each one's Lagrange
+        equations in its local coordinates `r = (x_k, y_k, own)` (a few, so the
+        autodiff is small), assembled with `r = A q`, `A` the node's rows and the
+        identity on its own coordinates: `M = M_shaft + sum A^T M_r A`,
+        `rhs = f + sum A^T f_r`."""
+        ns, n = self.n_shaft, self.n_dof
+        t = jnp.asarray(t, dtype=jnp.float64)
+        mass = jnp.zeros((n, n)).at[:ns, :ns].set(self.M)
+        rhs = jnp.concatenate([f, jnp.zeros(n - ns)])
+        for c, sl in zip(self.components, self._own_slices()):
+            if not c.n_coords:
+                continue
+            A = jnp.zeros((2 + c.n_coords, n)).at[:2, :ns].set(self._node_rows(c.node))
+            A = A.at[2:, sl].set(jnp.eye(c.n_coords))
+            m_r, f_r = lagrange_terms(lambda r, rd, tt: self._local_lagrangian(c, r, rd, tt),
+                                      lambda r, rd, tt: c.dissipation(self._local_kinematics(r, rd, tt), r[2:],
+                                                                      rd[2:]),
+                                      A @ q, A @ qd, t)
+            mass, rhs = mass + A.T @ m_r @ A, rhs + A.T @ f_r
+        return jnp.linalg.solve(mass, rhs)
+
+    def _local_kinematics(self, r, rd, t) -> Kinematics:
+        return Kinematics(t=t, theta=self.speed.angle(t), theta_dot=self.speed.speed(t), x=r[0], y=r[1],
+                          xd=rd[0], yd=rd[1])
+
+    def _local_lagrangian(self, c, r, rd, t):
+        kin = self._local_kinematics(r, rd, t)
+        return c.kinetic(kin, r[2:], rd[2:]) - c.potential(kin, r[2:])
+
+    # --- capabilities -------------------------------------------------------------------
+    def linear_matrices(self, speed) -> LinearMatrices:
+        """About the straight, resting shaft (weights of an auto-balancer frozen):
+        the shaft coordinates only."""
+        return LinearMatrices(M=self.M, C=self.C, G=speed * self.G1, K=self.K + speed * self.Ks)
+
+    def unbalance_load(self, speed):
+        full = _full_rotor(self.rotor)
+        total = jnp.zeros(full.n_dofs, dtype=jnp.complex128)
+        found = False
+        for c in self.components:
+            load = c.unbalance_load(full, speed)
+            if load is not None:
+                total, found = total + load, True
+        if not found:
+            raise MissingCapability(f"RotorScene ({self.describe()}) has no Unbalance component")
+        return self.rotor.project(total[self.rotor.free_dofs])
+
+    def expand(self, q_shaft):
+        """Shaft coordinates (vector or columns) to all dofs."""
+        return self.rotor.expand(q_shaft)
+
+    def energy(self, y):
+        """`q'^T M q' / 2 + q^T K_sym q / 2` (shaft coordinates; every other force's
+        work is in the work state)."""
+        ns = self.n_shaft
+        q, qd = self.split(y)
+        return 0.5 * qd[:ns] @ (self.M @ qd[:ns]) + 0.5 * q[:ns] @ (self._Ksym() @ q[:ns])
+
+    def contact_indicator(self, t, y):
+        q, qd = self.split(y)
+        s = self.shaft_state(t, q, qd)
+        parts = [c.contact_indicator(s, q[sl], qd[sl]) for c, sl in zip(self.components, self._own_slices())
+                 if c.n_contacts]
+        return jnp.concatenate(parts) if parts else jnp.zeros(0)
+
+    def _check_rotating(self):
+        if isinstance(self.rotor, ReducedRotor):
+            raise MissingCapability("RotorScene: the rotating frame needs the full FE rotor (a modal basis of "
+                                    "an isotropic rotor is not closed under rotation): build it without reduce()")
+        fixed = set(self.rotor.fixed_dofs)
+        for d in fixed:
+            pair = d + 1 if d % 2 == 0 else d - 1
+            if pair not in fixed:
+                raise MissingCapability(f"RotorScene: the rotating frame needs x and y (and sx and sy) fixed "
+                                        f"together; dof {d} is fixed, dof {pair} is not")
+
+    def _pairs(self, t, y, inverse):
+        self._check_rotating()
+        n, ns = self.n_dof, self.n_shaft
+        th, thd = self.speed.angle(t), self.speed.speed(t)
+        f = self.rotor.free_dofs
+        x = self.rotor.expand(y[:ns]).reshape(-1, 2).T      # rows: (x, sx...), (y, sy...)
+        v = self.rotor.expand(y[n:n + ns]).reshape(-1, 2).T
+        move = to_fixed_pair if inverse else to_rotating_pair
+        u, ud = move(th, thd, x, v)
+        qs = u.T.reshape(-1)[f]
+        qsd = ud.T.reshape(-1)[f]
+        return jnp.concatenate([qs, y[ns:n], qsd, y[n + ns:]])
+
+    def to_rotating(self, t, y):
+        """Every node's displacement and slope pairs turned into the frame spinning
+        with the rotor (own coordinates are relative to the rotor already)."""
+        return self._pairs(t, y, inverse=False)
+
+    def to_fixed(self, t, z):
+        return self._pairs(t, z, inverse=True)
+
+    def weight_coordinates(self):
+        from ._node_parts import BalancerAt
+        from ._validate import is_concrete
+
+        for c, sl in zip(self.components, self._own_slices()):
+            if isinstance(c, BalancerAt):
+                m = c.balancer.mass
+                same = is_concrete(m) and bool(np.all(np.asarray(m) == np.asarray(m)[0]))
+                return np.arange(sl.start, sl.stop), same
+        return np.zeros(0, dtype=int), True
+
+    def rest_state(self, angles=None):
+        """The straight shaft at rest, weights spread evenly (or at `angles`)."""
+        parts = [jnp.zeros(self.n_shaft)]
+        for c in self.components:
+            if c.n_coords:
+                parts.append(c.rest_coords() if angles is None else jnp.asarray(angles, dtype=jnp.float64))
+        q = jnp.concatenate(parts)
+        extra = [jnp.zeros(1)] if self.track_work else []
+        return jnp.concatenate([q, jnp.zeros_like(q)] + extra)
+
+    def state_from_response(self, Q, speed, t=0.0):
+        """The fixed-frame state at `t` of the synchronous motion `q = Re(Q e^{i speed t})`
+        of the shaft coordinates (own coordinates at rest)."""
+        e = jnp.exp(1j * speed * t)
+        q, qd = jnp.real(Q * e), jnp.real(1j * speed * Q * e)
+        y = self.rest_state()
+        ns, n = self.n_shaft, self.n_dof
+        return y.at[:ns].set(q).at[n:n + ns].set(qd)
+
+    # --- outputs ------------------------------------------------------------------------
+    def outputs(self, t, y):
+        """`node_x`, `node_y` (m, every node), `whirl_amplitude` (the largest node
+        orbit radius), each component's own outputs, and `energy`, `work` with
+        `track_work`."""
+        q, qd = self.split(y)
+        s = self.shaft_state(t, q, qd)
+        nx, ny = s.x[0::DOFS_PER_NODE], s.x[1::DOFS_PER_NODE]
+        out = {"node_x": nx, "node_y": ny, "whirl_amplitude": jnp.max(jnp.hypot(nx, ny))}
+        for c, sl in zip(self.components, self._own_slices()):
+            out.update(c.outputs(s, q[sl], qd[sl]))
+        if self.track_work:
+            out["energy"] = self.energy(y)
+            out["work"] = y[-1]
+        return out
+
+    def describe(self) -> str:
+        full = _full_rotor(self.rotor)
+        base = f"FE rotor ({full.lengths.shape[0]} elements, {self.n_shaft} coordinates)"
+        return ", ".join([base] + [c.describe() for c in self.components])

@@ -1,0 +1,117 @@
+"""The shared scan-and-bisect root finder and the implicit-function gradient."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from rotorjax._errors import InputError
+from rotorjax.analysis import critical_speeds, find_roots, root_gradient
+from rotorjax.analysis._roots import bisect, sign_changes
+
+
+def cubic(x):
+    return (x - 1.0) * (x - 2.0) * (x - 3.5)
+
+
+def test_polynomial_roots_to_xtol_with_slopes():
+    roots = find_roots(cubic, 0.0, 5.0, n_scan=23, xtol=1e-12)
+    np.testing.assert_allclose([r.x for r in roots], [1.0, 2.0, 3.5], atol=1e-12)
+    for r in roots:
+        a, b = r.bracket
+        assert 0 < b - a <= 1e-12 and a <= r.x <= b
+        assert np.sign(r.values[0]) != np.sign(r.values[1])
+        slope = 3 * r.x**2 - 13 * r.x + 12.5          # d/dx of the cubic
+        assert r.slope == pytest.approx(slope, rel=1e-3)
+        assert np.isnan(r.residual)                     # no pole check asked for
+
+
+def test_vectorised_scan_equals_the_per_point_scan():
+    loop, (x, v) = find_roots(cubic, 0.0, 5.0, n_scan=23, return_scan=True)
+    vmapped = find_roots(cubic, 0.0, 5.0, n_scan=23, values=lambda xs: jax.vmap(cubic)(jnp.asarray(xs)))
+    given = find_roots(cubic, 0.0, 5.0, n_scan=23, values=v)
+    np.testing.assert_array_equal(x, np.linspace(0.0, 5.0, 23))
+    assert loop == vmapped == given
+
+
+def test_relative_tolerance_and_iteration_cap():
+    (r,) = find_roots(lambda x: x - 1000.0 * np.pi, 1000.0, 4000.0, n_scan=5, xtol=0.0, rtol=1e-9)
+    assert r.bracket[1] - r.bracket[0] <= 1e-9 * r.bracket[1]
+    assert r.x == pytest.approx(1000.0 * np.pi, rel=1e-9)
+    (r,) = find_roots(lambda x: x - 1.3, 0.0, 2.0, n_scan=3, xtol=0.0, max_iter=10)
+    assert r.bracket[1] - r.bracket[0] == pytest.approx(1.0 / 2**10)
+
+
+def test_pole_rejected_by_the_residual_check():
+    """`(x - 1) / (x - 2.55)` changes sign at its root 1 and through its pole 2.55."""
+    def g(x):
+        return (x - 1.0) / (x - 2.55)
+
+    both = find_roots(g, 0.0, 4.0, n_scan=40, xtol=1e-12)
+    np.testing.assert_allclose([r.x for r in both], [1.0, 2.55], atol=1e-12)
+    (root,) = find_roots(g, 0.0, 4.0, n_scan=40, xtol=1e-12, pole_tol=1e-6)
+    assert root.x == pytest.approx(1.0, abs=1e-12)
+    assert root.residual < 1e-11
+
+
+def test_non_finite_points_are_skipped():
+    """Samples that are NaN or infinite bracket nothing: the roots next to them are
+    not found (their brackets are unusable), the others are."""
+    def g(x):
+        if 2.1 < x < 2.5 or abs(x - 4.4) < 1e-9:
+            return np.nan if x < 3 else np.inf
+        return (x - 1.7) * (x - 2.3) * (x - 4.3)
+
+    roots = find_roots(g, 0.0, 5.0, n_scan=26)     # samples every 0.2: NaN at 2.2 and 2.4, inf at 4.4
+    np.testing.assert_allclose([r.x for r in roots], [1.7], atol=1e-10)
+    assert sign_changes([1.0, np.nan, -1.0, -2.0, np.inf, 3.0, -3.0]).tolist() == [5]
+
+
+def test_zero_on_a_sample_found_once_and_nan_midpoint_stops():
+    roots = find_roots(lambda x: x - 2.0, 0.0, 4.0, n_scan=5, xtol=1e-12)
+    assert len(roots) == 1 and roots[0].x == pytest.approx(2.0, abs=1e-12)
+    r = bisect(lambda x: np.nan, 0.0, 1.0, -1.0, 1.0, xtol=1e-12)
+    assert r.bracket == (0.0, 1.0) and r.x == 0.5
+
+
+def test_critical_speeds_is_the_shared_finder():
+    def margin(s):
+        return jnp.sin(s) * jnp.exp(-0.1 * s) + 0.1
+
+    found = critical_speeds(margin, 0.0, 20.0, n_scan=50, xtol=1e-12)
+    roots = find_roots(jax.jit(margin), 0.0, 20.0, n_scan=50, xtol=1e-12)
+    assert [c.speed for c in found] == [r.x for r in roots]
+    assert [c.stable_side for c in found] == ["above" if r.values[1] < 0 else "below" for r in roots]
+
+
+def test_root_gradient_matches_the_closed_form():
+    """`x^2 - p = 0`: `x = sqrt(p)`, `dx/dp = 1 / (2 sqrt(p))`; a pytree of parameters."""
+    assert float(root_gradient(lambda x, p: x**2 - p, 3.0, 9.0)) == pytest.approx(1 / 6, rel=1e-14)
+
+    def g2(x, p):
+        return x**2 - p["a"] * p["b"]
+
+    d = root_gradient(g2, 2.0, {"a": 2.0, "b": 2.0})
+    assert float(d["a"]) == pytest.approx(0.5, rel=1e-14) and float(d["b"]) == pytest.approx(0.5, rel=1e-14)
+    # traceable: vmapped over roots and parameters
+    p = jnp.array([1.0, 4.0, 9.0])
+    np.testing.assert_allclose(jax.vmap(lambda x, q: root_gradient(lambda u, v: u**2 - v, x, q))(jnp.sqrt(p), p),
+                               0.5 / jnp.sqrt(p), rtol=1e-14)
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(lo=1.0, hi=1.0), r"lo must be < hi"),
+    (dict(lo=np.nan), r"lo must be finite"),
+    (dict(n_scan=1), r"n_scan must be an integer >= 2, got 1"),
+    (dict(xtol=-1e-3), r"xtol must be >= 0"),
+    (dict(values=np.zeros(3)), r"values must hold one sample of g per scan point, shape \(10,\), got shape \(3,\)"),
+    (dict(g="cubic"), r"g must be a function"),
+    (dict(pole_tol=0.0), r"pole_tol must be > 0"),
+])
+def test_bad_input(kw, match):
+    args = dict(g=cubic, lo=0.0, hi=5.0, n_scan=10)
+    args.update(kw)
+    with pytest.raises(InputError, match=match):
+        find_roots(**args)
+    with pytest.raises(InputError, match="x \\(the root\\) must be a scalar"):
+        root_gradient(lambda x, p: x - p, jnp.zeros(2), 1.0)

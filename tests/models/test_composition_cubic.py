@@ -1,0 +1,94 @@
+"""Composition (d): ROSS's example rotor (`ross-compare`, dampers at its disks) on
+isotropic bearings with cubic hardening. The synchronous orbit is a rest point of
+the rotating frame, so the unbalance response is a branch of rest points: traced
+by continuation in the speed it bends over and folds twice (the jump), the middle
+part unstable; a run-up follows the upper branch past the lower fold and drops,
+a run-down follows the lower branch and jumps up below it."""
+
+import numpy as np
+import pytest
+
+import rotorjax
+from rotorjax.analysis import synchronous_branch
+from rotorjax.models import CubicBearing, FlexibleRotor, RotorScene, RunUp, Unbalance
+from rotorjax.presets._ross_compare import PRESET
+
+K3 = 3e12   # N/m^3
+
+
+@pytest.fixture(scope="module")
+def setup():
+    p = PRESET.params()
+    disk = (p["disk_mass"], p["disk_It"], p["disk_Ip"])
+    rotor = FlexibleRotor(np.full(6, 0.25), p["shaft_diameter"], E=p["E"], G=p["G"], rho=p["rho"],
+                          disks=((2,) + disk, (4,) + disk),
+                          bearings=((0, 1e6, 1e6, 0.0, 0.0), (6, 1e6, 1e6, 0.0, 0.0),
+                                    (2, 0.0, 0.0, 150.0, 150.0), (4, 0.0, 0.0, 150.0, 150.0)))
+    parts = (Unbalance(2, 2e-3), Unbalance(4, 2e-3), CubicBearing(0, K3), CubicBearing(6, K3))
+    branch = synchronous_branch(RotorScene(rotor, 60.0, parts), (60.0, 140.0))
+    return rotor, parts, branch
+
+
+def _bearing_radius(u):
+    return np.hypot(u[..., 0], u[..., 1])
+
+
+def test_branch_folds_twice_with_an_unstable_middle(setup):
+    _, _, br = setup
+    folds = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    assert len(folds) == 2
+    lo, hi = folds
+    assert abs(lo - 102.79) < 0.01 and abs(hi - 104.12) < 0.01   # as the README says
+    # the refined folds are the branch's turning points in speed
+    turns = sorted([br.p[i] for i in range(1, len(br.p) - 1)
+                    if (br.p[i] - br.p[i - 1]) * (br.p[i + 1] - br.p[i]) < 0])
+    assert len(turns) == 2
+    assert np.allclose(turns, folds, rtol=2e-3)
+    # three solutions between the folds, the middle one unstable; one outside
+    w = 0.5 * (lo + hi)
+    crossings = [i for i in range(len(br.p) - 1) if (br.p[i] - w) * (br.p[i + 1] - w) < 0]
+    assert len(crossings) == 3
+    amps = [_bearing_radius(br.u[i]) for i in crossings]
+    stab = [bool(br.stable[i] and br.stable[i + 1]) for i in crossings]
+    order = np.argsort(amps)
+    assert [stab[i] for i in order] == [True, False, True]
+    assert br.stable[0] and br.stable[-1]
+    assert br.stops == ("box edge (speed = 60.0)", "box edge (speed = 140.0)")
+
+
+def _envelope(rotor, parts, w0, alpha, t_end):
+    sc = RotorScene(rotor.reduce(8), RunUp(w0, alpha), parts)
+    ts = np.linspace(0.0, t_end, 3001)
+    res = rotorjax.simulate(sc, sc.rest_state(), (0.0, t_end), saveat=ts, solver="tsit5", rtol=1e-8, atol=1e-12,
+                            max_steps=1_000_000).raise_if_failed()
+    r = np.hypot(np.asarray(res.outputs["node_x"])[:, 0], np.asarray(res.outputs["node_y"])[:, 0])
+    return w0 + alpha * ts, r
+
+
+def _branch_at(br, w, upper):
+    """Bearing orbit radius on the stable upper or lower part of the branch at speed `w`."""
+    amps = []
+    for i in range(len(br.p) - 1):
+        if (br.p[i] - w) * (br.p[i + 1] - w) <= 0 and br.stable[i] and br.stable[i + 1]:
+            s = (w - br.p[i]) / (br.p[i + 1] - br.p[i])
+            amps.append((1 - s) * _bearing_radius(br.u[i]) + s * _bearing_radius(br.u[i + 1]))
+    return max(amps) if upper else min(amps)
+
+
+def test_run_up_and_run_down_jump_where_the_continuation_folds(setup):
+    """Sweeps at +-0.5 rad/s^2 (quasi-static away from the folds; the run-up
+    overshoots the fold by the sweep's lag, about 1.5 rad/s)."""
+    rotor, parts, br = setup
+    lo, hi = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    w, r = _envelope(rotor, parts, 96.0, 0.5, 30.0)
+    for speed in (100.0, hi - 0.3):
+        i = np.argmin(np.abs(w - speed))
+        assert abs(r[i] - _branch_at(br, speed, upper=True)) < 0.03 * r[i]     # on the upper branch
+    i = np.argmin(np.abs(w - (hi + 4.0)))
+    assert abs(r[i] - _branch_at(br, hi + 4.0, upper=False)) < 0.1 * r[i]      # dropped to the lower one
+    w, r = _envelope(rotor, parts, 111.0, -0.5, 30.0)
+    for speed in (hi - 0.3, 0.5 * (lo + hi)):   # (the lower branch steepens towards its fold)
+        i = np.argmin(np.abs(w - speed))
+        assert abs(r[i] - _branch_at(br, speed, upper=False)) < 0.05 * r[i]    # on the lower branch
+    i = np.argmin(np.abs(w - (lo - 2.5)))
+    assert abs(r[i] - _branch_at(br, lo - 2.5, upper=True)) < 0.05 * r[i]      # jumped up

@@ -1,0 +1,150 @@
+"""The package's layers: imports run one way, models -> solve -> analysis/identify ->
+presets -> cli, with no cycles between packages.
+
+Every module under `rotorjax/` is parsed (imports inside functions included) and each
+import of another part of rotorjax is checked against the part's rank. Where the
+loose modules sit, after reading them: `sweep.py` (a vmapped evaluator of any
+function over a grid, used by `analysis._critical`) with `solve/`; `plot.py` (figures
+from result objects, importing nothing of rotorjax) above the analyses and below the
+presets, so that no analysis draws; `demo.py` with the CLI; the facade
+`rotorjax/__init__.py` on top: nothing inside the package imports it.
+"""
+
+import ast
+import pathlib
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1] / "rotorjax"
+
+#: the parts of the package and their layers (an import may only go to a rank <= its own)
+RANK = {
+    "_errors": 0, "_config": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
+    "models": 1,
+    "solve": 2, "sweep": 2,
+    "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
+    "plot": 3.5,
+    "presets": 4,
+    "demo": 5, "cli": 5,
+    "rotorjax": 6,  # the facade, rotorjax/__init__.py
+}
+
+#: component classes (rotorjax.models) that no analysis may import: an analysis takes a scene
+COMPONENTS = ("AutoBalancer", "Supports", "Limiters", "RigidRotor")
+
+
+def _modules():
+    for path in sorted(ROOT.rglob("*.py")):
+        parts = path.relative_to(ROOT.parent).with_suffix("").parts
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield path, parts
+
+
+def _part(parts):
+    """The part of rotorjax a module (given as its dotted name's parts) belongs to."""
+    return parts[1] if len(parts) > 1 else "rotorjax"
+
+
+def _exists(parts):
+    base = ROOT.parent.joinpath(*parts)
+    return base.with_suffix(".py").exists() or (base / "__init__.py").exists()
+
+
+def _imports(path, parts):
+    """`(line, target parts, imported names)` of every import of rotorjax in a module."""
+    package = parts if path.name == "__init__.py" else parts[:-1]
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "rotorjax":
+                    yield node.lineno, tuple(a.name.split(".")), ()
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - node.level + 1]
+                target = base + (tuple(node.module.split(".")) if node.module else ())
+            elif node.module and node.module.split(".")[0] == "rotorjax":
+                target = tuple(node.module.split("."))
+            else:
+                continue
+            names = tuple(a.name for a in node.names)
+            if len(target) == 1:  # `from rotorjax import x` / `from .. import x`: x may be a part
+                for n in names:
+                    yield node.lineno, target + (n,) if _exists(target + (n,)) else target, (n,)
+            else:
+                yield node.lineno, target, names
+
+
+def _edges():
+    for path, parts in _modules():
+        src = _part(parts)
+        for line, target, names in _imports(path, parts):
+            yield path, line, src, _part(target), target, names
+
+
+def test_every_part_has_a_rank():
+    parts = {_part(p) for _, p in _modules()}
+    assert parts <= set(RANK), f"give these parts of rotorjax a layer in RANK: {sorted(parts - set(RANK))}"
+
+
+def test_no_import_goes_up():
+    bad = [f"{path.relative_to(ROOT.parent)}:{line}: {src} (rank {RANK[src]}) imports {'.'.join(target)} "
+           f"({dst}, rank {RANK[dst]})"
+           for path, line, src, dst, target, _ in _edges() if src != dst and RANK[dst] > RANK[src]]
+    assert not bad, "imports that go up the layers:\n" + "\n".join(bad)
+
+
+def test_no_cycles_between_parts():
+    graph = {}
+    for _, _, src, dst, _, _ in _edges():
+        if src != dst:
+            graph.setdefault(src, set()).add(dst)
+    # Tarjan's strongly connected components
+    index, low, stack, on, cycles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in list(graph):
+        if v not in index:
+            visit(v)
+    assert not cycles, f"import cycles between parts of rotorjax: {cycles}"
+
+
+def test_analyses_take_scenes_not_components():
+    bad = [f"{path.relative_to(ROOT.parent)}:{line}: imports {', '.join(set(names) & set(COMPONENTS))}"
+           for path, line, src, _, _, names in _edges() if src == "analysis" and set(names) & set(COMPONENTS)]
+    assert not bad, "analysis modules importing component classes:\n" + "\n".join(bad)
+
+
+@pytest.mark.parametrize("src,text,dst", [
+    (("rotorjax", "identify", "_make_data"), "from ..presets import balancing_machine", "presets"),
+    (("rotorjax", "cli", "_main"), "from .. import identify", "identify"),
+    (("rotorjax", "demo"), "from . import simulate", "rotorjax"),
+    (("rotorjax", "models"), "from .. import _config", "_config"),
+])
+def test_imports_are_resolved(tmp_path, src, text, dst):
+    """The checks above see relative imports, and `from rotorjax import x` as the part `x`
+    where `x` is one (else the facade)."""
+    path = tmp_path / ("__init__.py" if src == ("rotorjax", "models") else "m.py")
+    path.write_text(text + "\n")
+    ((_, target, _),) = list(_imports(path, src))
+    assert _part(target) == dst

@@ -1,0 +1,272 @@
+"""Bad rotor files and overrides: each raises `InputError` naming the file and the
+entry (table, index, key) as the user wrote it."""
+
+import copy
+import json
+import math
+
+import pytest
+
+from rotorjax._errors import InputError
+from rotorjax.models._rotor_file import load_rotor
+from rotorjax.presets._rotor_file import preset_from_file
+
+
+def _shaft(i):
+    return {"L": 0.1, "od": 0.05, "id": 0.0, "material": "steel"}
+
+
+BASE = {
+    "rotor": {"name": "t", "theory": "timoshenko"},
+    "material": [{"name": "steel", "E": 211e9, "G": 81.2e9, "rho": 7810.0}],
+    "shaft": [_shaft(i) for i in range(6)],  # nodes 0..6
+    "disk": [{"node": 3, "m": 10.0, "Id": 0.05, "Ip": 0.08}],
+    "bearing": [{"node": 0, "kxx": 1e6}, {"node": 6, "kxx": 1e6, "cxx": 10.0}],
+    "unbalance": [{"node": 3, "magnitude": 1e-4}],
+}
+LIMITERS = {"node": 3, "angles": [0.0, 2.0, 4.0], "clearance": 1e-3, "stiffness": 1e7, "radius": 0.1}
+BALANCER = {"node": 3, "n_weights": 2, "mass": 0.05, "radius": 0.1}
+
+
+def _value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, float):
+        return "inf" if v == math.inf else "-inf" if v == -math.inf else "nan" if v != v else repr(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    return str(v)
+
+
+def toml(doc) -> str:
+    """A small TOML writer for the test documents (scalars, lists, tables)."""
+    out = []
+    for name, value in doc.items():
+        if isinstance(value, dict):
+            out.append(f"[{name}]")
+            out += [f"{k} = {_value(v)}" for k, v in value.items()]
+        elif isinstance(value, list) and value and all(isinstance(e, dict) for e in value):
+            for e in value:
+                out.append(f"[[{name}]]")
+                out += [f"{k} = {_value(v)}" for k, v in e.items()]
+        else:
+            out.insert(0, f"{name} = {_value(value)}")
+        out.append("")
+    return "\n".join(out)
+
+
+def edit(fn):
+    """A case's file: BASE changed by `fn(doc)`."""
+    def make():
+        doc = copy.deepcopy(BASE)
+        fn(doc)
+        return toml(doc)
+    return make
+
+
+def setitem(path, value):
+    """`doc[table][index][key] = value` (index None for single tables)."""
+    table, index, key = path
+
+    def fn(doc):
+        entry = doc[table] if index is None else doc[table][index]
+        entry[key] = value
+    return edit(fn)
+
+
+def delitem(table, index, key):
+    def fn(doc):
+        del (doc[table] if index is None else doc[table][index])[key]
+    return edit(fn)
+
+
+def add(table, entry, single=False):
+    def fn(doc):
+        if single:
+            doc[table] = entry
+        else:
+            doc.setdefault(table, []).append(copy.deepcopy(entry))
+    return edit(fn)
+
+
+def raw(text):
+    return lambda: text
+
+
+def dup_material(doc):
+    doc["material"].append(dict(doc["material"][0]))
+
+
+def limiters_with(**changes):
+    entry = dict(LIMITERS, **changes)
+    return add("limiters", {k: v for k, v in entry.items() if v is not None})
+
+
+def balancer_with(**changes):
+    entry = dict(BALANCER, **changes)
+    return add("auto_balancer", {k: v for k, v in entry.items() if v is not None})
+
+
+# (id, file maker, overrides, substrings the message must hold)
+CASES = [
+    ("od-not-above-id", setitem(("shaft", 4, "id"), 0.06), None,
+     ["rotor.toml: shaft[4].od must be > id (got od = 0.05, id = 0.06)"]),
+    ("node-off-the-shaft", setitem(("bearing", 1, "node"), 9), None,
+     ["bearing[1].node = 9: the shaft has nodes 0..6"]),
+    ("negative-node", setitem(("unbalance", 0, "node"), -1), None,
+     ["unbalance[0].node = -1: the shaft has nodes 0..6"]),
+    ("float-node", setitem(("disk", 0, "node"), 2.0), None, ["disk[0].node must be an integer"]),
+    ("unknown-table", add("bearings", {"node": 1, "kxx": 1.0}), None,
+     ["unknown table [bearings]", "did you mean 'bearing'", "known tables: rotor, material"]),
+    ("unknown-key", setitem(("bearing", 0, "kzz"), 1.0), None,
+     ["bearing[0].kzz: unknown key", "the keys of [[bearing]] are node, kxx, kyy"]),
+    ("unknown-key-single", setitem(("rotor", None, "speeds"), 1.0), None,
+     ["rotor.speeds: unknown key", "did you mean 'speed'"]),
+    ("missing-required", delitem("disk", 0, "Id"), None, ["disk[0].Id is missing"]),
+    ("missing-theory", delitem("rotor", None, "theory"), None, ["rotor.theory is missing"]),
+    ("string-for-number", setitem(("shaft", 1, "od"), "0.05"), None,
+     ['shaft[1].od must be a number, got a string ("0.05")']),
+    ("list-for-number", setitem(("disk", 0, "m"), [1.0, 2.0]), None,
+     ["disk[0].m must be a number, got a list ([1.0, 2.0])"]),
+    ("bool-for-number", setitem(("bearing", 0, "kxx"), True), None,
+     ["bearing[0].kxx must be a number, got a boolean (true)"]),
+    ("inf", setitem(("bearing", 1, "cxx"), math.inf), None, ["bearing[1].cxx must be finite, got inf"]),
+    ("nan", setitem(("disk", 0, "m"), math.nan), None, ["disk[0].m must be finite, got nan"]),
+    ("negative", setitem(("bearing", 0, "kxx"), -1.0), None, ["bearing[0].kxx must be >= 0 (got -1.0)"]),
+    ("zero-modulus", setitem(("material", 0, "E"), 0.0), None, ["material[0].E must be > 0 (got 0.0)"]),
+    ("nu-out-of-range", setitem(("material", 0, "nu"), 0.7), None, ["material[0].nu must be in (-1, 0.5]"]),
+    ("unknown-material", setitem(("shaft", 2, "material"), "stel"), None,
+     ['shaft[2].material = "stel": no [[material]] of that name', "did you mean 'steel'"]),
+    ("material-not-a-string", setitem(("shaft", 0, "material"), 3), None,
+     ["shaft[0].material must be a string, got the number 3"]),
+    ("duplicate-material", edit(dup_material), None,
+     ['material[1].name = "steel": duplicate material name (also material[0])']),
+    ("no-material", edit(lambda d: d.pop("material")), None, ["no [[material]] entries"]),
+    ("empty-shaft", edit(lambda d: d.pop("shaft")), None, ["no [[shaft]] entries"]),
+    ("missing-rotor", edit(lambda d: d.pop("rotor")), None, ["missing table [rotor]"]),
+    ("bad-theory", setitem(("rotor", None, "theory"), "timo"), None,
+     ['rotor.theory must be one of "euler-bernoulli", "rayleigh", "timoshenko" (got "timo")']),
+    ("shaft-as-single-table", raw('[rotor]\ntheory = "timoshenko"\n[shaft]\nL = 0.1\n'), None,
+     ["shaft must be an array of tables: write [[shaft]]"]),
+    ("rotor-as-array", raw('[[rotor]]\ntheory = "timoshenko"\n'), None,
+     ["rotor must be a single table: write [rotor], not [[rotor]]"]),
+    ("top-level-key", edit(lambda d: d.update(speed=3)), None, ["speed = 3: a key outside any table"]),
+    ("syntax-error", raw('[rotor]\ntheory = "timoshenko"\nname = = 3\n'), None,
+     ["rotor.toml: not valid TOML", "line 3", "column"]),
+    ("n-modes-too-many", setitem(("rotor", None, "n_modes"), 100), None,
+     ["rotor.n_modes = 100: the shaft has 28 free dofs"]),
+    ("n-modes-zero", setitem(("rotor", None, "n_modes"), 0), None, ["rotor.n_modes must be >= 1 (got 0)"]),
+    ("date-for-number", raw(toml(BASE).replace("m = 10.0", "m = 1979-05-27")), None,
+     ["disk[0].m must be a number, got a date"]),
+    ("limiters-angles-and-n", limiters_with(n=3), None,
+     ["limiters[0]: give either angles = [...] or n (with first_angle), not both"]),
+    ("limiters-neither", limiters_with(angles=None), None, ["limiters[0]: give either angles", "got neither"]),
+    ("limiters-clearance-count", limiters_with(clearance=[1e-3, 1e-3]), None,
+     ["limiters[0].clearance must be a number or one value per limiter (3), got 2 values"]),
+    ("limiters-angle-string", limiters_with(angles=[0.0, "north", 4.0]), None,
+     ['limiters[0].angles[1] must be a number, got a string ("north")']),
+    ("limiters-empty-angles", limiters_with(angles=[]), None, ["limiters[0].angles must be a non-empty list"]),
+    ("limiters-negative-stiffness", limiters_with(stiffness=[1e7, -1.0, 1e7]), None,
+     ["limiters[0].stiffness[1] must be >= 0 (got -1.0)"]),
+    ("balancer-neither", balancer_with(n_weights=None, mass=None), None,
+     ["auto_balancer[0]: give either masses = [...] or n_weights and mass; got neither"]),
+    ("balancer-mass-missing", balancer_with(mass=None), None, ["auto_balancer[0].mass is missing"]),
+    ("balancer-kind", balancer_with(kind="marble"), None,
+     ['auto_balancer[0].kind must be one of "ball", "roller", "pendulum" (got "marble")']),
+    ("balancer-radius-and-r1", balancer_with(r1=0.1), None, ["auto_balancer[0]: give either radius or r1 and r2"]),
+    ("balancer-center-size", balancer_with(center=[0.0]), None, ["auto_balancer[0].center must be [x, y]"]),
+    ("balancer-weights-zero", balancer_with(n_weights=0), None, ["auto_balancer[0].n_weights must be >= 1"]),
+    ("fixed-unknown-dof", add("fixed", {"node": 0, "dofs": ["z"]}), None,
+     ['fixed[0].dofs[0] must be one of "x", "y", "sx", "sy" (got "z")']),
+    ("fixed-dof-twice", add("fixed", {"node": 0, "dofs": ["x", "x"]}), None, ["fixed[0].dofs names a dof twice"]),
+    ("fixed-everything", edit(lambda d: d.update(fixed=[{"node": i} for i in range(7)])), None,
+     ["[[fixed]] entries hold every dof of the shaft at zero"]),
+    ("clearance-zero", add("clearance_bearing", {"node": 6, "clearance": 0.0, "k": 1e7}), None,
+     ["clearance_bearing[0].clearance must be > 0 (got 0.0)"]),
+    ("cubic-missing-k3", add("cubic_bearing", {"node": 0, "k": 1e6}), None, ["cubic_bearing[0].k3 is missing"]),
+    ("internal-damping-negative", add("internal_damping", {"relaxation_time": -1e-5}, single=True), None,
+     ["internal_damping.relaxation_time must be >= 0 (got -1e-05)"]),
+    ("gravity-string", add("gravity", {"g": "9.81"}, single=True), None,
+     ['gravity.g must be a number, got a string ("9.81")']),
+    # overrides (the CLI's --set)
+    ("override-negative", edit(lambda d: None), {"bearing0.kxx": -5.0},
+     ["bearing[0].kxx must be >= 0 (got -5.0)", "bearing0.kxx=-5.0"]),
+    ("override-od-id", edit(lambda d: None), {"shaft4.id": 0.06},
+     ["shaft[4].od must be > id (got od = 0.05, id = 0.06)", "shaft4.id=0.06"]),
+    ("override-node", edit(lambda d: None), {"disk0.node": "9"},
+     ["disk[0].node = 9: the shaft has nodes 0..6", "disk0.node=9"]),
+    ("override-index", edit(lambda d: None), {"bearing7.kxx": 1.0},
+     ["override bearing7.kxx: the file has 2 [[bearing]] entries (bearing0..bearing1)"]),
+    ("override-key", edit(lambda d: None), {"bearing0.kxxx": 1.0},
+     ["override bearing0.kxxx: unknown key 'kxxx'", "did you mean 'kxx'"]),
+    ("override-table", edit(lambda d: None), {"bearings0.kxx": 1.0},
+     ["override bearings0.kxx: unknown table 'bearings'"]),
+    ("override-not-a-number", edit(lambda d: None), {"bearing0.kxx": "abc"},
+     ["override bearing0.kxx=abc: must be a number"]),
+    ("override-absent-table", edit(lambda d: None), {"gravity.g": 1.0},
+     ["override gravity.g: the file has no [gravity] table"]),
+    ("override-no-index", edit(lambda d: None), {"bearing.kxx": 1.0},
+     ["override bearing.kxx", "bearing<index>.kxx"]),
+    ("override-speed-string", edit(lambda d: None), {"speed": "fast"}, ["override speed=fast: must be a number"]),
+]
+
+
+@pytest.mark.parametrize("make,overrides,expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_bad_rotor_file(tmp_path, make, overrides, expected):
+    path = tmp_path / "rotor.toml"
+    path.write_text(make(), encoding="utf-8")
+    with pytest.raises(InputError) as info:
+        load_rotor(path, overrides)
+    message = str(info.value)
+    assert message.startswith(f"{path}: ")
+    for text in expected:
+        assert text in message, message
+
+
+def test_cases_are_many_and_distinct():
+    assert len(CASES) >= 30 and len({c[0] for c in CASES}) == len(CASES)
+
+
+def test_the_base_file_is_valid(tmp_path):
+    path = tmp_path / "rotor.toml"
+    path.write_text(toml(BASE))
+    assert load_rotor(path).n_nodes == 7
+    for extra in (add("limiters", LIMITERS), add("auto_balancer", BALANCER)):
+        path.write_text(extra())
+        load_rotor(path)
+
+
+@pytest.mark.parametrize("setup,expected", [
+    ("missing", "no such rotor file"),
+    ("directory", "not a file"),
+    ("latin1", "not UTF-8 text (byte 0xe9"),
+])
+def test_unreadable_files(tmp_path, setup, expected):
+    path = tmp_path / "rotor.toml"
+    if setup == "directory":
+        path.mkdir()
+    elif setup == "latin1":
+        path.write_bytes(toml(BASE).replace('name = "t"', 'name = "café"').encode("latin-1"))
+    with pytest.raises(InputError) as info:
+        load_rotor(path)
+    assert str(info.value) == f"{path}: {expected}" or str(info.value).startswith(f"{path}: {expected}")
+
+
+def test_preset_set_keys_are_checked(tmp_path):
+    path = tmp_path / "rotor.toml"
+    path.write_text(toml(BASE))
+    preset = preset_from_file(str(path))
+    with pytest.raises(InputError, match="unknown parameter 'bearing9.kxx'"):
+        preset.params({"bearing9.kxx": "1"})
+    with pytest.raises(InputError, match=r"bearing0.kxx=-1: must be >= 0"):
+        preset.params({"bearing0.kxx": "-1"})
+    with pytest.raises(InputError, match=r"disk0.node=7: must be an integer in \[0,6\]"):
+        preset.params({"disk0.node": "7"})
+    with pytest.raises(InputError, match=r"rotor.toml: shaft\[1\].od must be > id .*shaft1.id=0.2"):
+        preset.build(dict(preset.params(), **{"shaft1.id": 0.2}))
+    bad = tmp_path / "bad.toml"
+    bad.write_text(toml(BASE).replace("kxx = 1000000.0", "kxx = -1.0", 1))
+    with pytest.raises(InputError, match=r"bad.toml: bearing\[0\].kxx must be >= 0"):
+        preset_from_file(str(bad))
