@@ -8,7 +8,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..models._validate import InputError
+from ..models._contract import AbstractScene, require
 from ..sweep import sweep
+from ._response import linear_margin
 from ._roots import find_roots, root_gradient
 
 
@@ -39,7 +41,13 @@ def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
     skipped (and make the bracket around them unusable). With `return_scan`,
     returns `(found, (speeds, margins))`, the scan included (for plots). With
     `progress`, a bar shows the scan (in at least 8 chunks) and the bisections.
+    `margin` may be a scene with `linear_matrices`: the margin of its reference
+    motion's linearisation (`linear_margin`).
     """
+    if isinstance(margin, AbstractScene):
+        scene = margin
+        require(scene, "linear_matrices", "critical_speeds")
+        margin = lambda s: linear_margin(scene, s)  # noqa: E731
     if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
         raise InputError(f"the speed range must be finite and increasing, got ({lo}, {hi})")
     if n_scan < 2:

@@ -8,6 +8,7 @@ from typing import Callable
 import jax.numpy as jnp
 import numpy as np
 
+from ..models._contract import AbstractScene, require
 from ._critical import critical_speeds
 from ._roots import root_gradient
 
@@ -36,7 +37,12 @@ def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
     """All speeds in `[lo, hi]` where the system `x' = A(speed) x` loses stability
     as the speed grows (a complex pair crossing to the right: a Hopf point of the
     nonlinear system), from a scan of the margin `max Re lambda` and bisection.
-    With `return_scan`, returns `(points, (speeds, margins))`."""
+    `state_matrix` is `A(speed)`, or a scene with `linear_matrices` (its reference
+    motion's linearisation). With `return_scan`, returns `(points, (speeds, margins))`."""
+    if isinstance(state_matrix, AbstractScene):
+        scene = state_matrix
+        require(scene, "linear_matrices", "hopf_points")
+        state_matrix = lambda s: scene.linear_matrices(s).state_matrix()  # noqa: E731
     margin = _margin(state_matrix)
     out = []
     found, scan = critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True,

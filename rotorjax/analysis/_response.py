@@ -1,6 +1,7 @@
 """Linear analyses of any scene with the linear capability: its unbalance
 response and the stability margin of its reference motion."""
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 
@@ -17,12 +18,16 @@ def scene_unbalance_response(scene, speeds):
     require(scene, "unbalance_load", "an unbalance response")
     if is_concrete(speeds):
         as_numpy("speeds", speeds, ndim=1)
+    return _responses(scene, jnp.asarray(speeds, dtype=jnp.float64))
 
+
+@eqx.filter_jit
+def _responses(scene, speeds):
     def one(w):
         lin = scene.linear_matrices(w)
         return frequency_response(lin.M, lin.C + lin.G, lin.K, scene.unbalance_load(w), w)
 
-    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
+    return jax.vmap(one)(speeds)
 
 
 def linear_margin(scene, speed):

@@ -64,6 +64,11 @@ def _observed(scene, z):
 def stability(scene, z):
     """Eigenvalues of the rotating-frame Jacobian at `z` (autodiff)."""
     require(scene, "to_rotating", "stability of a stationary regime")
+    return _eigenvalues(scene, jnp.asarray(z, dtype=jnp.float64))
+
+
+@eqx.filter_jit
+def _eigenvalues(scene, z):
     jac = jax.jacfwd(lambda zz: rotating_field(scene, 0.0, zz))(z)
     return jnp.linalg.eigvals(jac)
 
@@ -74,8 +79,15 @@ def steady_state(scene, q_guess, rtol=1e-13, atol=1e-13, max_steps=100, tol=1e-1
     Pure and differentiable: `d(regime)/d(scene parameters)` comes from the implicit
     function theorem (optimistix's implicit adjoint). Batch guesses with `vmap`.
     A failure is marked (`converged == False`, with the residual), not raised.
+    Compiled once per scene structure (the Newton solve, the Jacobian's
+    eigenvalues and the outputs together, not op by op).
     """
-    q_guess = jnp.asarray(q_guess, dtype=jnp.float64)
+    require(scene, "to_rotating", "steady_state")
+    return _steady_state(scene, jnp.asarray(q_guess, dtype=jnp.float64), rtol, atol, max_steps, tol)
+
+
+@eqx.filter_jit
+def _steady_state(scene, q_guess, rtol, atol, max_steps, tol) -> Regime:
     sol = optx.root_find(_accel_residual, optx.Newton(rtol=rtol, atol=atol), q_guess, args=scene,
                          max_steps=max_steps, throw=False)
     q = sol.value

@@ -1,4 +1,4 @@
-"""Linear analyses of a `FlexibleRotor`: damped modes, Campbell diagram, critical
+"""Linear analyses of a `FlexibleRotor` (or a `RotorScene`'s linear part): damped modes, Campbell diagram, critical
 speeds, unbalance response, logarithmic decrements. All pure, differentiable with
 respect to the rotor's parameters, and vmappable over speeds or designs."""
 
@@ -12,12 +12,18 @@ from ..models._validate import (InputError, as_count, as_numpy, as_param, check_
 from ..analysis._roots import bisect, sign_changes
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._contract import LinearMatrices
+from ..models._rotor_scene import RotorScene
 from ..models._frequency import frequency_response
 
 
-def _check_rotor(rotor):
+def _check_rotor(rotor, scenes=True):
+    """The number of coordinates of a `FlexibleRotor`, `ReducedRotor` or (where
+    `scenes`) a `RotorScene` (its linear part: components' linearisations included)."""
+    if scenes and isinstance(rotor, RotorScene):
+        return rotor.n_shaft
     if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand", "n_nodes")):
-        raise InputError(f"rotor must be a FlexibleRotor or ReducedRotor, got {type(rotor).__name__}")
+        what = "FlexibleRotor, ReducedRotor or RotorScene" if scenes else "FlexibleRotor or ReducedRotor"
+        raise InputError(f"rotor must be a {what}, got {type(rotor).__name__}")
     return len(rotor.free_dofs) if not hasattr(rotor, "basis") else rotor.n_modes
 
 
@@ -53,7 +59,10 @@ class Modes(eqx.Module):
 
 
 def state_matrix(rotor, speed):
-    """First-order matrix of `M q'' + (C + speed G1) q' + K q = 0` at `speed` (rad/s)."""
+    """First-order matrix of `M q'' + (C + speed G1) q' + K q = 0` at `speed` (rad/s)
+    (a `RotorScene`: its `linear_matrices(speed)`)."""
+    if isinstance(rotor, RotorScene):
+        return rotor.linear_matrices(speed).state_matrix()
     M, C, G1, K = rotor.reduced_matrices()
     return LinearMatrices(M, C, speed * G1, K).state_matrix()
 
@@ -153,9 +162,10 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
 
     The force is `F = unbalance Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`,
     so `F_x = U Omega^2 e^{i phase}` and `F_y = -i F_x`; the response solves
-    `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F`.
+    `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F`. (For a `RotorScene` with its
+    `Unbalance` components: `rotorjax.analysis.scene_unbalance_response`.)
     """
-    _check_rotor(rotor)
+    _check_rotor(rotor, scenes=False)
     node = check_node("node", node, rotor.n_nodes, "unbalance")
     if probe_nodes is None:
         probe = np.arange(rotor.n_nodes)
@@ -208,7 +218,7 @@ def synchronous_critical_speeds(rotor, n_speeds=None):
     keeps the first ones. Requires an undamped rotor with symmetric stiffness
     (damping moves the roots off the real axis: use `critical_speeds_1x`).
     """
-    n = _check_rotor(rotor)
+    n = _check_rotor(rotor, scenes=False)
     if n_speeds is not None:
         n_speeds = as_count("n_speeds", n_speeds, minimum=1, maximum=n)
     M, C, G1, K = rotor.reduced_matrices()

@@ -171,7 +171,10 @@ class RotorScene(AbstractScene):
                 f_full = f_full + f
         qs, qsd = q[:ns], qd[:ns]
         w = s.theta_dot
-        return (self.F0 + self._load(f_full) - (self.C + w * self.G1) @ qsd - (self.K + w * self.Ks) @ qs), s
+        # matrix-vector products, not `(C + w G1) @ qd`: under vmap each lane has its
+        # own speed, and summing matrices per lane costs more than the products
+        lin = self.C @ qsd + w * (self.G1 @ qsd) + self.K @ qs + w * (self.Ks @ qs)
+        return self.F0 + self._load(f_full) - lin, s
 
     def vector_field(self, t, y, args=None):
         """`dy/dt`; `args` is the contact set (booleans, one per contact) for

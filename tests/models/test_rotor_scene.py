@@ -154,13 +154,41 @@ def test_balancer_equations_equal_the_global_lagrangian_at_random_states():
         def dis(q, qd, t):
             return bal.dissipation(kin(q, qd, t), q[ns:], qd[ns:])
 
+        @jax.jit
+        def both(t, y):
+            q, qd = y[:n], y[n:]
+            f, _ = sc._forces(t, q, qd, None)
+            want = lagrange_accelerations(lag, dis, q, qd, t, force=jnp.concatenate([f, jnp.zeros(2)]))
+            return sc.vector_field(t, y)[n:], want
+
         rng = np.random.default_rng(2)
         for _ in range(2):
             t = rng.uniform(0, 1)
             y = jnp.asarray(np.concatenate([rng.normal(size=ns) * 1e-4, rng.uniform(0, 6, 2),
                                             rng.normal(size=ns) * 1e-2, rng.normal(size=2)]))
-            q, qd = y[:n], y[n:]
-            f, _ = sc._forces(t, q, qd, None)
-            want = lagrange_accelerations(lag, dis, q, qd, t, force=jnp.concatenate([f, jnp.zeros(2)]))
-            got = sc.vector_field(t, y)[n:]
+            got, want = both(t, y)
             assert np.allclose(got, want, rtol=1e-10, atol=1e-10 * float(jnp.max(jnp.abs(want))))
+
+
+def test_linear_analyses_take_the_scene_and_say_when_they_cannot():
+    """Campbell, 1x critical speeds, margins and Hopf points run on a `RotorScene`
+    (its linear part: components included) and equal the rotor's own where the
+    components add nothing linear; a scene without a linear part is refused by name."""
+    from rotorjax.analysis import critical_speeds, hopf_points, linear_margin
+    from rotorjax.flexible import campbell, critical_speeds_1x
+    from rotorjax.presets import jeffcott_abb
+
+    rotor = _rotor(kyy=0.8e6)
+    sc = RotorScene(rotor, 0.0, (Unbalance(2, 1e-3),))
+    speeds = np.array([0.0, 300.0])
+    assert np.array_equal(np.asarray(campbell(sc, speeds).frequencies), np.asarray(campbell(rotor, speeds).frequencies))
+    assert critical_speeds_1x(sc, 10.0, 400.0) == critical_speeds_1x(rotor, 10.0, 400.0)
+    voigt = RotorScene(rotor, 0.0, (InternalDamping(1e-3),))
+    (h,) = hopf_points(voigt, 50.0, 400.0, n_scan=40)
+    (h2,) = hopf_points(lambda s: voigt.linear_matrices(s).state_matrix(), 50.0, 400.0, n_scan=40)
+    assert h.speed == h2.speed
+    (c,) = critical_speeds(voigt, 50.0, 400.0, n_scan=40)
+    assert abs(c.speed - h.speed) < 1e-8 and abs(float(linear_margin(voigt, c.speed))) < 1e-6
+    planar = jeffcott_abb.PRESET.build(jeffcott_abb.PRESET.params()).scene
+    with pytest.raises(MissingCapability, match="hopf_points needs a scene with `linear_matrices`"):
+        hopf_points(planar, 0.5, 2.0)
