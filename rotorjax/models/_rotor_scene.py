@@ -31,7 +31,7 @@ from ._lagrange import lagrange_terms
 from ._rotation import to_fixed_pair, to_rotating_pair
 from ._rotor_component import AbstractRotorComponent, ShaftState
 from ._speed import AbstractSpeedProfile, ConstantSpeed
-from ._validate import InputError
+from ._validate import InputError, as_components
 
 
 def _full_rotor(rotor):
@@ -67,18 +67,10 @@ class RotorScene(AbstractScene):
             raise InputError(f"rotor must be a FlexibleRotor or ReducedRotor, got {type(rotor).__name__}")
         if not isinstance(speed, AbstractSpeedProfile):
             speed = ConstantSpeed(speed)
-        if isinstance(components, AbstractRotorComponent):
-            components = (components,)
-        try:
-            components = tuple(components)
-        except TypeError:
-            raise InputError(f"components must be a tuple of rotor components, got "
-                             f"{type(components).__name__}") from None
+        components = as_components(components, AbstractRotorComponent, "rotor component",
+                                   "Unbalance, BalancerAt, LimitersAt, ...")
         full = _full_rotor(rotor)
         for i, c in enumerate(components):
-            if not isinstance(c, AbstractRotorComponent):
-                raise InputError(f"components[{i}] must be a rotor component (Unbalance, BalancerAt, "
-                                 f"LimitersAt, ...), got {type(c).__name__}")
             if c.node is not None and not c.node < full.n_nodes:
                 raise InputError(f"components[{i}] ({c.describe()}): the shaft has nodes 0..{full.n_nodes - 1}")
         if track_work and any(c.n_coords for c in components):

@@ -14,7 +14,7 @@ from ._rotation import to_fixed_pair, to_rotating_pair
 from ._rotor import RigidRotor
 from ._speed import AbstractSpeedProfile
 from ._supports import Supports
-from ._validate import InputError, as_numpy, check_choice, is_concrete
+from ._validate import InputError, as_components, as_numpy, check_choice, is_concrete
 
 
 class Scene(AbstractScene):
@@ -50,17 +50,8 @@ class Scene(AbstractScene):
         if not isinstance(speed, AbstractSpeedProfile):
             raise InputError(f"speed must be a speed profile (ConstantSpeed, RunUp, CustomSpeed), "
                              f"got {type(speed).__name__}")
-        if isinstance(components, AbstractComponent):
-            components = (components,)
-        try:
-            components = tuple(components)
-        except TypeError:
-            raise InputError(f"components must be a tuple of rotorjax components, got "
-                             f"{type(components).__name__}") from None
-        for i, c in enumerate(components):
-            if not isinstance(c, AbstractComponent):
-                raise InputError(f"components[{i}] must be a rotorjax component (Supports, AutoBalancer, "
-                                 f"...), got {type(c).__name__}")
+        components = as_components(components, AbstractComponent, "rotorjax component",
+                                   "Supports, AutoBalancer, ...")
         check_choice("equations", equations, ("auto", "lagrange"))
         self.rotor = rotor
         self.speed = speed

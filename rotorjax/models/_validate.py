@@ -189,3 +189,18 @@ def check_span(name_lo: str, lo, name_hi: str, hi) -> tuple:
     if not lo < hi:
         raise InputError(f"{name_lo} must be < {name_hi}, got {name_lo} = {lo!r}, {name_hi} = {hi!r}")
     return lo, hi
+
+
+def as_components(components, cls, what: str, examples: str) -> tuple:
+    """`components` (one, or an iterable of them) as a tuple of `cls` instances, or an
+    `InputError` naming the first that is not (`what`: "rotorjax component", ...)."""
+    if isinstance(components, cls):
+        components = (components,)
+    try:
+        components = tuple(components)
+    except TypeError:
+        raise InputError(f"components must be a tuple of {what}s, got {type(components).__name__}") from None
+    for i, c in enumerate(components):
+        if not isinstance(c, cls):
+            raise InputError(f"components[{i}] must be a {what} ({examples}), got {type(c).__name__}")
+    return components
