@@ -492,3 +492,228 @@ def plot_boundaries(branches, crossings, path, key, key2, box, title):
     ax.set_ylabel(key2)
     ax.set_title(title)
     return _save(fig, path, [ax])
+
+
+# ---- finite-element rotor: static deflection, mode shapes, tracked Campbell diagram ----
+
+def plot_static(result, path, title=""):
+    """A `StaticResult`: deflection, shear force and bending moment along the shaft
+    in the plane of gravity (shear and moment at both ends of every element)."""
+    plt = _plt()
+    p = ("x", "y").index(result.axis)
+    z = np.asarray(result.positions)
+    ends = np.asarray(result.element_ends)
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    a1.plot(z, 1e6 * np.asarray(result.displacement)[:, p], "o-", ms=3, label=f"{result.axis} (µm)")
+    a1.set_ylabel("deflection (µm)")
+    a2.plot(ends.ravel(), np.asarray(result.shear)[:, :, p].ravel(), "-", color="tab:green", label="shear force")
+    a2.set_ylabel("shear force (N)")
+    a3.plot(ends.ravel(), np.asarray(result.moment)[:, :, p].ravel(), "-", color="tab:purple",
+            label="bending moment")
+    a3.set_ylabel("bending moment (N m)")
+    a3.set_xlabel("axial position (m)")
+    a1.set_title(title)
+    return _save(fig, path, [a1, a2, a3])
+
+
+def mode_shape_lines(shape, rotor, n_per_element=8):
+    """A complex mode shape (all dofs) along the shaft: axial positions and the
+    complex `x`, `y` between the nodes by the beam's cubic (Hermite) shape functions
+    on `(w, dw/dz)`, normalised so that the largest of `|x|`, `|y|` is 1 and real."""
+    v = np.asarray(shape)
+    n_nodes = rotor.n_nodes
+    nd = 4
+    L = np.asarray(rotor.lengths)
+    z0 = np.concatenate([[0.0], np.cumsum(L)])
+    t = np.linspace(0.0, 1.0, n_per_element)
+    N = np.stack([1 - 3 * t**2 + 2 * t**3, t - 2 * t**2 + t**3, 3 * t**2 - 2 * t**3, -t**2 + t**3], axis=1)
+    zs, xs, ys = [], [], []
+    for e in range(n_nodes - 1):
+        Ne = N * np.array([1.0, L[e], 1.0, L[e]])
+        for plane, out in ((0, xs), (1, ys)):
+            dofs = [nd * e + plane, nd * e + plane + 2, nd * (e + 1) + plane, nd * (e + 1) + plane + 2]
+            out.append(Ne @ v[dofs])
+        zs.append(z0[e] + L[e] * t)
+    z, x, y = np.concatenate(zs), np.concatenate(xs), np.concatenate(ys)
+    big = np.concatenate([x, y])
+    scale = big[np.argmax(np.abs(big))]
+    return z, x / scale, y / scale
+
+
+def _major_axis(x, y):
+    """Semi-major axis of the orbits `(Re(x e^{it}), Re(y e^{it}))`."""
+    return np.sqrt(0.5 * (np.abs(x) ** 2 + np.abs(y) ** 2 + np.abs(x**2 + y**2)))
+
+
+def _mode_label(modes, k):
+    return (f"mode {k}: {float(modes.frequencies[k]):.1f} rad/s, {str(modes.whirl[k])}, "
+            f"log dec {float(modes.log_dec[k]):.3g}")
+
+
+def plot_mode_shapes(modes, rotor, path, title=""):
+    """2-D mode shapes of a `Modes` (one speed): `x` and `y` (real parts, at the
+    phase where the largest component peaks) and the orbits' major axis along the
+    shaft, one panel per mode."""
+    plt = _plt()
+    k_all = len(np.asarray(modes.frequencies))
+    cols = min(k_all, 2)
+    rows = -(-k_all // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(6 * cols, 2.8 * rows), squeeze=False)
+    shapes = np.asarray(modes.shapes)
+    for k in range(k_all):
+        ax = axes.flat[k]
+        z, x, y = mode_shape_lines(shapes[:, k], rotor)
+        ax.plot(z, x.real, "-", color="tab:blue", label="x")
+        ax.plot(z, y.real, "-", color="tab:orange", label="y")
+        ax.plot(z, _major_axis(x, y), "k--", lw=1, label="major axis")
+        ax.plot(np.asarray(rotor.node_positions), np.zeros(rotor.n_nodes), "k.", ms=3)
+        ax.set_title(_mode_label(modes, k), fontsize=9)
+        ax.set_xlabel("axial position (m)")
+    for ax in list(axes.flat)[k_all:]:
+        ax.set_visible(False)
+    fig.suptitle(title)
+    return _save(fig, path, list(axes.flat)[:k_all])
+
+
+def plot_mode_shapes_3d(modes, rotor, path, title="", n_orbit=60):
+    """3-D mode shapes of a `Modes`: the orbits `(x(t), y(t))` along the shaft (at
+    the nodes, and the deflected line at one instant), one panel per mode."""
+    plt = _plt()
+    k_all = len(np.asarray(modes.frequencies))
+    cols = min(k_all, 2)
+    rows = -(-k_all // cols)
+    fig = plt.figure(figsize=(6 * cols, 4.5 * rows))
+    shapes = np.asarray(modes.shapes)
+    ph = np.exp(1j * np.linspace(0, 2 * np.pi, n_orbit))
+    axes = []
+    for k in range(k_all):
+        ax = fig.add_subplot(rows, cols, k + 1, projection="3d")
+        z, x, y = mode_shape_lines(shapes[:, k], rotor, n_per_element=6)
+        ax.plot(z, x.real, y.real, "-", color="tab:red", lw=1.5)
+        zn = np.asarray(rotor.node_positions)
+        idx = np.searchsorted(z, zn).clip(0, len(z) - 1)
+        for i in idx:
+            ax.plot(np.full(n_orbit, z[i]), (x[i] * ph).real, (y[i] * ph).real, "-", color="tab:blue", lw=0.8)
+        ax.plot(z, 0 * z, 0 * z, "k-.", lw=0.6)
+        ax.set_xlabel("axial position (m)")
+        ax.set_ylabel("x")
+        ax.set_zlabel("y")
+        ax.set_title(_mode_label(modes, k), fontsize=9)
+        axes.append(ax)
+    fig.suptitle(title)
+    return _save(fig, path, axes, legend=False)
+
+
+def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path, critical=(), title="", unit="rad/s"):
+    """Campbell diagram of tracked branches (`frequencies` speeds x branches):
+    forward whirl solid, backward dashed, mixed dotted; the points coloured by the
+    logarithmic decrement; the 1x line and its crossings."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(9, 5.5))
+    f, w, d = np.asarray(frequencies), np.asarray(whirl), np.asarray(log_dec, dtype=float)
+    d = np.where(np.abs(d) < 1e-9, 0.0, d)   # an undamped rotor's round-off
+    styles = {"forward": ("-", "tab:red"), "backward": ("--", "tab:blue"), "mixed": (":", "0.4")}
+    for k in range(f.shape[1]):
+        for label, (ls, colour) in styles.items():
+            ax.plot(speeds, np.where(w[:, k] == label, f[:, k], np.nan), ls, color=colour, lw=1.3,
+                    label=f"{label} whirl" if k == 0 else None)
+    finite = d[np.isfinite(d)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    sc = ax.scatter(np.repeat(np.asarray(speeds)[:, None], f.shape[1], 1), f, c=d, s=5, cmap="viridis",
+                    vmin=lo, vmax=hi if hi > lo else lo + 1e-12, zorder=3)
+    fig.colorbar(sc, ax=ax, label="logarithmic decrement")
+    ax.plot(speeds, speeds, "k:", lw=1, label="1x")
+    for i, c in enumerate(critical):
+        ax.plot([c], [c], "rx", ms=7, mew=2, label="1x crossing" if i == 0 else None)
+    ax.set_xlabel(f"speed ({unit})")
+    ax.set_ylabel(f"damped natural frequency ({unit})")
+    ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
+    ax.set_title(title)
+    return _save(fig, path, [ax])
+
+
+def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, intersections=(), title="",
+             synchronous=False):
+    """Undamped critical speed map (log-log): critical speed against bearing
+    stiffness, one curve per mode, with each bearing's `kxx`, `kyy` against speed
+    (`bearing_k` (n_b, 2, n_s) at `bearing_speeds`) and their intersections
+    (`(k, speed)` pairs)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    k, f = np.asarray(stiffness), np.asarray(frequencies)
+    for j in range(f.shape[1]):
+        ax.loglog(k, np.where(np.isfinite(f[:, j]), f[:, j], np.nan), "-", lw=1.4, label=f"mode {j + 1}")
+    if bearing_k is not None:
+        s, kb = np.asarray(bearing_speeds), np.asarray(bearing_k)
+        drawn = []
+        for b in range(kb.shape[0]):
+            for c, (name, ls) in enumerate((("kxx", "--"), ("kyy", ":"))):
+                if any(np.array_equal(kb[b, c], d) for d in drawn):  # the same curve as one drawn
+                    continue
+                drawn.append(kb[b, c])
+                ok = (kb[b, c] > 0) & (s > 0)
+                ax.loglog(kb[b, c][ok], s[ok], ls, color="k", lw=1.0, alpha=0.7, label=f"bearing {b} {name}")
+    for i, (ki, si) in enumerate(intersections):
+        ax.plot([ki], [si], "o", color="tab:red", ms=5, label="critical speed on the bearings" if i == 0 else None)
+    ax.set_xlim(k[0], k[-1])
+    finite = f[np.isfinite(f)]
+    if finite.size:
+        ax.set_ylim(finite.min() / 2, finite.max() * 2)
+    ax.set_xlabel("bearing stiffness (N/m)")
+    ax.set_ylabel("critical speed (rad/s)" + (" (forward synchronous)" if synchronous else " (at rest)"))
+    ax.set_title(title)
+    return _save(fig, path, [ax])
+
+
+def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
+    """A frequency-response function: Bode (magnitude, log; phase, degrees) and
+    polar (Nyquist: Im against Re, the frequency increasing along the curve)."""
+    plt = _plt()
+    w, h = np.asarray(frequencies), np.asarray(values)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    a1.semilogy(w, np.abs(h), lw=1.2)
+    a2.plot(w, np.degrees(np.angle(h)), lw=1.2)
+    a1.set_ylabel(f"magnitude ({unit})")
+    a2.set_ylabel("phase (deg)")
+    a2.set_xlabel("frequency (rad/s)")
+    a1.set_title(title)
+    _save(fig, path_bode, [a1, a2], legend=False)
+    fig, ax = plt.subplots(figsize=(6, 6))
+    ax.plot(h.real, h.imag, lw=1.2)
+    ax.plot([h.real[0]], [h.imag[0]], "o", color="tab:green", ms=4, label=f"{w[0]:g} rad/s")
+    ax.plot([h.real[-1]], [h.imag[-1]], "s", color="tab:red", ms=4, label=f"{w[-1]:g} rad/s")
+    ax.set_xlabel(f"real ({unit})")
+    ax.set_ylabel(f"imaginary ({unit})")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title(title + " (polar)")
+    return _save(fig, path_polar, [ax])
+
+
+def plot_deflected_shape(positions, x, y, major, path, title=""):
+    """Deflected shape at one speed: the orbit's major semi-axis along the shaft and
+    the `x`, `y` displacements at the instant `t = 0` (real parts)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4))
+    z = np.asarray(positions)
+    ax.plot(z, np.asarray(major), "k-o", ms=3, lw=1.4, label="major semi-axis")
+    ax.plot(z, np.real(np.asarray(x)), "--", lw=1.0, label="x (t = 0)")
+    ax.plot(z, np.real(np.asarray(y)), ":", lw=1.0, label="y (t = 0)")
+    ax.set_xlabel("axial position (m)")
+    ax.set_ylabel("displacement (m)")
+    ax.set_title(title)
+    return _save(fig, path, [ax])
+
+
+def plot_level1(q, log_dec, path, q0=None, title=""):
+    """API 684 level I: the first forward mode's log decrement against the
+    cross-coupled stiffness, with the threshold `q0` where it crosses zero."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.plot(np.asarray(q), np.asarray(log_dec), "-o", ms=3, lw=1.2, label="log decrement, first forward mode")
+    ax.axhline(0.0, color="k", lw=0.8)
+    if q0 is not None:
+        ax.axvline(q0, color="tab:red", ls="--", lw=1.0, label=f"Q0 = {q0:.4g} N/m")
+    ax.set_xlabel("cross-coupled stiffness Q (N/m)")
+    ax.set_ylabel("log decrement")
+    ax.set_title(title)
+    return _save(fig, path, [ax])

@@ -299,3 +299,93 @@ def test_rotor_files_take_the_place_of_presets(tmp_path, capsys):
     assert out["success"] and out["final_speed"] == 50.0 and out["params"]["speed"] == 50.0
     assert out["final_whirl_amplitude"] > 0 and len(out["node_x_final"]) == 7
     assert (tmp_path / "ross_compare.npz").stat().st_size > 0
+
+
+def test_static_modes_and_tracked_campbell(tmp_path, capsys):
+    """`static` (reactions W/2 on ROSS's symmetric example rotor, plot of deflection,
+    shear, moment), `modes` (table as JSON, 2-D and 3-D shape plots) and `campbell`'s
+    tracked branches; on a rotor file with components (cubic bearings, internal
+    damping) `campbell` and `critical-speeds` use the scene's linear part."""
+    import os
+
+    import rotorjax
+    from rotorjax import presets
+    from rotorjax.flexible import campbell
+
+    assert main(["static", "ross-compare", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    w = -out["weight"][1]
+    np.testing.assert_allclose([r["y"] for r in out["bearing_reactions"]], [w / 2, w / 2], rtol=1e-10)
+    assert out["max_deflection"]["node"] == 3 and out["max_moment"] > 0
+    assert (tmp_path / "static_ross-compare.png").stat().st_size > 0
+    assert main(["modes", "ross-compare", "--speed", "1000", "--n-modes", "4", "--out", str(tmp_path),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [m["whirl"] for m in out["modes"]] == ["backward", "forward", "backward", "forward"]
+    np.testing.assert_allclose(out["modes"][0]["damped_frequency_hz"] * 2 * np.pi,
+                               out["modes"][0]["damped_frequency"], rtol=1e-12)
+    for f in out["files"].values():
+        assert os.path.getsize(f) > 0
+    assert main(["campbell", "ross-compare", "--range", "0", "4000", "--n-speeds", "41", "--out", str(tmp_path),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    tracked = out["tracked"]
+    assert min(tracked["min_mac"]) > 0.8
+    assert all(len({w for w in col[1:] if w != "mixed"}) == 1 for col in zip(*tracked["whirl"]))
+    rig = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "rig_nonlinear.toml")
+    assert main(["campbell", rig, "--range", "0", "300", "--n-speeds", "3", "--modes", "4", "--out",
+                 str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    p = presets.get(rig)
+    scene = p.build(dict(p.defaults)).scene
+    np.testing.assert_allclose(out["frequencies"], np.asarray(campbell(scene, [0.0, 150.0, 300.0], 4).frequencies),
+                               rtol=1e-10)
+    bare = np.asarray(campbell(scene.rotor, [0.0, 150.0, 300.0], 4).frequencies)
+    assert np.abs(np.asarray(out["frequencies"]) / bare - 1).max() > 1e-3
+
+
+def test_ucs_frf_level1_and_several_unbalances(tmp_path, capsys):
+    """The UCS map, FRF and level I commands print what the library computes, and
+    `response` takes several unbalances and a deflected shape."""
+    from rotorjax.flexible import deflected_shape, frf, level1, ucs, unbalance_response_many
+    from rotorjax.presets import get
+
+    rotor = get("ross-compare").build(dict(get("ross-compare").defaults)).scene.rotor
+    assert main(["ucs", "ross-compare", "--n", "12", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    ref = ucs(rotor, (1e5, 1e10), 12, 4)
+    np.testing.assert_allclose(out["critical_speeds"], np.asarray(ref.frequencies), rtol=1e-12)
+    np.testing.assert_allclose([i["speed"] for i in out["intersections"]][:2], [91.79655318, 96.28899977], rtol=1e-8)
+    assert (tmp_path / "ucs_ross-compare.png").stat().st_size > 0
+
+    assert main(["frf", "ross-compare", "--input", "2,x", "--output", "4,y", "--range", "10", "1000", "--n", "50",
+                 "--kind", "velocity", "--speed", "300", "--set", "cxx=100", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    damped = get("ross-compare").build(dict(get("ross-compare").defaults, cxx=100.0)).scene.rotor
+    h = np.asarray(frf(damped, (2, "x"), (4, "y"), np.linspace(10, 1000, 50), "velocity", speed=300.0).values)
+    np.testing.assert_allclose(out["magnitude"], np.abs(h), rtol=1e-12)
+    np.testing.assert_allclose(out["phase"], np.angle(h), atol=1e-12)
+    for f in ("frf_ross-compare_bode.png", "frf_ross-compare_polar.png"):
+        assert (tmp_path / f).stat().st_size > 0
+
+    assert main(["level1", "ross-compare", "--speed", "500", "--set", "cxx=1500", "--set", "cyy=1500", "--n", "9",
+                 "--q-max", "4e5", "--out", str(tmp_path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    lev = get("ross-compare").build(dict(get("ross-compare").defaults, cxx=1500.0, cyy=1500.0)).scene
+    ref = level1(lev, 500.0, q_max=4e5, n=9)
+    assert out["node"] == 3 and out["q0"] == pytest.approx(float(ref.q0), rel=1e-12)
+    assert abs(out["check_at_q0"]["max_real_part"]) < 1e-6
+    np.testing.assert_allclose(out["log_dec"], np.asarray(ref.log_dec), rtol=1e-12)
+
+    unb = [(2, 1e-3, 0.0), (4, 5e-4, 1.0)]
+    assert main(["response", "ross-compare", "--range", "10", "400", "--n", "40", "--set", "cxx=100", "--probe", "3",
+                 "--unbalance", "2,1e-3,0", "--unbalance", "4,5e-4,1", "--shape-at", "250", "--out", str(tmp_path),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    X, Y = unbalance_response_many(damped, unb, np.linspace(10, 400, 40), probe_nodes=[3])
+    amp = np.sqrt(np.abs(np.asarray(X[:, 0])) ** 2 + np.abs(np.asarray(Y[:, 0])) ** 2)
+    assert out["max_amplitude"] == pytest.approx(float(amp.max()), rel=1e-12)
+    assert [u["node"] for u in out["unbalances"]] == [2, 4] and out["unbalance"] is None
+    np.testing.assert_allclose(out["deflected_shape"]["major"], np.asarray(deflected_shape(damped, unb, 250.0).major),
+                               rtol=1e-12)
+    assert (tmp_path / "response_ross-compare_shape.png").stat().st_size > 0

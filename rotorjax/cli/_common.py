@@ -15,12 +15,14 @@ from .._errors import InputError, NumericalError  # noqa: F401  (re-exported for
 #: Commands that apply to each kind of preset (the message for a mismatch).
 KIND_COMMANDS = {
     "planar": "a planar rotor: use `simulate`, `steady`, `critical-speeds`, `stability-map`, `continue`",
-    "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`",
+    "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`, `static`, `modes`, `ucs`, "
+                "`frf`, `level1`",
     "modal": "model 003's modal shaft: use `steady`, `critical-speeds`, `stability-map`, `continue`",
     "contact": "model 004's rotor with limiters: use `simulate`, `hopf`, `bifurcation`, `critical-speeds`, "
                "`stability-map`, `continue`",
     "machine": "a balancing machine: use `balance`, `identify`",
-    "rotor": "a rotor file's finite-element rotor: use `simulate`, `campbell`, `response`, `critical-speeds`",
+    "rotor": "a rotor file's finite-element rotor: use `simulate`, `campbell`, `response`, `critical-speeds`, "
+             "`static`, `modes`, `ucs`, `frf`, `level1`",
 }
 
 

@@ -10,6 +10,9 @@ from ._balance import cmd_balance, cmd_identify
 from ._common import InputError, NumericalError, at_least, finite, nonnegative, positive, tolerance
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
+from ._fe_analyses import cmd_modes, cmd_static
+from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
+from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._simulate import cmd_simulate
@@ -134,11 +137,71 @@ def build_parser():
         (("--n",), dict(type=at_least(2), default=2000, help="number of speeds")),
         (("--node",), dict(type=at_least(0), default=2, help="node of the unbalance")),
         (("--probe",), dict(type=at_least(0), default=2, help="node where the response is read")),
-        (("--unbalance",), dict(type=positive, default=1e-3, help="unbalance magnitude, kg m")),
+        (("--unbalance",), dict(type=unbalance_spec, action="append", default=None, metavar="U|NODE,MAG,PHASE",
+                                help="unbalance magnitude, kg m, at --node with --phase (default 1e-3); or "
+                                     "NODE,MAG,PHASE (kg m, rad), repeatable: these unbalances act together "
+                                     "and replace the single one")),
         (("--phase",), dict(type=finite, default=0.0, help="unbalance phase, rad")),
+        (("--shape-at",), dict(type=positive, default=None, metavar="W",
+                               help="also plot the deflected shape (orbit major axis along the shaft) at "
+                                    "speed W, rad/s")),
         (("--reduce",), dict(type=int, default=None, metavar="N",
                              help="reduce to the N lowest undamped modes first (ReducedRotor)")),
     ], kinds="ross-compare, rotor files")
+    _command(sub, "static", "static deflection, bearing reactions, shear and moment under gravity", cmd_static, [
+        (("--gravity",), dict(type=finite, default=9.80665, metavar="G",
+                              help="gravitational acceleration, m/s^2, acting along -AXIS")),
+        (("--axis",), dict(default="y", choices=("x", "y"), help="the vertical axis")),
+    ], kinds="ross-compare, rotor files",
+        description="static deflection under gravity (bearings at rest, supports included): the bearing "
+                    "reactions (the force each bearing exerts on the shaft), and the shear force and bending "
+                    "moment along the shaft (sagging positive, dM/dz = V; ROSS reports -V and -M)")
+    _command(sub, "modes", "damped modes at a speed: frequencies, damping, whirl, mode shapes", cmd_modes, [
+        (("--speed",), dict(type=nonnegative, default=0.0, metavar="W",
+                            help="spin speed, rad/s (>= 0: the whirl labels refer to the positive spin)")),
+        (("--n-modes",), dict(type=at_least(1), default=6, metavar="N", help="modes shown, lowest first")),
+    ], kinds="ross-compare, rotor files")
+    _command(sub, "ucs", "undamped critical speed map against bearing stiffness", cmd_ucs, [
+        (("--range",), dict(type=finite, nargs=2, metavar=("KLO", "KHI"), default=(1e5, 1e10),
+                            help="bearing stiffness range, N/m (0 < KLO < KHI, log-spaced)")),
+        (("--n",), dict(type=at_least(2), default=60, help="stiffness values")),
+        (("--n-modes",), dict(type=at_least(1), default=4, metavar="M", help="critical speeds per stiffness")),
+        (("--synchronous",), dict(action="store_true",
+                                  help="forward synchronous critical speeds (It - Ip) instead of the "
+                                       "frequencies at rest (ROSS's synchronous=True)")),
+    ], kinds="ross-compare, rotor files",
+        description="undamped critical speed map: every bearing replaced by an isotropic spring k (no damping, "
+                    "cross-coupling or pedestal), critical speeds against k (ROSS's run_ucs), with the bearings' "
+                    "kxx, kyy against speed and their intersections: the critical speeds on the real bearings")
+    _command(sub, "frf", "frequency-response function between two dofs (Bode and polar plots)", cmd_frf, [
+        (("--input",), dict(type=point_spec, required=True, metavar="NODE,DIR",
+                            help="the force: node and direction x or y, e.g. 2,x")),
+        (("--output",), dict(type=point_spec, required=True, metavar="NODE,DIR",
+                             help="the response: node and direction x or y")),
+        _range(help="excitation frequency range, rad/s (0 <= LO < HI)"),
+        (("--n",), dict(type=at_least(2), default=1000, help="number of frequencies")),
+        (("--kind",), dict(default="displacement", choices=("displacement", "velocity", "acceleration"),
+                           help="response per unit force: displacement, velocity or acceleration")),
+        (("--speed",), dict(type=nonnegative, default=None, metavar="W",
+                            help="fixed running speed, rad/s (default: the rotor runs at the excitation "
+                                 "frequency, as ROSS's run_freq_response); bearings at the running speed")),
+    ], kinds="ross-compare, rotor files")
+    _command(sub, "level1", "API 684 level I stability screening (cross-coupled stiffness at mid-span)",
+             cmd_level1, [
+                 (("--speed",), dict(type=nonnegative, required=True, metavar="W",
+                                     help="running speed, rad/s (API 684: the maximum continuous speed)")),
+                 (("--node",), dict(type=at_least(0), default=None, metavar="N",
+                                    help="node of the cross-coupling (default: mid-span between the outer "
+                                         "bearings)")),
+                 (("--q-max",), dict(type=positive, default=None, metavar="Q",
+                                     help="largest cross-coupled stiffness, N/m (default: the largest bearing "
+                                          "stiffness)")),
+                 (("--n",), dict(type=at_least(2), default=41, help="values of Q from 0 to --q-max")),
+             ], kinds="ross-compare, rotor files",
+             description="API 684 level I screening: cross-coupled stiffness kxy = +Q, kyx = -Q (destabilising "
+                         "forward whirl) at a node, the log decrement of the first forward mode against Q at the "
+                         "running speed, and the threshold Q0 where it crosses zero (exit 3, q0 null in the "
+                         "JSON, when it does not within --q-max)")
     _command(sub, "hopf", "Hopf point of straight-line rotation (internal friction)", cmd_hopf, [
         _range(required=False, help=f"spin-speed range N, units 1/T* (default: {HOPF_RANGE[0]:g} "
                                     f"{HOPF_RANGE[1]:g})"),

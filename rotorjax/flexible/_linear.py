@@ -47,7 +47,19 @@ class Modes(eqx.Module):
     - `frequencies`: damped natural frequencies `|Im lambda|` (the modes with
       `Im lambda > 0`); `eigenvalues` the matching `lambda`.
     - `log_dec`: logarithmic decrement `-2 pi Re lambda / |Im lambda|`.
-    - `forward`: whirl direction at the node of largest motion (True: forward).
+    - `natural_frequencies`: `|lambda|` (rad/s, ROSS's `wn`); `damping_ratio`:
+      `-Re lambda / |lambda|`.
+    - `forward`: the dominant whirl direction (True: the forward-whirling part of
+      the shape, `|x + i y|^2` summed over the nodes, outweighs the backward one).
+    - `whirl_value`: ROSS's classification (`whirl_direction`, `whirl_values`):
+      each node's orbit whirls forward when `y` lags `x` (`Im(conj(x) y) < 0` for
+      `Im lambda > 0`), backward when it leads; the mode is forward (0.0) when every
+      node's orbit is forward, backward (1.0) when every one is backward, else mixed
+      (0.5). Unlike ROSS, nodes that barely move (`|x|^2 + |y|^2` below `1e-12` of
+      the largest) or whose orbit is a straight line (`|Im(conj(x) y)|` below `1e-9`
+      of `|x|^2 + |y|^2`) are not counted (ROSS counts a straight line as backward,
+      and the sign of a phase difference of round-off size decides there); a mode
+      with no counted node (planar) is mixed. `whirl` gives the labels.
     - `shapes`: complex mode shapes on all dofs (fixed dofs zero), columns.
     """
 
@@ -56,6 +68,32 @@ class Modes(eqx.Module):
     log_dec: jax.Array
     forward: jax.Array
     shapes: jax.Array
+    natural_frequencies: jax.Array
+    damping_ratio: jax.Array
+    whirl_value: jax.Array
+
+    @property
+    def whirl(self) -> np.ndarray:
+        """`"forward"`, `"backward"` or `"mixed"` per mode (numpy strings, the
+        shape of `whirl_value`)."""
+        return whirl_labels(self.whirl_value)
+
+
+def whirl_labels(whirl_value) -> np.ndarray:
+    """ROSS's whirl values (0, 0.5, 1) as labels."""
+    v = np.asarray(whirl_value)
+    return np.where(v == 0.0, "forward", np.where(v == 1.0, "backward", "mixed"))
+
+
+def _whirl_value(x, y):
+    """ROSS's node-by-node whirl classification (see `Modes`) of shapes `x`, `y`
+    (nodes x modes)."""
+    a = jnp.abs(x) ** 2 + jnp.abs(y) ** 2
+    s = jnp.imag(jnp.conj(x) * y)
+    counted = (a > 1e-12 * jnp.max(a, axis=0, keepdims=True)) & (jnp.abs(s) > 1e-9 * a)
+    any_fwd = jnp.any(counted & (s < 0), axis=0)
+    any_bwd = jnp.any(counted & (s > 0), axis=0)
+    return jnp.where(any_fwd & ~any_bwd, 0.0, jnp.where(any_bwd & ~any_fwd, 1.0, 0.5))
 
 
 def state_matrix(rotor, speed):
@@ -63,7 +101,7 @@ def state_matrix(rotor, speed):
     (a `RotorScene`: its `linear_matrices(speed)`)."""
     if isinstance(rotor, RotorScene):
         return rotor.linear_matrices(speed).state_matrix()
-    M, C, G1, K = rotor.reduced_matrices()
+    M, C, G1, K = rotor.reduced_matrices(speed)
     return LinearMatrices(M, C, speed * G1, K).state_matrix()
 
 
@@ -81,14 +119,17 @@ def modes(rotor, speed, n_modes=None) -> Modes:
     if n_modes is not None:
         lam, vec = lam[:n_modes], vec[:, :n_modes]
     full = rotor.expand(vec)
-    x = full[0::DOFS_PER_NODE]
-    y = full[1::DOFS_PER_NODE]
+    shaft = full[: DOFS_PER_NODE * rotor.n_nodes]   # shaft nodes (not supports' pedestals)
+    x = shaft[0::DOFS_PER_NODE]
+    y = shaft[1::DOFS_PER_NODE]
     fwd = jnp.abs(x + 1j * y)   # forward-whirl amplitude per node (for Im lambda > 0)
     bwd = jnp.abs(x - 1j * y)
     forward = jnp.sum(fwd**2, axis=0) >= jnp.sum(bwd**2, axis=0)
     freq = jnp.abs(jnp.imag(lam))
+    wn = jnp.abs(lam)
     return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
-                 forward=forward, shapes=full)
+                 forward=forward, shapes=full, natural_frequencies=wn, damping_ratio=-jnp.real(lam) / wn,
+                 whirl_value=_whirl_value(x, y))
 
 
 def damped_frequencies(rotor, speed, n_modes=None):
@@ -181,7 +222,7 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
             as_param(name, v, shape=())
     if is_concrete(speeds):
         as_numpy("speeds", speeds, ndim=1)
-    M, C, G1, K = rotor.reduced_matrices()
+    mats = rotor.reduced_matrices()
     f = rotor.free_dofs
     b = DOFS_PER_NODE * node
     if b not in f or b + 1 not in f:
@@ -193,6 +234,8 @@ def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
 
     def one(w):
         F = unbalance * w**2 * jnp.exp(1j * phase) * unit
+        # bearing coefficients at each speed (tabulated bearings)
+        M, C, G1, K = rotor.reduced_matrices(w) if getattr(rotor, "speed_dependent", False) else mats
         Q = frequency_response(M, C + w * G1, K, F, w)
         full = rotor.expand(Q)
         return full[DOFS_PER_NODE * probe], full[DOFS_PER_NODE * probe + 1]
@@ -221,6 +264,9 @@ def synchronous_critical_speeds(rotor, n_speeds=None):
     n = _check_rotor(rotor, scenes=False)
     if n_speeds is not None:
         n_speeds = as_count("n_speeds", n_speeds, minimum=1, maximum=n)
+    if getattr(rotor, "speed_dependent", False):
+        raise InputError("synchronous_critical_speeds needs bearings that do not depend on speed; "
+                         "use critical_speeds_1x with tabulated bearings")
     M, C, G1, K = rotor.reduced_matrices()
     if not isinstance(C, jax.core.Tracer) and np.any(np.asarray(C) != 0):
         raise InputError("synchronous_critical_speeds needs an undamped rotor (C = 0); "

@@ -18,6 +18,14 @@ from ._speed import RunUp as RunUp
 from ._supports import Supports as Supports
 from ._fe_rotor import DOFS_PER_NODE as DOFS_PER_NODE
 from ._fe_rotor import FlexibleRotor as FlexibleRotor
+from ._fe_rotor import Bearing as Bearing
+from ._fe_rotor import Support as Support
+from ._materials import MATERIALS as MATERIALS
+from ._materials import Material as Material
+from ._materials import material as material
+from ._journal_bearing import JournalCoefficients as JournalCoefficients
+from ._journal_bearing import PlainJournal as PlainJournal
+from ._journal_bearing import plain_journal as plain_journal
 from ._fe_reduction import ReducedRotor as ReducedRotor
 from ._cantilever import CantileverRotor as CantileverRotor
 from ._limiters import Limiters as Limiters

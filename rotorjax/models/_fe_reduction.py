@@ -64,10 +64,15 @@ class ReducedRotor(eqx.Module):
     def free_dofs(self) -> np.ndarray:
         return self.rotor.free_dofs
 
-    def reduced_matrices(self):
-        """`Phi^T (M, C, G1, K) Phi` in the modal coordinates."""
+    @property
+    def speed_dependent(self) -> bool:
+        return getattr(self.rotor, "speed_dependent", False)
+
+    def reduced_matrices(self, speed=0.0):
+        """`Phi^T (M, C, G1, K) Phi` in the modal coordinates (bearings at `speed`;
+        the basis stays the one at speed 0)."""
         P = self.basis
-        return tuple(P.T @ a @ P for a in self.rotor.reduced_matrices())
+        return tuple(P.T @ a @ P for a in self.rotor.reduced_matrices(speed))
 
     def expand(self, q):
         """Modal coordinates (vector or columns) to all dofs of the shaft."""

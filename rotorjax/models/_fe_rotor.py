@@ -1,4 +1,5 @@
-"""A finite-element rotor: shaft elements, rigid disks and linear bearings at nodes."""
+"""A finite-element rotor: shaft elements (cylindrical or tapered), rigid disks, point
+masses, linear bearings (constant or tabulated against speed) and pedestal supports."""
 
 import equinox as eqx
 import jax
@@ -8,6 +9,7 @@ import numpy as np
 from ._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
                                is_concrete, per_item, show)
 from ._fe_elements import element_matrices
+from ._interpolate import spline
 
 DOFS_PER_NODE = 4  # x, y, sx, sy
 
@@ -38,50 +40,216 @@ def _material(name, value, n_el, sign):
     return v
 
 
-class FlexibleRotor(eqx.Module):
-    """Shaft of `n` beam elements between `n + 1` nodes, rigid disks and linear
-    bearings at nodes, assembled into `M q'' + (C + Omega G1) q' + K q = F`.
+BEARING_COEFFICIENTS = ("kxx", "kyy", "kxy", "kyx", "cxx", "cyy", "cxy", "cyx", "mxx", "myy", "mxy", "myx")
+_NONNEGATIVE = ("kxx", "kyy", "cxx", "cyy")
 
-    Node dofs `(x, y, sx, sy)`: displacements and section rotations (slopes for
-    Euler-Bernoulli). Element and disk/bearing parameters are array leaves
-    (differentiable, vmappable); node indices, `theory` and `fixed_dofs` are static.
+
+class Bearing(eqx.Module):
+    """A linear bearing at a shaft node: force `-(K q + C q' + M q'')` on the node's
+    `(x, y)` (or, with a `Support`, on its motion relative to the pedestal), with
+
+        K = [[kxx, kxy], [kyx, kyy]],  C = [[cxx, cxy], [cyx, cyy]],  M = [[mxx, mxy], [myx, myy]]
+
+    (N/m, N s/m, kg). `kyy`, `cyy`, `myy` default to `kxx`, `cxx`, `mxx`. With
+    `speeds` (rad/s, strictly increasing, >= 2 values) each coefficient is one value
+    or one per speed, evaluated at the running speed by
+    `rotorjax.models._interpolate.spline` (not-a-knot cubic through the points,
+    linear outside the table). The values are checked when a `FlexibleRotor` is
+    built (errors name `bearings[i]`)."""
+
+    node: int = eqx.field(static=True)
+    kxx: object
+    kyy: object
+    kxy: object
+    kyx: object
+    cxx: object
+    cyy: object
+    cxy: object
+    cyx: object
+    mxx: object
+    myy: object
+    mxy: object
+    myx: object
+    speeds: object
+
+    def __init__(self, node, kxx, kyy=None, kxy=0.0, kyx=0.0, cxx=0.0, cyy=None, cxy=0.0, cyx=0.0, mxx=0.0,
+                 myy=None, mxy=0.0, myx=0.0, speeds=None):
+        self.node = node
+        self.kxx, self.kyy = kxx, kxx if kyy is None else kyy
+        self.kxy, self.kyx = kxy, kyx
+        self.cxx, self.cyy = cxx, cxx if cyy is None else cyy
+        self.cxy, self.cyx = cxy, cyx
+        self.mxx, self.myy = mxx, mxx if myy is None else myy
+        self.mxy, self.myx = mxy, myx
+        self.speeds = speeds
+
+
+class Support(eqx.Module):
+    """A pedestal of mass `m` (kg) under bearing `bearing` (its index in
+    `bearings`): two dofs `(x, y)` appended after the shaft's, joined to the shaft
+    node by the bearing and to ground by `kxx`, `kyy` (N/m) and `cxx`, `cyy`
+    (N s/m); `kyy`, `cyy` default to `kxx`, `cxx`."""
+
+    bearing: int = eqx.field(static=True)
+    m: object
+    kxx: object
+    kyy: object
+    cxx: object
+    cyy: object
+
+    def __init__(self, bearing, m, kxx, kyy=None, cxx=0.0, cyy=None):
+        self.bearing = bearing
+        self.m, self.kxx, self.kyy = m, kxx, kxx if kyy is None else kyy
+        self.cxx, self.cyy = cxx, cxx if cyy is None else cyy
+
+
+def _diameter(name, value, n_el, sign):
+    """A diameter: scalar, per element `(n_el,)` or `(left, right)` per element `(n_el, 2)`."""
+    v = as_param(name, value, sign=sign)
+    if v.ndim == 0:
+        return jnp.full(n_el, v)
+    if v.shape in ((n_el,), (n_el, 2)):
+        return v
+    raise InputError(f"{name} must be a scalar or one value per element ({n_el}), got shape {v.shape}"
+                     + (f": {show(value)}" if is_concrete(value) else "")
+                     + f" (a taper: (left, right) per element, shape ({n_el}, 2))")
+
+
+def _bearing_entry(i, b, n_nodes):
+    """`(node, values, speeds)`: `values` (12,) for a constant bearing, (12, n) with
+    `speeds` (n,) for a table (order `BEARING_COEFFICIENTS`)."""
+    p = f"bearings[{i}]"
+    if isinstance(b, Bearing):
+        raw = {k: getattr(b, k) for k in BEARING_COEFFICIENTS}
+        node, speeds = b.node, b.speeds
+    else:
+        try:
+            b = tuple(b)
+        except TypeError:
+            raise InputError(f"{p} must be a Bearing or a tuple (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
+                             f"got {show(b)}") from None
+        if len(b) == 5:
+            node, kxx, kyy, cxx, cyy = b
+            kxy = kyx = cxy = cyx = 0.0
+        elif len(b) == 9:
+            node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx = b
+        else:
+            raise InputError(f"{p} must be (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
+                             f"got {len(b)} values: {show(b)}")
+        raw = dict(kxx=kxx, kyy=kyy, kxy=kxy, kyx=kyx, cxx=cxx, cyy=cyy, cxy=cxy, cyx=cyx,
+                   mxx=0.0, myy=0.0, mxy=0.0, myx=0.0)
+        speeds = None
+    node = check_node(p, node, n_nodes, "bearing")
+    if speeds is not None:
+        speeds = as_param(f"{p} speeds", speeds, sign="nonnegative")
+        if speeds.ndim != 1 or speeds.shape[0] < 2:
+            raise InputError(f"{p} speeds must be a 1-D list of >= 2 speeds (rad/s), got shape {speeds.shape}")
+        if is_concrete(speeds) and not np.all(np.diff(np.asarray(speeds)) > 0):
+            raise InputError(f"{p} speeds must be strictly increasing, got {show(speeds)}")
+    rows = []
+    for k in BEARING_COEFFICIENTS:
+        v = as_param(f"{p} {k}", raw[k], sign="nonnegative" if k in _NONNEGATIVE else "any")
+        if speeds is None:
+            if v.ndim != 0:
+                raise InputError(f"{p} {k} must be one value (give speeds for a table), got shape {v.shape}: "
+                                 f"{show(raw[k])}")
+        elif v.ndim == 0:
+            v = jnp.full(speeds.shape, v)
+        elif v.ndim != 1 or v.shape[0] != speeds.shape[0]:
+            raise InputError(f"{p} {k} has {v.size} values but speeds has {speeds.shape[0]}")
+        rows.append(v)
+    return node, jnp.stack(rows), speeds
+
+
+def _support_entry(i, s, n_bearings):
+    p = f"supports[{i}]"
+    if isinstance(s, Support):
+        vals = (s.bearing, s.m, s.kxx, s.kyy, s.cxx, s.cyy)
+    else:
+        try:
+            s = tuple(s)
+        except TypeError:
+            raise InputError(f"{p} must be a Support or a tuple (bearing_index, m, kxx, kyy, cxx, cyy), "
+                             f"got {show(s)}") from None
+        if len(s) != 6:
+            raise InputError(f"{p} must be (bearing_index, m, kxx, kyy, cxx, cyy), got {len(s)} values: {show(s)}")
+        vals = s
+    bearing = vals[0]
+    if isinstance(bearing, (bool, np.bool_)) or not isinstance(bearing, (int, np.integer)):
+        raise InputError(f"{p} bearing index must be an integer, got {bearing!r}")
+    if not 0 <= int(bearing) < n_bearings:
+        raise InputError(f"{p} bearing index {int(bearing)} out of range ({n_bearings} bearings)")
+    row = [as_param(f"{p} m (pedestal mass)", vals[1], sign="positive", shape=())]
+    row += [as_param(f"{p} {k}", v, sign="nonnegative", shape=()) for k, v in zip(("kxx", "kyy", "cxx", "cyy"),
+                                                                              vals[2:])]
+    return int(bearing), row
+
+
+class FlexibleRotor(eqx.Module):
+    """Shaft of `n` beam elements between `n + 1` nodes, rigid disks, point masses,
+    linear bearings at nodes and pedestal supports, assembled into
+    `M q'' + (C + Omega G1) q' + K q = F` (bearing coefficients at the speed `Omega`).
+
+    Dofs: per shaft node `(x, y, sx, sy)` (displacements and section rotations,
+    slopes for Euler-Bernoulli), then per support its pedestal's `(x, y)`:
+    `n_dofs = 4 n_nodes + 2 n_supports`. Parameters are array leaves
+    (differentiable, vmappable); node indices, `theory`, `fixed_dofs`, which
+    bearings have speed tables and which have supports are static.
 
     **Arguments:**
-    - `lengths`, `d_out`, `d_in`: per element (m); `E`, `G`, `rho` (Pa, Pa, kg/m^3)
-      and `nu` (Poisson's ratio, default `E / (2 G) - 1`, for Cowper's shear
-      coefficient): each a scalar (one material) or one value per element.
-    - `disks`: `(node, mass, It, Ip)` tuples; `bearings`: `(node, kxx, kyy, cxx, cyy)` or
+    - `lengths` (m): per element. `d_out`, `d_in` (m): a scalar, one value per element,
+      or `(left, right)` per element, shape `(n, 2)`: a linear taper (Genta's conical
+      element, as ROSS; see `_fe_elements`).
+    - `E`, `G`, `rho` (Pa, Pa, kg/m^3) and `nu` (Poisson's ratio, default
+      `E / (2 G) - 1`, for Cowper's shear coefficient of the mean section): each a
+      scalar (one material) or one value per element (`MATERIALS`, `material(name)`).
+    - `disks`: `(node, mass, It, Ip)` tuples.
+    - `bearings`: `Bearing`s, or `(node, kxx, kyy, cxx, cyy)` /
       `(node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx)` tuples.
     - `theory`: "timoshenko" (shear and rotary inertia), "rayleigh" (rotary inertia,
-      no shear) or "euler-bernoulli" (neither; the gyroscopic matrix is kept).
+      no shear) or "euler-bernoulli" (neither; the gyroscopic matrix is kept). ROSS:
+      `shear_effects`, `rotary_inertia` True/True, False/True, False/False.
     - `fixed_dofs`: `(node, dof)` pairs held at zero (dof 0..3 = x, y, sx, sy).
+    - `point_masses`: `(node, m)` or `(node, mx, my)` (kg) added to the node's x, y mass.
+    - `supports`: `Support`s, or `(bearing_index, m, kxx, kyy, cxx, cyy)` tuples.
     """
 
     lengths: jax.Array
-    d_out: jax.Array
+    d_out: jax.Array       # (n_el,) or, tapered, (n_el, 2) = (left, right)
     d_in: jax.Array
     E: jax.Array
     G: jax.Array
     rho: jax.Array
     nu: jax.Array  # Poisson's ratio behind kappa (given, or E / (2 G) - 1)
     kappa: jax.Array
+    tapered: bool = eqx.field(static=True)
     disk_nodes: tuple = eqx.field(static=True)
     disk_params: jax.Array  # (n_disks, 3): mass, It, Ip
     bearing_nodes: tuple = eqx.field(static=True)
-    bearing_params: jax.Array  # (n_bearings, 8): kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx
+    bearing_params: jax.Array  # (n_bearings, 8): kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx (NaN for tables)
+    bearing_mass: jax.Array    # (n_bearings, 4): mxx, myy, mxy, myx (NaN for tables)
+    bearing_tables: tuple      # per bearing None, or (speeds (n,), values (12, n))
+    point_mass_nodes: tuple = eqx.field(static=True)
+    point_mass_params: jax.Array  # (n_point_masses, 2): mx, my
+    support_bearings: tuple = eqx.field(static=True)
+    support_params: jax.Array  # (n_supports, 5): m, kxx, kyy, cxx, cyy
     theory: str = eqx.field(static=True)
     fixed_dofs: tuple = eqx.field(static=True)
 
     def __init__(self, lengths, d_out, d_in=0.0, E=211e9, G=81.2e9, rho=7810.0, disks=(),
-                 bearings=(), theory="timoshenko", fixed_dofs=(), nu=None):
+                 bearings=(), theory="timoshenko", fixed_dofs=(), nu=None, point_masses=(), supports=()):
         lengths = as_vector("element lengths", lengths, sign="positive", what="elements")
         n_el = lengths.shape[0]
-        d_out = per_item("d_out (outer diameter)", d_out, n_el, sign="positive", what="element")
-        d_in = per_item("d_in (inner diameter)", d_in, n_el, sign="nonnegative", what="element")
+        d_out = _diameter("d_out (outer diameter)", d_out, n_el, "positive")
+        d_in = _diameter("d_in (inner diameter)", d_in, n_el, "nonnegative")
+        self.tapered = d_out.ndim == 2 or d_in.ndim == 2
+        if self.tapered:
+            d_out, d_in = (jnp.broadcast_to(d.reshape(n_el, -1), (n_el, 2)) for d in (d_out, d_in))
         if is_concrete((d_in, d_out)) and np.any(np.asarray(d_in) >= np.asarray(d_out)):
-            k = int(np.argmax(np.asarray(d_in) >= np.asarray(d_out)))
+            bad = np.asarray(d_in) >= np.asarray(d_out)
+            k = int(np.argmax(bad.reshape(n_el, -1).any(axis=1)))
             raise InputError(f"d_in (inner diameter) must be smaller than d_out (outer diameter), got "
-                             f"d_in = {float(d_in[k])!r} >= d_out = {float(d_out[k])!r} (element {k})")
+                             f"d_in = {show(d_in[k])} >= d_out = {show(d_out[k])} (element {k})")
         self.lengths, self.d_out, self.d_in = lengths, d_out, d_in
         self.E = _material("E (Young's modulus)", E, n_el, "positive")
         self.G = _material("G (shear modulus)", G, n_el, "positive")
@@ -92,13 +260,15 @@ class FlexibleRotor(eqx.Module):
             nu = _material("nu (Poisson's ratio)", nu, n_el, "any")
             check("nu (Poisson's ratio)", nu, lambda a: (a > -1) & (a <= 0.5), "in (-1, 0.5]")
         self.nu = nu
-        self.kappa = cowper_shear_coefficient(nu, self.d_out, self.d_in)
+        # ROSS: Cowper's coefficient with the ratio of the mean inner and outer diameters
+        mean_out = d_out.mean(axis=1) if self.tapered else d_out
+        mean_in = d_in.mean(axis=1) if self.tapered else d_in
+        self.kappa = cowper_shear_coefficient(nu, mean_out, mean_in)
         check_choice("theory", theory, ("timoshenko", "rayleigh", "euler-bernoulli"))
         self.theory = theory
         n_nodes = n_el + 1
 
         disks = _entries("disks", disks)
-        bearings = _entries("bearings", bearings)
         fixed_dofs = _entries("fixed_dofs", fixed_dofs)
         disk_nodes, rows = [], []
         for i, d in enumerate(disks):
@@ -110,26 +280,55 @@ class FlexibleRotor(eqx.Module):
                          as_param(f"disks[{i}] Ip", d[3], sign="nonnegative", shape=())])
         self.disk_nodes = tuple(disk_nodes)
         self.disk_params = jnp.array(rows, dtype=jnp.float64).reshape(len(disks), 3)
-        bearing_nodes, brow = [], []
+
+        if isinstance(bearings, Bearing):
+            bearings = (bearings,)
+        try:
+            bearings = tuple(bearings)
+        except TypeError:
+            raise InputError(f"bearings must be a tuple of Bearings or tuples, got {show(bearings)}") from None
+        bearing_nodes, brow, mrow, tables = [], [], [], []
+        nan = jnp.full(12, jnp.nan)
         for i, b in enumerate(bearings):
-            if len(b) == 5:
-                node, kxx, kyy, cxx, cyy = b
-                kxy = kyx = cxy = cyx = 0.0
-            elif len(b) == 9:
-                node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx = b
-            else:
-                raise InputError(f"bearings[{i}] must be (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
-                                 f"got {len(b)} values: {show(b)}")
-            bearing_nodes.append(check_node(f"bearings[{i}]", node, n_nodes, "bearing"))
-            p = f"bearings[{i}]"
-            brow.append([as_param(f"{p} kxx", kxx, sign="nonnegative", shape=()),
-                         as_param(f"{p} kyy", kyy, sign="nonnegative", shape=()),
-                         as_param(f"{p} kxy", kxy, shape=()), as_param(f"{p} kyx", kyx, shape=()),
-                         as_param(f"{p} cxx", cxx, sign="nonnegative", shape=()),
-                         as_param(f"{p} cyy", cyy, sign="nonnegative", shape=()),
-                         as_param(f"{p} cxy", cxy, shape=()), as_param(f"{p} cyx", cyx, shape=())])
+            node, values, speeds = _bearing_entry(i, b, n_nodes)
+            bearing_nodes.append(node)
+            const = values if speeds is None else nan
+            brow.append(const[:8])
+            mrow.append(const[8:])
+            tables.append(None if speeds is None else (speeds, values))
         self.bearing_nodes = tuple(bearing_nodes)
-        self.bearing_params = jnp.array(brow, dtype=jnp.float64).reshape(len(bearings), 8)
+        self.bearing_params = jnp.stack(brow) if brow else jnp.zeros((0, 8))
+        self.bearing_mass = jnp.stack(mrow) if mrow else jnp.zeros((0, 4))
+        self.bearing_tables = tuple(tables)
+
+        pm_nodes, pm_rows = [], []
+        for i, pm in enumerate(_entries("point_masses", point_masses)):
+            if len(pm) not in (2, 3):
+                raise InputError(f"point_masses[{i}] must be (node, m) or (node, mx, my), got {show(pm)}")
+            pm_nodes.append(check_node(f"point_masses[{i}]", pm[0], n_nodes, "point mass"))
+            ms = pm[1:] if len(pm) == 3 else (pm[1], pm[1])
+            pm_rows.append([as_param(f"point_masses[{i}] {k}", m, sign="nonnegative", shape=())
+                            for k, m in zip(("mx", "my") if len(pm) == 3 else ("m", "m"), ms)])
+        self.point_mass_nodes = tuple(pm_nodes)
+        self.point_mass_params = jnp.array(pm_rows, dtype=jnp.float64).reshape(len(pm_nodes), 2)
+
+        if isinstance(supports, Support):
+            supports = (supports,)
+        try:
+            supports = tuple(supports)
+        except TypeError:
+            raise InputError(f"supports must be a tuple of Supports or tuples, got {show(supports)}") from None
+        s_bearings, s_rows = [], []
+        for i, s in enumerate(supports):
+            bearing, row = _support_entry(i, s, len(bearings))
+            if bearing in s_bearings:
+                raise InputError(f"supports[{i}]: bearing {bearing} already stands on "
+                                 f"supports[{s_bearings.index(bearing)}]")
+            s_bearings.append(bearing)
+            s_rows.append(row)
+        self.support_bearings = tuple(s_bearings)
+        self.support_params = jnp.array(s_rows, dtype=jnp.float64).reshape(len(s_rows), 5)
+
         fixed = []
         for i, pair in enumerate(fixed_dofs):
             if len(pair) != 2:
@@ -148,8 +347,17 @@ class FlexibleRotor(eqx.Module):
         return self.lengths.shape[0] + 1
 
     @property
+    def n_supports(self) -> int:
+        return len(self.support_bearings)
+
+    @property
     def n_dofs(self) -> int:
-        return DOFS_PER_NODE * self.n_nodes
+        return DOFS_PER_NODE * self.n_nodes + 2 * self.n_supports
+
+    @property
+    def speed_dependent(self) -> bool:
+        """Whether any bearing's coefficients are tabulated against speed."""
+        return any(t is not None for t in self.bearing_tables)
 
     @property
     def free_dofs(self) -> np.ndarray:
@@ -159,9 +367,44 @@ class FlexibleRotor(eqx.Module):
     def node_positions(self) -> jax.Array:
         return jnp.concatenate([jnp.zeros(1), jnp.cumsum(self.lengths)])
 
-    def matrices(self):
-        """Global `(M, C, G1, K)` on all dofs (`G = Omega G1`)."""
-        n = self.n_dofs
+    def support_dofs(self, j) -> tuple:
+        """The `(x, y)` dof indices of support `j`'s pedestal."""
+        p = DOFS_PER_NODE * self.n_nodes + 2 * j
+        return p, p + 1
+
+    def translation(self, ux, uy):
+        """The all-dof vector of a rigid translation `(ux, uy)` of the shaft and the
+        pedestals (rotations zero)."""
+        e = jnp.zeros(self.n_dofs)
+        e = e.at[0:DOFS_PER_NODE * self.n_nodes:DOFS_PER_NODE].set(ux)
+        e = e.at[1:DOFS_PER_NODE * self.n_nodes:DOFS_PER_NODE].set(uy)
+        for j in range(self.n_supports):
+            px, py = self.support_dofs(j)
+            e = e.at[px].set(ux).at[py].set(uy)
+        return e
+
+    def bearing_coefficients(self, speed=0.0):
+        """`(n_bearings, 12)`: each bearing's kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx,
+        mxx, myy, mxy, myx at `speed` (rad/s; tables through `spline`)."""
+        if is_concrete(speed):
+            as_param("speed", speed, shape=())
+        speed = jnp.asarray(speed, dtype=jnp.float64)
+        rows = []
+        for i, table in enumerate(self.bearing_tables):
+            if table is None:
+                rows.append(jnp.concatenate([self.bearing_params[i], self.bearing_mass[i]]))
+            else:
+                rows.append(spline(table[0], table[1], speed))
+        return jnp.stack(rows) if rows else jnp.zeros((0, 12))
+
+    @property
+    def supports(self) -> tuple:
+        """The supports as `Support`s (values from `support_params`)."""
+        return tuple(Support(b, *self.support_params[j]) for j, b in enumerate(self.support_bearings))
+
+    def element_matrices(self):
+        """Per-element `(M_e, G1_e, K_e)`, each `(n_el, 8, 8)` on
+        `(x1, y1, sx1, sy1, x2, y2, sx2, sy2)`."""
         shear = self.theory == "timoshenko"
         rotary = self.theory in ("timoshenko", "rayleigh")
         # a material given once is closed over (unbatched); per-element values are mapped
@@ -170,29 +413,65 @@ class FlexibleRotor(eqx.Module):
             lambda E, G, rho, L, do, di, kap: element_matrices(E, G, rho, do, di, L, kap, shear, rotary),
             in_axes=axes + (0, 0, 0, 0),
         )(self.E, self.G, self.rho, self.lengths, self.d_out, self.d_in, self.kappa)
+        return Me, Ge, Ke
+
+    def shaft_matrices(self):
+        """`(M, G1, K)` of the shaft elements alone, on all dofs."""
+        n = self.n_dofs
+        Me, Ge, Ke = self.element_matrices()
         idx = np.arange(self.n_nodes - 1)[:, None] * DOFS_PER_NODE + np.arange(8)[None, :]
         rows = np.repeat(idx[:, :, None], 8, axis=2)
         cols = np.repeat(idx[:, None, :], 8, axis=1)
         M = jnp.zeros((n, n)).at[rows, cols].add(Me)
         G1 = jnp.zeros((n, n)).at[rows, cols].add(Ge)
         K = jnp.zeros((n, n)).at[rows, cols].add(Ke)
-        C = jnp.zeros((n, n))
+        return M, G1, K
+
+    def matrices(self, speed=0.0):
+        """Global `(M, C, G1, K)` on all dofs (`G = Omega G1`), bearing coefficients
+        (mass coefficients included) at `speed` (rad/s). Compiled once per rotor
+        layout (node indices and counts), so a concrete rotor does not pay for the
+        assembly's many small operations one by one."""
+        if is_concrete(speed):
+            as_param("speed", speed, shape=())
+        return _assemble(self, jnp.asarray(speed, dtype=jnp.float64))
+
+    def _matrices(self, speed):
+        M, G1, K = self.shaft_matrices()
+        C = jnp.zeros_like(K)
         for i, node in enumerate(self.disk_nodes):
             b = DOFS_PER_NODE * node
             m, it, ip = self.disk_params[i]
             M = M.at[b, b].add(m).at[b + 1, b + 1].add(m).at[b + 2, b + 2].add(it).at[b + 3, b + 3].add(it)
             G1 = G1.at[b + 2, b + 3].add(ip).at[b + 3, b + 2].add(-ip)
+        for i, node in enumerate(self.point_mass_nodes):
+            b = DOFS_PER_NODE * node
+            M = M.at[b, b].add(self.point_mass_params[i, 0]).at[b + 1, b + 1].add(self.point_mass_params[i, 1])
+        coef = self.bearing_coefficients(speed)
         for i, node in enumerate(self.bearing_nodes):
             b = DOFS_PER_NODE * node
-            kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx = self.bearing_params[i]
-            K = K.at[b, b].add(kxx).at[b + 1, b + 1].add(kyy).at[b, b + 1].add(kxy).at[b + 1, b].add(kyx)
-            C = C.at[b, b].add(cxx).at[b + 1, b + 1].add(cyy).at[b, b + 1].add(cxy).at[b + 1, b].add(cyx)
+            kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx, mxx, myy, mxy, myx = coef[i]
+            blocks = [jnp.array([[kxx, kxy], [kyx, kyy]]), jnp.array([[cxx, cxy], [cyx, cyy]]),
+                      jnp.array([[mxx, mxy], [myx, myy]])]
+            if i in self.support_bearings:
+                # the bearing acts on the shaft's motion relative to its pedestal
+                d = np.array([b, b + 1, *self.support_dofs(self.support_bearings.index(i))])
+                blocks = [jnp.block([[a, -a], [-a, a]]) for a in blocks]
+            else:
+                d = np.array([b, b + 1])
+            K, C, M = (A.at[np.ix_(d, d)].add(a) for A, a in zip((K, C, M), blocks))
+        for j in range(self.n_supports):
+            px, py = self.support_dofs(j)
+            m, kxx, kyy, cxx, cyy = self.support_params[j]
+            M = M.at[px, px].add(m).at[py, py].add(m)
+            K = K.at[px, px].add(kxx).at[py, py].add(kyy)
+            C = C.at[px, px].add(cxx).at[py, py].add(cyy)
         return M, C, G1, K
 
-    def reduced_matrices(self):
-        """`(M, C, G1, K)` on the free dofs only."""
+    def reduced_matrices(self, speed=0.0):
+        """`(M, C, G1, K)` on the free dofs only, bearing coefficients at `speed`."""
         f = self.free_dofs
-        return tuple(a[np.ix_(f, f)] for a in self.matrices())
+        return tuple(a[np.ix_(f, f)] for a in self.matrices(speed))
 
     def expand(self, q):
         """Free-dof vector (or columns) to all dofs, fixed dofs zero."""
@@ -210,3 +489,8 @@ class FlexibleRotor(eqx.Module):
         from ._fe_reduction import ReducedRotor
 
         return ReducedRotor(self, n_modes)
+
+
+@eqx.filter_jit
+def _assemble(rotor, speed):
+    return rotor._matrices(speed)

@@ -4,7 +4,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._fe_rotor import DOFS_PER_NODE
 from ._rotor_component import AbstractRotorComponent
 from ._validate import as_param
 
@@ -24,8 +23,7 @@ class Gravity(AbstractRotorComponent):
 
     def static_load(self, rotor):
         M = rotor.matrices()[0]
-        e = jnp.zeros(rotor.n_dofs).at[0::DOFS_PER_NODE].set(jnp.cos(self.angle))
-        e = e.at[1::DOFS_PER_NODE].set(jnp.sin(self.angle))
+        e = rotor.translation(jnp.cos(self.angle), jnp.sin(self.angle))   # shaft nodes and pedestals
         return self.g * (M @ e)
 
     def describe(self):

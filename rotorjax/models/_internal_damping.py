@@ -1,6 +1,5 @@
 """Voigt internal (material) damping of a rotating shaft."""
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 
@@ -29,9 +28,9 @@ class InternalDamping(AbstractRotorComponent):
                                         shape=())
 
     def linear_part(self, rotor):
-        bare = eqx.tree_at(lambda r: r.bearing_params, rotor, jnp.zeros_like(rotor.bearing_params))
-        ci = self.relaxation_time * bare.matrices()[3]
-        J = jnp.asarray(quarter_turn_matrix(rotor.n_nodes))
+        ci = self.relaxation_time * rotor.shaft_matrices()[2]
+        n = ci.shape[0]   # supports' pedestal dofs (after the shaft's) are not turned: C_i is zero there
+        J = jnp.zeros((n, n)).at[:4 * rotor.n_nodes, :4 * rotor.n_nodes].set(quarter_turn_matrix(rotor.n_nodes))
         return ci, jnp.zeros_like(ci), ci @ J
 
     def describe(self):

@@ -12,12 +12,21 @@ may be left out; the others are required, except where two ways are offered
 |-------------------------|-----------------------------------------------------------------------------|
 | `[rotor]`               | `name` (= file stem), `theory` ("euler-bernoulli", "rayleigh",             |
 |                         | "timoshenko"), `n_modes` (optional: modal reduction), `speed` (rad/s, = 0) |
-| `[[material]]`          | `name`, `E` (Pa), `G` (Pa), `rho` (kg/m^3), `nu` (= E / (2 G) - 1)          |
-| `[[shaft]]`             | `L` (m), `od` (m), `id` (m, = 0), `material` (a material's name);          |
-|                         | element i joins nodes i and i + 1                                           |
+| `[[material]]`          | `name`, `E` (Pa), `G` (Pa; or `nu`), `rho` (kg/m^3), `nu` (= E / (2 G) - 1) |
+| `[[shaft]]`             | `L` (m), `od` (m), `id` (m, = 0), `material` (a `[[material]]`'s name or a |
+|                         | built-in one: steel, stainless, aluminium, titanium); `od`, `id` may be    |
+|                         | `[left, right]` (a tapered element); element i joins nodes i and i + 1     |
 | `[[disk]]`              | `node`, `m` (kg), `Id` (kg m^2, diametral), `Ip` (kg m^2, polar)            |
 | `[[bearing]]`           | `node`, `kxx`, `kyy` (= kxx), `kxy`, `kyx` (= 0) (N/m), `cxx` (= 0),        |
-|                         | `cyy` (= cxx), `cxy`, `cyx` (= 0) (N s/m)                                   |
+|                         | `cyy` (= cxx), `cxy`, `cyx` (= 0) (N s/m), `mxx` (= 0), `myy` (= mxx),      |
+|                         | `mxy`, `myx` (= 0) (kg); with `speeds = [...]` (rad/s) each coefficient     |
+|                         | may be a list of the same length (evaluated at the running speed by a     |
+|                         | not-a-knot cubic spline). `type = "plain-journal"` instead: `load` (N,     |
+|                         | along -y), `viscosity` (Pa s), `length`, `diameter`, `clearance` (m),      |
+|                         | `method` ("short", "finite"; = "short"), `speeds` (the table's speeds)    |
+| `[[point_mass]]`        | `node`, `m` (kg) or `mx` + `my`                                             |
+| `[[support]]`           | `bearing` (index from 0), `m` (kg), `kxx`, `kyy` (= kxx) (N/m), `cxx`       |
+|                         | (= 0), `cyy` (= cxx) (N s/m): a pedestal between the bearing and ground    |
 | `[[fixed]]`             | `node`, `dofs` (= ["x", "y", "sx", "sy"])                                  |
 | `[[unbalance]]`         | `node`, `magnitude` (kg m), `phase` (rad, = 0)                              |
 | `[internal_damping]`    | `relaxation_time` (s, Voigt)                                                |
@@ -62,10 +71,12 @@ import numpy as np
 from .._errors import InputError
 from ._balancer import INERTIA_FACTORS, AutoBalancer, Race
 from ._fe_reduction import ReducedRotor
-from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
+from ._fe_rotor import BEARING_COEFFICIENTS, DOFS_PER_NODE, Bearing, FlexibleRotor, Support
+from ._journal_bearing import PlainJournal
 from ._gravity import Gravity
 from ._internal_damping import InternalDamping
 from ._limiters import Limiters
+from ._materials import MATERIALS
 from ._node_parts import BalancerAt, LimitersAt
 from ._nonlinear_bearings import ClearanceBearing, CubicBearing
 from ._rotor_scene import RotorScene
@@ -76,6 +87,9 @@ from ._validate import is_concrete
 DOF_NAMES = ("x", "y", "sx", "sy")
 THEORIES = ("euler-bernoulli", "rayleigh", "timoshenko")
 KINDS = ("ball", "roller", "pendulum")
+BEARING_TYPES = ("linear", "plain-journal")
+JOURNAL_METHODS = ("short", "finite")
+JOURNAL_KEYS = ("load", "viscosity", "length", "diameter", "clearance", "method")
 
 
 # --- the schema -----------------------------------------------------------------------
@@ -116,15 +130,15 @@ SCHEMA = {
     "material": _Table(True, {
         "name": _Key(_S, meaning="material name", required=True),
         "E": _Key(_N, "Pa", "Young's modulus", "positive", True),
-        "G": _Key(_N, "Pa", "shear modulus", "positive", True),
+        "G": _Key(_N, "Pa", "shear modulus (or nu)", "positive"),
         "rho": _Key(_N, "kg/m^3", "density", "positive", True),
         "nu": _Key(_N, "dimensionless", "Poisson's ratio (Cowper's shear coefficient)", domain="(-1,0.5]"),
     }, "a shaft material"),
     "shaft": _Table(True, {
         "L": _Key(_N, "m", "element length", "positive", True),
-        "od": _Key(_N, "m", "outer diameter", "positive", True),
-        "id": _Key(_N, "m", "inner diameter", "nonnegative"),
-        "material": _Key(_S, meaning="material (a [[material]] name)", required=True),
+        "od": _Key("number_or_numbers", "m", "outer diameter ([left, right]: tapered)", "positive", True),
+        "id": _Key("number_or_numbers", "m", "inner diameter ([left, right]: tapered)", "nonnegative"),
+        "material": _Key(_S, meaning="material (a [[material]] name or a built-in one)", required=True),
     }, "a shaft element"),
     "disk": _Table(True, {
         "node": _node("disk"),
@@ -134,15 +148,41 @@ SCHEMA = {
     }, "a rigid disk"),
     "bearing": _Table(True, {
         "node": _node("bearing"),
-        "kxx": _Key(_N, "N/m", "stiffness xx", "nonnegative", True),
-        "kyy": _Key(_N, "N/m", "stiffness yy", "nonnegative"),
-        "kxy": _Key(_N, "N/m", "cross stiffness xy"),
-        "kyx": _Key(_N, "N/m", "cross stiffness yx"),
-        "cxx": _Key(_N, "N s/m", "damping xx", "nonnegative"),
-        "cyy": _Key(_N, "N s/m", "damping yy", "nonnegative"),
-        "cxy": _Key(_N, "N s/m", "cross damping xy"),
-        "cyx": _Key(_N, "N s/m", "cross damping yx"),
-    }, "a linear bearing"),
+        "kxx": _Key("number_or_numbers", "N/m", "stiffness xx", "nonnegative"),
+        "kyy": _Key("number_or_numbers", "N/m", "stiffness yy", "nonnegative"),
+        "kxy": _Key("number_or_numbers", "N/m", "cross stiffness xy"),
+        "kyx": _Key("number_or_numbers", "N/m", "cross stiffness yx"),
+        "cxx": _Key("number_or_numbers", "N s/m", "damping xx", "nonnegative"),
+        "cyy": _Key("number_or_numbers", "N s/m", "damping yy", "nonnegative"),
+        "cxy": _Key("number_or_numbers", "N s/m", "cross damping xy"),
+        "cyx": _Key("number_or_numbers", "N s/m", "cross damping yx"),
+        "mxx": _Key("number_or_numbers", "kg", "mass coefficient xx", "nonnegative"),
+        "myy": _Key("number_or_numbers", "kg", "mass coefficient yy", "nonnegative"),
+        "mxy": _Key("number_or_numbers", "kg", "cross mass coefficient xy"),
+        "myx": _Key("number_or_numbers", "kg", "cross mass coefficient yx"),
+        "type": _Key(_S, meaning="bearing type", choices=BEARING_TYPES),
+        "speeds": _Key("numbers", "rad/s", "speeds of the coefficient table", "nonnegative"),
+        "load": _Key(_N, "N", "static load on a plain journal (along -y)", "positive"),
+        "viscosity": _Key(_N, "Pa s", "lubricant dynamic viscosity", "positive"),
+        "length": _Key(_N, "m", "journal bearing length", "positive"),
+        "diameter": _Key(_N, "m", "journal diameter", "positive"),
+        "clearance": _Key(_N, "m", "radial clearance", "positive"),
+        "method": _Key(_S, meaning="journal-bearing solution", choices=JOURNAL_METHODS),
+    }, "a linear bearing (constant, speed-dependent, or a plain journal)"),
+    "point_mass": _Table(True, {
+        "node": _node("point mass"),
+        "m": _Key(_N, "kg", "mass (x and y)", "nonnegative"),
+        "mx": _Key(_N, "kg", "mass in x", "nonnegative"),
+        "my": _Key(_N, "kg", "mass in y", "nonnegative"),
+    }, "a point mass at a node"),
+    "support": _Table(True, {
+        "bearing": _Key("index", "index", "the [[bearing]] (index from 0) the pedestal carries", required=True),
+        "m": _Key(_N, "kg", "pedestal mass", "positive", True),
+        "kxx": _Key(_N, "N/m", "pedestal-to-ground stiffness xx", "nonnegative", True),
+        "kyy": _Key(_N, "N/m", "pedestal-to-ground stiffness yy", "nonnegative"),
+        "cxx": _Key(_N, "N s/m", "pedestal-to-ground damping xx", "nonnegative"),
+        "cyy": _Key(_N, "N s/m", "pedestal-to-ground damping yy", "nonnegative"),
+    }, "a bearing pedestal (mass, stiffness and damping to ground)"),
     "fixed": _Table(True, {
         "node": _node("fixed dofs"),
         "dofs": _Key("strings", meaning="dofs held at zero", choices=DOF_NAMES),
@@ -322,16 +362,16 @@ def _override_value(ctx, okey, spec, value):
         value = value.tolist()
     if isinstance(value, tuple):
         value = list(value)
-    if isinstance(value, str) and spec.kind in ("number", "count", "node", "number_or_numbers"):
+    if isinstance(value, str) and spec.kind in ("number", "count", "node", "index", "number_or_numbers"):
         text = value.strip()
         try:
-            value = int(text) if spec.kind in ("count", "node") else float(text)
+            value = int(text) if spec.kind in ("count", "node", "index") else float(text)
         except ValueError:
             try:
                 value = float(text)
             except ValueError:
                 ctx.fail(f"override {okey}={value}: must be a number")
-    if spec.kind in ("count", "node") and isinstance(value, float) and value.is_integer():
+    if spec.kind in ("count", "node", "index") and isinstance(value, float) and value.is_integer():
         value = int(value)
     return value
 
@@ -399,9 +439,11 @@ def _value(ctx, table, index, key, spec, value, n_nodes):
         if key == "inertia_factor" and not v >= 1:
             ctx.fail(f"{where} must be >= 1 (1 pendulum, 7/5 ball, 3/2 roller; got {_toml_repr(value)})", where)
         return v
-    if kind in ("count", "node"):
+    if kind in ("count", "node", "index"):
         if isinstance(value, bool) or not isinstance(value, int):
             ctx.fail(f"{where} must be an integer, got {_what(value)}", where)
+        if kind == "index" and value < 0:
+            ctx.fail(f"{where} must be >= 0 (an index from 0; got {value})", where)
         if kind == "node" and not 0 <= value < n_nodes:
             ctx.fail(f"{where} = {value}: the shaft has nodes 0..{n_nodes - 1}", where)
         if kind == "count" and value < 1:
@@ -470,6 +512,58 @@ def _check_keys(ctx, table, index, entry, n_nodes):
     return {key: _value(ctx, table, index, key, spec.keys[key], v, n_nodes) for key, v in entry.items()}
 
 
+def _bearing(ctx, i, b):
+    """A [[bearing]] entry checked and completed: a linear bearing (constant or with a
+    `speeds` table) or a plain journal (its own keys only)."""
+    where = _loc("bearing", i)
+    kind = b.setdefault("type", "linear")
+    given = [k for k in BEARING_COEFFICIENTS if k in b]
+    if kind == "plain-journal":
+        if given:
+            ctx.fail(f"{_loc('bearing', i, given[0])}: a plain-journal bearing computes its coefficients "
+                     f"(from load, viscosity, length, diameter, clearance); do not give {given[0]}",
+                     _loc("bearing", i, given[0]))
+        for key in JOURNAL_KEYS[:-1] + ("speeds",):
+            if key not in b:
+                ctx.fail(f"{_loc('bearing', i, key)} is missing (required for type = \"plain-journal\": "
+                         f"{SCHEMA['bearing'].keys[key].meaning}, {SCHEMA['bearing'].keys[key].unit})")
+        b.setdefault("method", "short")
+        if not b["clearance"] < b["diameter"] / 2:
+            ctx.fail(f"{_loc('bearing', i, 'clearance')} must be < diameter / 2 (got clearance = "
+                     f"{_toml_repr(b['clearance'])}, diameter = {_toml_repr(b['diameter'])})",
+                     _loc("bearing", i, "clearance"))
+    else:
+        extra = [k for k in JOURNAL_KEYS if k in b]
+        if extra:
+            ctx.fail(f"{_loc('bearing', i, extra[0])} belongs to type = \"plain-journal\" bearings; this "
+                     f"bearing is linear (give type = \"plain-journal\", or kxx, ...)", _loc("bearing", i, extra[0]))
+        if "kxx" not in b:
+            ctx.fail(f"{_loc('bearing', i, 'kxx')} is missing (required: stiffness xx, N/m)")
+        for key, default in (("kyy", "kxx"), ("cxx", None), ("cyy", "cxx"), ("mxx", None), ("myy", "mxx")):
+            b.setdefault(key, b[default] if default else 0.0)
+        for k in ("kxy", "kyx", "cxy", "cyx", "mxy", "myx"):
+            b.setdefault(k, 0.0)
+    speeds = b.get("speeds")
+    if speeds is not None:
+        if len(speeds) < 2:
+            ctx.fail(f"{_loc('bearing', i, 'speeds')} must hold at least 2 speeds (got {len(speeds)})",
+                     _loc("bearing", i, "speeds"))
+        if any(b2 <= a for a, b2 in zip(speeds, speeds[1:])):
+            j = next(j for j in range(1, len(speeds)) if speeds[j] <= speeds[j - 1])
+            ctx.fail(f"{_loc('bearing', i, 'speeds')} must be strictly increasing (speeds[{j}] = "
+                     f"{_toml_repr(speeds[j])} after {_toml_repr(speeds[j - 1])})", _loc("bearing", i, "speeds"))
+    for k in BEARING_COEFFICIENTS:
+        v = b.get(k)
+        if isinstance(v, list):
+            if speeds is None:
+                ctx.fail(f"{_loc('bearing', i, k)} is a list: give the speeds it is tabulated at "
+                         f"(speeds = [...], rad/s)", _loc("bearing", i, k))
+            if len(v) != len(speeds):
+                ctx.fail(f"{_loc('bearing', i, k)} has {len(v)} values but speeds has {len(speeds)}",
+                         _loc("bearing", i, k))
+    return b
+
+
 def _validate(ctx, doc):
     """The file's content, checked, as plain Python values per table."""
     for name, value in doc.items():
@@ -491,30 +585,61 @@ def _validate(ctx, doc):
         out[table] = [_check_keys(ctx, table, i, e, n_nodes) for i, e in _entries(ctx, doc, table)]
 
     materials = {}
-    if not out["material"]:
-        ctx.fail("no [[material]] entries: every [[shaft]] element names one", "material")
     for i, m in enumerate(out["material"]):
         if m["name"] in materials:
             ctx.fail(f"material[{i}].name = {_toml_repr(m['name'])}: duplicate material name "
                      f"(also material[{materials[m['name']]}])", _loc("material", i, "name"))
         materials[m["name"]] = i
+        if "G" not in m and "nu" not in m:
+            ctx.fail(f"material[{i}]: give G (shear modulus, Pa) or nu (Poisson's ratio)", _loc("material", i))
+        m.setdefault("G", m["E"] / (2 * (1 + m.get("nu", 0.0))))
     for i, s in enumerate(out["shaft"]):
-        s.setdefault("id", 0.0)
-        if not s["od"] > s["id"]:
-            od, idd = _loc("shaft", i, "od"), _loc("shaft", i, "id")
-            ctx.fail(f"{od} must be > id (got od = {_toml_repr(s['od'])}, id = {_toml_repr(s['id'])})",
-                     od if od in ctx.overridden else idd)
-        if s["material"] not in materials:
-            ctx.fail(f"shaft[{i}].material = {_toml_repr(s['material'])}: no [[material]] of that name"
-                     f"{_suggest(s['material'], list(materials))}; defined: "
-                     f"{', '.join(json.dumps(n) for n in materials)}", _loc("shaft", i, "material"))
+        for key in ("od", "id"):
+            v = s.get(key, 0.0)
+            if isinstance(v, list) and len(v) != 2:
+                ctx.fail(f"{_loc('shaft', i, key)} must be a number or [left, right] (a tapered element), "
+                         f"got {len(v)} values", _loc("shaft", i, key))
+            s[key] = [v, v] if not isinstance(v, list) else v
+        for end, j in (("left", 0), ("right", 1)):
+            if not s["od"][j] > s["id"][j]:
+                od, idd = _loc("shaft", i, "od"), _loc("shaft", i, "id")
+                at = "" if s["od"][0] == s["od"][1] and s["id"][0] == s["id"][1] else f" at the {end} end"
+                ctx.fail(f"{od} must be > id{at} (got od = {_toml_repr(s['od'][j])}, "
+                         f"id = {_toml_repr(s['id'][j])})", od if od in ctx.overridden else idd)
+        if s["material"] not in materials and s["material"] not in MATERIALS:
+            defined = list(materials) + [n for n in MATERIALS if n not in materials]
+            ctx.fail(f"shaft[{i}].material = {_toml_repr(s['material'])}: no [[material]] of that name and no "
+                     f"built-in material{_suggest(s['material'], defined)}; defined: "
+                     f"{', '.join(json.dumps(n) for n in materials) or 'none'}; built in: "
+                     f"{', '.join(json.dumps(n) for n in MATERIALS)}", _loc("shaft", i, "material"))
 
     for i, b in enumerate(out["bearing"]):
-        b.setdefault("kyy", b["kxx"])
-        b.setdefault("cxx", 0.0)
-        b.setdefault("cyy", b["cxx"])
-        for k in ("kxy", "kyx", "cxy", "cyx"):
-            b.setdefault(k, 0.0)
+        _bearing(ctx, i, b)
+    for i, pm in enumerate(out["point_mass"]):
+        where = _loc("point_mass", i)
+        if ("m" in pm) == ("mx" in pm or "my" in pm):
+            ctx.fail(f"{where}: give either m or mx and my{', not both' if 'm' in pm else '; got neither'}",
+                     where)
+        if "m" in pm:
+            pm["mx"] = pm["my"] = pm.pop("m")
+        for key in ("mx", "my"):
+            if key not in pm:
+                ctx.fail(f"{_loc('point_mass', i, key)} is missing (mx and my go together)")
+    carried = {}
+    for i, sup in enumerate(out["support"]):
+        n_b = len(out["bearing"])
+        if not sup["bearing"] < n_b:
+            ctx.fail(f"support[{i}].bearing = {sup['bearing']}: the file has {n_b} [[bearing]] "
+                     f"entr{'y' if n_b == 1 else 'ies'} (indices 0..{n_b - 1})" if n_b else
+                     f"support[{i}].bearing = {sup['bearing']}: the file has no [[bearing]] entries",
+                     _loc("support", i, "bearing"))
+        if sup["bearing"] in carried:
+            ctx.fail(f"support[{i}].bearing = {sup['bearing']}: that bearing already sits on "
+                     f"support[{carried[sup['bearing']]}]", _loc("support", i, "bearing"))
+        carried[sup["bearing"]] = i
+        sup.setdefault("kyy", sup["kxx"])
+        sup.setdefault("cxx", 0.0)
+        sup.setdefault("cyy", sup["cxx"])
     fixed = set()
     for i, f in enumerate(out["fixed"]):
         f.setdefault("dofs", list(DOF_NAMES))
@@ -592,8 +717,12 @@ def _validate(ctx, doc):
 # --- building -------------------------------------------------------------------------
 def _material_constants(spec):
     """`E, G, rho, nu` for `FlexibleRotor`: scalars when every element has the same
-    constants, per-element arrays otherwise (`nu` None where no material gives it)."""
+    constants, per-element arrays otherwise (`nu` None where no material gives it).
+    A shaft's material is the file's `[[material]]` of that name, else the built-in one."""
     mats = {m["name"]: m for m in spec["material"]}
+    for name in {s["material"] for s in spec["shaft"]} - set(mats):
+        lib = MATERIALS[name]
+        mats[name] = {"name": name, "E": lib.E, "G": lib.G, "rho": lib.rho, "nu": lib.nu}
     used = [mats[s["material"]] for s in spec["shaft"]]
 
     def default_nu(m):
@@ -608,17 +737,53 @@ def _material_constants(spec):
     return E, G, rho, (nu if given else None)
 
 
+def _diameters(shafts):
+    """Outer and inner diameters: per element, or `[left, right]` per element when
+    any element is tapered."""
+    od = np.array([s["od"] for s in shafts], dtype=np.float64)
+    idd = np.array([s["id"] for s in shafts], dtype=np.float64)
+    if np.all(od[:, 0] == od[:, 1]) and np.all(idd[:, 0] == idd[:, 1]):
+        return od[:, 0], idd[:, 0]
+    return od, idd
+
+
+def _bearing_entry(b):
+    """A `FlexibleRotor` bearing: the plain tuple for a constant bearing without mass
+    coefficients (the arrays of earlier files, unchanged), else a `Bearing`."""
+    if b["type"] == "plain-journal":
+        journal = PlainJournal(b["load"], b["viscosity"], b["length"], b["diameter"], b["clearance"],
+                               method=b["method"])
+        return journal.bearing(b["node"], np.array(b["speeds"], dtype=np.float64))
+    if "speeds" not in b and all(b[k] == 0 for k in ("mxx", "myy", "mxy", "myx")):
+        return (b["node"], b["kxx"], b["kyy"], b["cxx"], b["cyy"], b["kxy"], b["kyx"], b["cxy"], b["cyx"])
+    coef = {k: (np.array(b[k], dtype=np.float64) if isinstance(b[k], list) else b[k])
+            for k in BEARING_COEFFICIENTS}
+    speeds = None if "speeds" not in b else np.array(b["speeds"], dtype=np.float64)
+    return Bearing(b["node"], speeds=speeds, **coef)
+
+
+def _extras(spec):
+    """Point masses and supports (keyword arguments only where the file has them)."""
+    out = {}
+    if spec["point_mass"]:
+        out["point_masses"] = tuple((p["node"], p["mx"], p["my"]) for p in spec["point_mass"])
+    if spec["support"]:
+        out["supports"] = tuple(Support(s["bearing"], s["m"], s["kxx"], s["kyy"], s["cxx"], s["cyy"])
+                                for s in spec["support"])
+    return out
+
+
 def _build(ctx, spec, track_work):
     r = spec["rotor"][0]
     E, G, rho, nu = _material_constants(spec)
     shafts = spec["shaft"]
+    d_out, d_in = _diameters(shafts)
     try:
         rotor = FlexibleRotor(
-            np.array([s["L"] for s in shafts]), np.array([s["od"] for s in shafts]),
-            np.array([s["id"] for s in shafts]), E=E, G=G, rho=rho, nu=nu,
+            np.array([s["L"] for s in shafts]), d_out, d_in, E=E, G=G, rho=rho, nu=nu,
             disks=tuple((d["node"], d["m"], d["Id"], d["Ip"]) for d in spec["disk"]),
-            bearings=tuple((b["node"], b["kxx"], b["kyy"], b["cxx"], b["cyy"], b["kxy"], b["kyx"], b["cxy"],
-                            b["cyx"]) for b in spec["bearing"]),
+            bearings=tuple(_bearing_entry(b) for b in spec["bearing"]),
+            **_extras(spec),
             theory=r["theory"],
             fixed_dofs=tuple((f["node"], DOF_NAMES.index(d)) for f in spec["fixed"] for d in f["dofs"]))
         if "n_modes" in r:
@@ -693,7 +858,7 @@ def file_parameters(path):
         for index, entry in _entries(ctx, doc, table):
             for key, value in entry.items():
                 k = t.keys[key]
-                scalar = k.kind in ("number", "count", "node") or (k.kind == "number_or_numbers"
+                scalar = k.kind in ("number", "count", "node", "index") or (k.kind == "number_or_numbers"
                                                                    and not isinstance(value, list))
                 if not scalar or (table, key) == ("rotor", "speed"):
                     continue
@@ -702,11 +867,13 @@ def file_parameters(path):
                 meaning = f"{_loc(table, index)}{at}: {k.meaning}"
                 if k.kind == "node":
                     domain = f"int[0,{n_el}]"
+                elif k.kind == "index":
+                    domain = f"int[0,{max(len(spec['bearing']) - 1, 0)}]"
                 elif k.kind == "count":
                     domain = f"int[1,{n_free}]" if key == "n_modes" else "int>=1"
                 else:
                     domain = k.domain or {"positive": ">0", "nonnegative": ">=0", "any": "any"}[k.sign]
-                integer = k.kind in ("node", "count")
+                integer = k.kind in ("node", "count", "index")
                 out[name] = FileParameter(int(value) if integer else float(value), k.unit or "dimensionless",
                                           meaning, domain, integer)
     return label, r["name"], out
@@ -776,16 +943,28 @@ def rotor_file_text(scene, name="rotor") -> str:
                 lines.append(f"nu = {_f(nu)}")
     lengths, d_out, d_in = (np.asarray(a) for a in (rotor.lengths, rotor.d_out, rotor.d_in))
     for i in range(n_el):
-        lines += ["", "[[shaft]]", f"L = {_f(lengths[i])}", f"od = {_f(d_out[i])}", f"id = {_f(d_in[i])}",
-                  f"material = {_s(names[per_el[i]])}"]
+        lines += ["", "[[shaft]]", f"L = {_f(lengths[i])}", f"od = {_one_or_each(d_out[i])}",
+                  f"id = {_one_or_each(d_in[i])}", f"material = {_s(names[per_el[i]])}"]
     for node, (m, it, ip) in zip(rotor.disk_nodes, np.asarray(rotor.disk_params)):
         lines += ["", "[[disk]]", f"node = {node}", f"m = {_f(m)}", f"Id = {_f(it)}", f"Ip = {_f(ip)}"]
-    for node, row in zip(rotor.bearing_nodes, np.asarray(rotor.bearing_params)):
-        kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx = row
-        lines += ["", "[[bearing]]", f"node = {node}", f"kxx = {_f(kxx)}", f"kyy = {_f(kyy)}"]
-        lines += [f"{k} = {_f(v)}" for k, v in (("kxy", kxy), ("kyx", kyx)) if v != 0]
-        lines += [f"cxx = {_f(cxx)}", f"cyy = {_f(cyy)}"]
-        lines += [f"{k} = {_f(v)}" for k, v in (("cxy", cxy), ("cyx", cyx)) if v != 0]
+    for i, node in enumerate(rotor.bearing_nodes):
+        table = rotor.bearing_tables[i]
+        lines += ["", "[[bearing]]", f"node = {node}"]
+        if table is None:
+            values = np.concatenate([np.asarray(rotor.bearing_params[i]), np.asarray(rotor.bearing_mass[i])])
+        else:
+            lines.append(f"speeds = {_floats(table[0])}")
+            values = np.asarray(table[1])
+        coef = dict(zip(BEARING_COEFFICIENTS, values))
+        for k in BEARING_COEFFICIENTS:
+            if k in ("kxx", "kyy", "cxx", "cyy") or np.any(np.asarray(coef[k]) != 0):
+                lines.append(f"{k} = {_one_or_each(coef[k])}")
+    for node, (mx, my) in zip(rotor.point_mass_nodes, np.asarray(rotor.point_mass_params)):
+        lines += ["", "[[point_mass]]", f"node = {node}"]
+        lines += [f"m = {_f(mx)}"] if mx == my else [f"mx = {_f(mx)}", f"my = {_f(my)}"]
+    for b, (m, kxx, kyy, cxx, cyy) in zip(rotor.support_bearings, np.asarray(rotor.support_params)):
+        lines += ["", "[[support]]", f"bearing = {b}", f"m = {_f(m)}", f"kxx = {_f(kxx)}", f"kyy = {_f(kyy)}",
+                  f"cxx = {_f(cxx)}", f"cyy = {_f(cyy)}"]
     by_node = {}
     for d in rotor.fixed_dofs:
         by_node.setdefault(d // DOFS_PER_NODE, []).append(DOF_NAMES[d % DOFS_PER_NODE])

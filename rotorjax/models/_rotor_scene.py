@@ -77,7 +77,9 @@ class RotorScene(AbstractScene):
             raise InputError("track_work: the energy balance is kept for shafts without components that own "
                              "coordinates (an auto-balancer's weights)")
         self.rotor, self.speed, self.components, self.track_work = rotor, speed, components, bool(track_work)
-        M, C, G1, K = rotor.reduced_matrices()
+        # tabulated bearings: the time-domain equations use the coefficients at the
+        # profile's initial speed; `linear_matrices(speed)` re-evaluates them
+        M, C, G1, K = rotor.reduced_matrices(self._table_speed())
         n_full = full.n_dofs
         Cf, Kf, Ksf = (jnp.zeros((n_full, n_full)) for _ in range(3))
         F0 = jnp.zeros(n_full)
@@ -225,8 +227,18 @@ class RotorScene(AbstractScene):
     # --- capabilities -------------------------------------------------------------------
     def linear_matrices(self, speed) -> LinearMatrices:
         """About the straight, resting shaft (weights of an auto-balancer frozen):
-        the shaft coordinates only."""
-        return LinearMatrices(M=self.M, C=self.C, G=speed * self.G1, K=self.K + speed * self.Ks)
+        the shaft coordinates only (tabulated bearings at `speed`)."""
+        M, C, K = self.M, self.C, self.K
+        if getattr(self.rotor, "speed_dependent", False):
+            now, then = self.rotor.reduced_matrices(speed), self.rotor.reduced_matrices(self._table_speed())
+            M, C, K = M + now[0] - then[0], C + now[1] - then[1], K + now[3] - then[3]
+        return LinearMatrices(M=M, C=C, G=speed * self.G1, K=K + speed * self.Ks)
+
+    def _table_speed(self):
+        """The speed at which the time-domain equations take tabulated bearings' coefficients."""
+        if not getattr(self.rotor, "speed_dependent", False):
+            return 0.0
+        return self.speed.speed(jnp.zeros(()))
 
     def unbalance_load(self, speed):
         full = _full_rotor(self.rotor)
@@ -327,7 +339,8 @@ class RotorScene(AbstractScene):
         `track_work`."""
         q, qd = self.split(y)
         s = self.shaft_state(t, q, qd)
-        nx, ny = s.x[0::DOFS_PER_NODE], s.x[1::DOFS_PER_NODE]
+        shaft = s.x[:DOFS_PER_NODE * self.n_nodes]   # not supports' pedestals
+        nx, ny = shaft[0::DOFS_PER_NODE], shaft[1::DOFS_PER_NODE]
         out = {"node_x": nx, "node_y": ny, "whirl_amplitude": jnp.max(jnp.hypot(nx, ny))}
         for c, sl in zip(self.components, self._own_slices()):
             out.update(c.outputs(s, q[sl], qd[sl]))

@@ -47,8 +47,19 @@ def fe_rotor(scene):
 
 
 def rotor_dofs(rotor) -> int:
-    """Free degrees of freedom of a `FlexibleRotor` (or a reduced one)."""
+    """Free degrees of freedom of a `FlexibleRotor` (or a reduced one, or a
+    `RotorScene`'s shaft coordinates)."""
+    if hasattr(rotor, "n_shaft"):
+        return int(rotor.n_shaft)
     return int(np.asarray(rotor.reduced_matrices()[0]).shape[0])
+
+
+def _components_add_nothing(scene, rotor) -> bool:
+    """The scene's linear part is the bare rotor's (no component adds damping or
+    stiffness), so the rotor-only analyses apply to it."""
+    _, C, _, K = (np.asarray(a) for a in rotor.reduced_matrices())
+    return (np.array_equal(np.asarray(scene.C), C) and np.array_equal(np.asarray(scene.K), K)
+            and not np.any(np.asarray(scene.Ks)))
 
 
 def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True) -> dict:
@@ -59,21 +70,23 @@ def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=Fa
     (100 speeds), `"present"` its unit and title."""
     from ..flexible import campbell, critical_speeds_1x, modes, synchronous_critical_speeds
 
-    rotor = fe_rotor(build(params).scene)
+    scene = build(params).scene
+    rotor = fe_rotor(scene)   # the linear analyses take the scene: components' linearisations count
     n_modes = n_modes or 8
     n = 2 * rotor_dofs(rotor)
     if n_modes > n:
         raise InputError(f"--modes {n_modes}: the rotor has {n} modes")
-    found = critical_speeds_1x(rotor, lo, hi, n_scan=n_scan, n_modes=n_modes)
-    fwd = [bool(modes(rotor, s, n_modes).forward[k]) for s, k in found]
+    found = critical_speeds_1x(scene, lo, hi, n_scan=n_scan, n_modes=n_modes)
+    fwd = [bool(modes(scene, s, n_modes).forward[k]) for s, k in found]
     out = {"unit": "rad/s", "critical_speeds": [{"speed": s, "mode": k, "whirl": "forward" if f else "backward"}
                                                 for (s, k), f in zip(found, fwd)]}
     M, C, _, K = (np.asarray(a) for a in rotor.reduced_matrices())
-    if not np.any(C) and np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max()):
+    if (not getattr(rotor, "speed_dependent", False) and not np.any(C) and _components_add_nothing(scene, rotor)
+            and np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max())):
         roots = np.asarray(synchronous_critical_speeds(rotor))
         out["synchronous_determinant_roots"] = [float(r) for r in roots if lo <= r <= hi]
     speeds = np.linspace(lo, hi, 100)
-    camp = campbell(rotor, speeds, n_modes)
+    camp = campbell(scene, speeds, n_modes)
     out["campbell"] = (speeds, np.asarray(camp.frequencies), np.asarray(camp.forward))
     out["present"] = {"unit": "rad/s", "title": "critical speeds (1x crossings)"}
     return out

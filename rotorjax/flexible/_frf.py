@@ -1,0 +1,248 @@
+"""Frequency-response functions and the steady response to several unbalances
+of a finite-element rotor: all through the one frequency-response solve
+(`rotorjax.models._frequency.frequency_response`),
+
+    (K(W) - w^2 M(W) + i w (C(W) + W G1)) Q = F,
+
+with the bearing coefficients evaluated at the running speed `W`. A receptance
+`H_oi(w)` is the displacement `Q_o` for a unit force `F_i`; `speed=None` makes
+the rotor run at the excitation frequency (`W = w`: ROSS's `run_freq_response`,
+whose `transfer_matrix(speed=s)` is the synchronous case), a number holds `W`
+fixed while `w` sweeps. Velocity and acceleration are `i w H` and `-w^2 H`.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..models._fe_rotor import DOFS_PER_NODE
+from ..models._frequency import frequency_response
+from ..models._rotor_scene import RotorScene
+from ..models._validate import InputError, as_numpy, as_param, check_choice, check_node, is_concrete, show
+
+#: the translation directions and their dof within a node
+DIRECTIONS = {"x": 0, "y": 1}
+KINDS = ("displacement", "velocity", "acceleration")
+
+
+def full_rotor(rotor, what="rotor"):
+    """The `FlexibleRotor` or `ReducedRotor` of `rotor` (a `RotorScene`: its rotor)."""
+    if isinstance(rotor, RotorScene):
+        rotor = rotor.rotor
+    if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand", "n_nodes")):
+        raise InputError(f"{what} must be a FlexibleRotor, ReducedRotor or RotorScene, got {type(rotor).__name__}")
+    return rotor
+
+
+def linear_system(system):
+    """`(matrices, rotor)`: `matrices(W)` the `(M, C + W G1, K)` at running speed `W`
+    (bearings at `W`; a `RotorScene`: its `linear_matrices(W)`, the components'
+    linearisations included), and the `FlexibleRotor` or `ReducedRotor` whose
+    coordinates they are in."""
+    if isinstance(system, RotorScene):
+        def matrices(W):
+            lm = system.linear_matrices(W)
+            return lm.M, lm.C + lm.G, lm.K
+
+        return matrices, system.rotor
+    rotor = full_rotor(system)
+
+    def matrices(W):
+        M, C, G1, K = rotor.reduced_matrices(W)
+        return M, C + W * G1, K
+
+    return matrices, rotor
+
+
+def dof_index(rotor, name, node, direction):
+    """The position of `(node, direction)`'s translation among the free dofs."""
+    node = check_node(name, node, rotor.n_nodes, "node")
+    if not isinstance(direction, str) or direction not in DIRECTIONS:
+        raise InputError(f"{name}: the direction must be 'x' or 'y', got {direction!r}")
+    dof = DOFS_PER_NODE * node + DIRECTIONS[direction]
+    free = np.asarray(rotor.free_dofs)
+    where = np.flatnonzero(free == dof)
+    if where.size == 0:
+        raise InputError(f"{name}: dof {direction} of node {node} is fixed")
+    return int(where[0])
+
+
+def _point(name, value):
+    try:
+        node, direction = value
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a (node, 'x' | 'y') pair, got {show(value)}") from None
+    return node, direction
+
+
+class FRF(eqx.Module):
+    """A frequency-response function `H(w)` (complex, per unit force: m/N, m/s/N
+    or m/s^2/N), with `frequencies` (rad/s), `kind`, the `input` and `output`
+    `(node, direction)` and the running `speed` (None: the rotor runs at `w`)."""
+
+    frequencies: jax.Array
+    values: jax.Array
+    kind: str = eqx.field(static=True)
+    input: tuple = eqx.field(static=True)
+    output: tuple = eqx.field(static=True)
+    speed: object = eqx.field(static=True)
+
+    @property
+    def magnitude(self):
+        return jnp.abs(self.values)
+
+    @property
+    def phase(self):
+        return jnp.angle(self.values)
+
+
+def frf(rotor, input, output, frequencies, kind="displacement", speed=None) -> FRF:
+    """Frequency-response function from a force at `input = (node, "x" | "y")` to
+    the motion at `output = (node, "x" | "y")`, at the excitation `frequencies`
+    (rad/s, vmapped).
+
+    **Arguments:**
+    - `rotor`: a `FlexibleRotor`, `ReducedRotor` or `RotorScene` (its rotor).
+    - `kind`: "displacement" (receptance `H`), "velocity" (`i w H`) or
+      "acceleration" (`-w^2 H`).
+    - `speed`: None (the rotor runs at the excitation frequency, as in ROSS's
+      `run_freq_response`), or a fixed running speed (rad/s); the bearings are
+      evaluated at the running speed either way.
+
+    **Returns:** an `FRF`.
+    """
+    matrices, rotor = linear_system(rotor)
+    check_choice("kind", kind, KINDS)
+    ni, di = _point("input", input)
+    no, do = _point("output", output)
+    i = dof_index(rotor, "input", ni, di)
+    o = dof_index(rotor, "output", no, do)
+    if is_concrete(frequencies):
+        as_numpy("frequencies", frequencies, ndim=1)
+    if speed is not None and is_concrete(speed):
+        as_param("speed", speed, shape=())
+    n = len(rotor.free_dofs)
+    f = rotor.project(jnp.zeros(n, dtype=jnp.complex128).at[i].set(1.0))
+
+    def one(w):
+        M, C, K = matrices(w if speed is None else jnp.asarray(speed, dtype=jnp.float64))
+        H = rotor.expand(frequency_response(M, C, K, f, w))[rotor.free_dofs[o]]
+        return {"displacement": H, "velocity": 1j * w * H, "acceleration": -w**2 * H}[kind]
+
+    w = jnp.asarray(frequencies, dtype=jnp.float64)
+    return FRF(w, jax.vmap(one)(w), kind, (int(ni), di), (int(no), do),
+               None if speed is None else (float(speed) if is_concrete(speed) else speed))
+
+
+def _unbalances(rotor, unbalances):
+    """`(nodes, magnitudes, phases)`: static node indices, array magnitudes and phases."""
+    try:
+        rows = [tuple(u) for u in unbalances]
+    except TypeError:
+        raise InputError(f"unbalances must be a list of (node, magnitude kg m, phase rad), got "
+                         f"{show(unbalances)}") from None
+    if not rows:
+        raise InputError("unbalances must hold at least one (node, magnitude kg m, phase rad)")
+    nodes, mags, phases = [], [], []
+    for k, u in enumerate(rows):
+        if len(u) != 3:
+            raise InputError(f"unbalances[{k}] must be (node, magnitude kg m, phase rad), got {show(u)}")
+        node = check_node(f"unbalances[{k}]", u[0], rotor.n_nodes, "unbalance node")
+        b = DOFS_PER_NODE * node
+        free = set(np.asarray(rotor.free_dofs).tolist())
+        if b not in free or b + 1 not in free:
+            raise InputError(f"unbalances[{k}]: the unbalance node {node} has fixed translation dofs")
+        nodes.append(node)
+        mags.append(as_param(f"unbalances[{k}] magnitude", u[1], sign="nonnegative", shape=()))
+        phases.append(as_param(f"unbalances[{k}] phase", u[2], shape=()))
+    return tuple(nodes), jnp.stack(mags), jnp.stack(phases)
+
+
+def _probe(rotor, probe_nodes):
+    if probe_nodes is None:
+        return np.arange(rotor.n_nodes)
+    p = np.atleast_1d(as_numpy("probe_nodes", probe_nodes))
+    if p.ndim != 1 or p.size < 1:
+        raise InputError(f"probe_nodes must be a node or a 1-D list of >= 1 nodes, got shape {p.shape}")
+    return np.array([check_node(f"probe_nodes[{i}]", v, rotor.n_nodes, "probe") for i, v in enumerate(p)],
+                    dtype=int)
+
+
+def _unbalance_solver(matrices, rotor, unbalances):
+    """`Q(W)`: the response on all dofs at speed `W` to every unbalance at once."""
+    nodes, mags, phases = _unbalances(rotor, unbalances)
+    pos = {int(d): i for i, d in enumerate(np.asarray(rotor.free_dofs))}
+    n = len(pos)
+    # F_x = U W^2 e^{i phase}, F_y = -i F_x per unbalance (a force rotating with the shaft)
+    unit = jnp.zeros(n, dtype=jnp.complex128)
+    for k, node in enumerate(nodes):
+        b = DOFS_PER_NODE * node
+        u = mags[k] * jnp.exp(1j * phases[k])
+        unit = unit.at[pos[b]].add(u).at[pos[b + 1]].add(-1j * u)
+    unit = rotor.project(unit)
+
+    def solve(w):
+        M, C, K = matrices(w)
+        return rotor.expand(frequency_response(M, C, K, w**2 * unit, w))
+
+    return solve
+
+
+def unbalance_response_many(rotor, unbalances, speeds, probe_nodes=None):
+    """Steady response to several rotating unbalances at once,
+    `unbalances = [(node, magnitude kg m, phase rad), ...]`, at spin speeds
+    `speeds` (rad/s, vmapped): complex `X, Y` of shape `(n_speeds, n_probes)` at
+    `probe_nodes` (default: all nodes), `x = Re(X e^{i W t})`. The loads add in
+    one right-hand side (superposition is exact for the linear rotor); each is
+    `F_x = U W^2 e^{i phase}`, `F_y = -i F_x` as in `unbalance_response`, and the
+    bearings are evaluated at `W`."""
+    matrices, rotor = linear_system(rotor)
+    probe = _probe(rotor, probe_nodes)
+    if is_concrete(speeds):
+        as_numpy("speeds", speeds, ndim=1)
+    solve = _unbalance_solver(matrices, rotor, unbalances)
+
+    def one(w):
+        q = solve(w)
+        return q[DOFS_PER_NODE * probe], q[DOFS_PER_NODE * probe + 1]
+
+    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
+
+
+class DeflectedShape(eqx.Module):
+    """The rotor's steady orbit at every node at one `speed`: `x`, `y` complex
+    amplitudes, `forward` and `backward` circular components
+    (`(X + iY) / 2`, `(conj X + i conj Y) / 2`, ROSS's), `major`, `minor`
+    semi-axes of the elliptic orbit (`|forward| +- |backward|`), `angle` of the major
+    axis (its direction from x, in [0, pi) rad) and the node `positions` (m)."""
+
+    speed: jax.Array
+    positions: jax.Array
+    x: jax.Array
+    y: jax.Array
+    forward: jax.Array
+    backward: jax.Array
+    major: jax.Array
+    minor: jax.Array
+    angle: jax.Array
+
+
+def deflected_shape(rotor, unbalances, speed) -> DeflectedShape:
+    """The deflected shape (orbit at every node) at spin speed `speed` under the
+    `unbalances` of `unbalance_response_many`."""
+    matrices, rotor = linear_system(rotor)
+    if is_concrete(speed):
+        as_param("speed", speed, shape=())
+    w = jnp.asarray(speed, dtype=jnp.float64)
+    q = _unbalance_solver(matrices, rotor, unbalances)(w)
+    X, Y = q[0::DOFS_PER_NODE][:rotor.n_nodes], q[1::DOFS_PER_NODE][:rotor.n_nodes]
+    fwd = X / 2 + 1j * Y / 2
+    bwd = jnp.conj(X) / 2 + 1j * jnp.conj(Y) / 2
+    # x + i y = fwd e^{i w t} + bwd e^{-i w t}: the phasors align (the major axis)
+    # along the mean of their arguments, a direction defined modulo pi
+    angle = jnp.mod((jnp.angle(fwd) + jnp.angle(bwd)) / 2, jnp.pi)
+    major = jnp.abs(fwd) + jnp.abs(bwd)
+    minor = jnp.abs(jnp.abs(fwd) - jnp.abs(bwd))
+    full = getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
+    return DeflectedShape(w, full.node_positions, X, Y, fwd, bwd, major, minor, angle)
