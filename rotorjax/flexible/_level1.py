@@ -81,23 +81,26 @@ def _cross_coupling(rotor, node):
 
 
 def _first_forward(matrices, rotor, P, q, speed):
-    """`(lambda, all lambdas)`: the lowest-frequency forward mode's eigenvalue. The
-    whirl is read from eigenvectors without their derivatives; the eigenvalue is
-    taken from `eigvals` (differentiable) as the one nearest the classified mode's."""
+    """`(lambda, all lambdas)`: the lowest-frequency forward mode's eigenvalue. One
+    eigen-decomposition, of `A` without its derivatives: the whirl is read from
+    its eigenvectors, and the chosen eigenvalue gets its derivative from first-order
+    perturbation, `lambda = lambda_0 + u^H (A - A_0) v` (`u^H` the row of `V^-1`, so
+    `u^H v = 1`; the added term is zero in value), exact for a simple eigenvalue."""
     M, C, K = matrices(speed)
     A = LinearMatrices(M, C, jnp.zeros_like(C), K + q * P).state_matrix()
-    lam0, vec = jnp.linalg.eig(jax.lax.stop_gradient(A))
+    A0 = jax.lax.stop_gradient(A)
+    lam0, vec = jnp.linalg.eig(A0)
     n = M.shape[0]
     key = jnp.where(jnp.imag(lam0) > 0, jnp.imag(lam0), jnp.inf)
     order = jnp.argsort(key)[:n]
-    lam_s, v = lam0[order], rotor.expand(vec[:n, order])
+    v = rotor.expand(vec[:n, order])
     x, y = v[0::DOFS_PER_NODE], v[1::DOFS_PER_NODE]
     forward = (jnp.sum(jnp.abs(x + 1j * y) ** 2, axis=0) >= jnp.sum(jnp.abs(x - 1j * y) ** 2, axis=0)) \
         & jnp.isfinite(key[order])
-    k = jnp.argmax(forward)
-    lam = jnp.linalg.eigvals(A)
-    first = lam[jnp.argmin(jnp.abs(lam - lam_s[k]))]
-    return jnp.where(jnp.any(forward), first, jnp.nan + 0j), lam
+    kk = order[jnp.argmax(forward)]
+    u = jnp.linalg.solve(vec.T, jnp.zeros(A.shape[0], dtype=vec.dtype).at[kk].set(1.0))
+    first = lam0[kk] + u @ ((A - A0) @ vec[:, kk])
+    return jnp.where(jnp.any(forward), first, jnp.nan + 0j), lam0
 
 
 def _prepare(system, node):

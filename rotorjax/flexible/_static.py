@@ -24,10 +24,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import NumericalError
-from ..models._fe_reduction import ReducedRotor
-from ..models._fe_rotor import DOFS_PER_NODE, FlexibleRotor
-from ..models._rotor_scene import RotorScene
-from ..models._validate import InputError, as_param, check_choice, is_concrete
+from ..models._fe_rotor import DOFS_PER_NODE
+from ..models._validate import as_param, check_choice, is_concrete
+from ._frf import full_rotor
 
 AXES = ("x", "y")
 
@@ -66,13 +65,8 @@ class StaticResult(eqx.Module):
 
 def _full_rotor(rotor):
     """The `FlexibleRotor` behind a rotor, a reduced rotor or a `RotorScene`."""
-    if isinstance(rotor, RotorScene):
-        rotor = rotor.rotor
-    if isinstance(rotor, ReducedRotor):
-        rotor = rotor.rotor
-    if not isinstance(rotor, FlexibleRotor):
-        raise InputError(f"rotor must be a FlexibleRotor, ReducedRotor or RotorScene, got {type(rotor).__name__}")
-    return rotor
+    rotor = full_rotor(rotor)
+    return getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
 
 
 def _grounded_bearing_masses(rotor):
@@ -104,6 +98,20 @@ def static(rotor, gravity=9.80665, axis="y") -> StaticResult:
     rotor = _full_rotor(rotor)
     check_choice("axis", axis, AXES)
     g = as_param("gravity", gravity, shape=())
+    singular = NumericalError("static: the stiffness matrix is singular (the rotor is not supported)")
+    f = rotor.free_dofs
+    if is_concrete(rotor) and _singular(rotor, rotor.matrices(0.0)[3][np.ix_(f, f)], f):
+        raise singular
+    result = _static(rotor, g, axis)
+    if is_concrete(result.displacement) and not (np.all(np.isfinite(np.asarray(result.displacement)))
+                                                 and float(result.residual) < 1e-6):
+        raise singular
+    return result
+
+
+@eqx.filter_jit
+def _static(rotor, g, axis):
+    """The static solution (compiled once per rotor layout and axis)."""
     a = AXES.index(axis)
     M, _, _, K = rotor.matrices(0.0)
     n_nodes, n = rotor.n_nodes, K.shape[0]
@@ -115,12 +123,8 @@ def static(rotor, gravity=9.80665, axis="y") -> StaticResult:
         F = F.at[nd * node: nd * node + 2].add(-mb @ field[nd * node: nd * node + 2])
     f = rotor.free_dofs
     Kff, Ff = K[np.ix_(f, f)], F[f]
-    if is_concrete(Kff) and _singular(rotor, Kff, f):
-        raise NumericalError("static: the stiffness matrix is singular (the rotor is not supported)")
     qf = jnp.linalg.solve(Kff, Ff)
     residual = jnp.linalg.norm(Kff @ qf - Ff) / jnp.maximum(jnp.linalg.norm(Ff), 1e-300)
-    if is_concrete(qf) and not (np.all(np.isfinite(np.asarray(qf))) and float(residual) < 1e-6):
-        raise NumericalError("static: the stiffness matrix is singular (the rotor is not supported)")
     q = rotor.expand(qf)
     # reactions at fixed dofs: what holds them, F_c = K q - F there (zero elsewhere)
     fixed = np.asarray(rotor.fixed_dofs, dtype=int)

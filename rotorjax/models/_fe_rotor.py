@@ -7,7 +7,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
-                               is_concrete, per_item, show)
+                               is_concrete, show)
 from ._fe_elements import element_matrices
 from ._interpolate import spline
 

@@ -20,7 +20,6 @@ shapes (lateral share of the eigenvector < 0.99).
 """
 
 import json
-import os
 import pathlib
 import tomllib
 import warnings

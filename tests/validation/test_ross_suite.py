@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_almost_equal
 
-from rotorjax.flexible import (FlexibleRotor, campbell, critical_speeds_1x, damped_frequencies, modes,
+from rotorjax.flexible import (FlexibleRotor, campbell, damped_frequencies, modes,
                                state_matrix, synchronous_critical_speeds, unbalance_response, undamped_modes)
 
 DATA = os.path.join(os.path.dirname(__file__), "data", "ross_suite.json")
