@@ -429,14 +429,7 @@ class FlexibleRotor(eqx.Module):
 
     def matrices(self, speed=0.0):
         """Global `(M, C, G1, K)` on all dofs (`G = Omega G1`), bearing coefficients
-        (mass coefficients included) at `speed` (rad/s). Compiled once per rotor
-        layout (node indices and counts), so a concrete rotor does not pay for the
-        assembly's many small operations one by one."""
-        if is_concrete(speed):
-            as_param("speed", speed, shape=())
-        return _assemble(self, jnp.asarray(speed, dtype=jnp.float64))
-
-    def _matrices(self, speed):
+        (mass coefficients included) at `speed` (rad/s)."""
         M, G1, K = self.shaft_matrices()
         C = jnp.zeros_like(K)
         for i, node in enumerate(self.disk_nodes):
@@ -489,8 +482,3 @@ class FlexibleRotor(eqx.Module):
         from ._fe_reduction import ReducedRotor
 
         return ReducedRotor(self, n_modes)
-
-
-@eqx.filter_jit
-def _assemble(rotor, speed):
-    return rotor._matrices(speed)
