@@ -251,3 +251,161 @@ assert np.allclose(W, -U, rtol=0.02)
 
 with open(os.path.join(OUT, "identification_claims.json"), "w") as f:
     json.dump(claims, f, indent=2, default=float)
+
+# %% [markdown]
+# # A flexible rotor: identify the bearings, balance, and check the run-up after balancing
+#
+# The same steps on a finite-element rotor (issue 16). The machine is the shipped
+# rotor file `flexible_rig` (a six-element Timoshenko shaft, two disks at nodes 2 and
+# 4, two anisotropic damped bearings at nodes 0 and 6). The file holds the DESIGN
+# (nominal) bearing coefficients; the as-built machine's differ by factors of 0.5 to
+# 1.8 (`_make_fe_data.TRUTH`), and it carries residual unbalances at both disks. The
+# shipped measurements (`_make_fe_data`): the `flexible-runup` dataset, 1x phasors at
+# 50 speeds from 30 to 460 rad/s through both forward critical speeds, at x and y of
+# both bearings, with 1 % noise; and the `flexible-trials` dataset, a trial-weight
+# session at 4 speeds.
+#
+# 1. **Identify** the 8 bearing coefficients (`kxx, kyy, cxx, cyy` of both bearings)
+#    and the unbalances at nodes 2 and 4 from the run-up, starting from the nominal
+#    file (`identify_rotor`: a global Levenberg-Marquardt search over 32 starts, the
+#    unbalances projected out as the linear least-squares part, delta-method intervals).
+
+# %%
+from rotorjax.identify import _make_fe_data as fe
+from rotorjax.flexible import critical_speeds_1x
+
+rig_path = str(rotorjax.models.shipped_rotor("flexible_rig"))
+FE_NAMES = tuple(fe.TRUTH)
+runup_data = idf.read_phasors("flexible-runup")
+fe_fit = idf.identify_rotor(idf.rotor_model(rig_path), runup_data, FE_NAMES, fit_unbalance=[2, 4])
+nominal = {q.name: q.start for q in idf.rotor_model(rig_path).parameters(FE_NAMES)}
+flex = {"truth": dict(fe.TRUTH), "nominal": nominal, "estimates": fe_fit.estimates,
+        "intervals": fe_fit.intervals, "error_pct": {}, "covers": {}, "warnings": list(fe_fit.warnings),
+        "n_starts": fe_fit.n_starts, "residual_rms": fe_fit.residual_rms}
+print(f"{len(FE_NAMES)} bearing coefficients and 2 unbalances fitted to {runup_data.n} phasors "
+      f"({fe_fit.n_starts} starts, residual rms {fe_fit.residual_rms:.3g} m)")
+for k in FE_NAMES:
+    lo, hi = fe_fit.intervals[k]
+    flex["error_pct"][k] = 100 * (fe_fit.estimates[k] / fe.TRUTH[k] - 1)
+    flex["covers"][k] = bool(lo <= fe.TRUTH[k] <= hi)
+    print(f"  {k:13s} {fe_fit.estimates[k]:.6g}  95% [{lo:.6g}, {hi:.6g}]  (true {fe.TRUTH[k]:.6g}, nominal "
+          f"{nominal[k]:.6g}: error {flex['error_pct'][k]:+.3f} %, {'covered' if flex['covers'][k] else 'MISSED'})")
+U_true = {node: mag * np.exp(1j * ph) for node, mag, ph in fe.UNBALANCES}
+U_fit = {u["node"]: u["magnitude"] * np.exp(1j * u["phase"]) for u in fe_fit.unbalances}
+flex["unbalances"] = []
+for u in fe_fit.unbalances:
+    n, ut = u["node"], U_true[u["node"]]
+    rel = float(abs(U_fit[n] - ut) / abs(ut))
+    flex["unbalances"].append({"node": n, "magnitude": u["magnitude"], "phase": u["phase"],
+                               "magnitude_ci95": u["magnitude_ci95"], "phase_ci95": u["phase_ci95"],
+                               "true_magnitude": float(abs(ut)), "true_phase": float(np.angle(ut)),
+                               "relative_error": rel})
+    print(f"  unbalance at node {n}: {1e6 * u['magnitude']:.2f} g mm at {u['phase']:.4f} rad  95% "
+          f"[{1e6 * u['magnitude_ci95'][0]:.2f}, {1e6 * u['magnitude_ci95'][1]:.2f}] g mm, "
+          f"[{u['phase_ci95'][0]:.4f}, {u['phase_ci95'][1]:.4f}] rad  (true {1e6 * abs(ut):.2f} g mm at "
+          f"{np.angle(ut):.4f} rad: |error| {100 * rel:.3f} % of it)")
+true_machine = fe.true_rotor()
+design_machine = rotorjax.models.load_rotor(rig_path).rotor
+lo_w, hi_w = float(runup_data.speed.min()), float(runup_data.speed.max())
+
+
+def forward_criticals(rotor):
+    return [float(s) for s, _ in critical_speeds_1x(rotor, lo_w, hi_w, n_modes=12, whirl="forward")]
+
+
+crit_true, crit_design = forward_criticals(true_machine), forward_criticals(design_machine)
+flex["critical_speeds"] = [{"speed": c["speed"], "ci95": c["ci95"], "true": t, "design": d}
+                           for c, t, d in zip(fe_fit.critical_speeds, crit_true, crit_design)]
+for c in flex["critical_speeds"]:
+    print(f"  forward critical speed {c['speed']:.3f} rad/s  95% [{c['ci95'][0]:.3f}, {c['ci95'][1]:.3f}]  "
+          f"(true machine {c['true']:.3f}, design {c['design']:.3f})")
+print("  warnings:", fe_fit.warnings or "none")
+claims["flexible"] = flex
+
+# %% [markdown]
+# 2. **Balance** in planes 2 and 4 from the trial-weight session: the influence
+#    coefficients from the trial runs, the identified rotor as the model (its critical
+#    speeds for ISO 21940-12's counts), the corrections by least squares over all
+#    speeds and sensors and by min-max (the smallest worst residual). A perfect
+#    correction is minus the machine's unbalance.
+
+# %%
+identified = rotorjax.models.load_rotor(rig_path, overrides=fe_fit.estimates).rotor
+trials_data = idf.read_phasors("flexible-trials")
+flex["balancing"] = {}
+for method in ("ls", "minmax"):
+    bal = idf.balance_rotor(trials_data, planes=[2, 4], method=method, influence="trials", rotor=identified)
+    out = {"corrections": [], "predicted_before_max": bal.before_max, "predicted_after_max": bal.after_max,
+           "warnings": list(bal.warnings)}
+    print(f"{method}: balancing speeds {', '.join(f'{s:g}' for s in bal.balancing_speeds)} rad/s")
+    for node, w in zip(bal.planes, bal.W):
+        cancel = float(abs(w + U_true[node]) / abs(U_true[node]))
+        out["corrections"].append({"node": node, "magnitude": float(abs(w)), "phase": float(np.angle(w)),
+                                   "cancel_rel": cancel})
+        print(f"  node {node}: add {1e6 * abs(w):.2f} g mm at {np.degrees(np.angle(w)) % 360:.2f} deg  "
+              f"(minus the true unbalance: {1e6 * abs(U_true[node]):.2f} g mm at "
+              f"{np.degrees(np.angle(-U_true[node])) % 360:.2f} deg; |correction + U| = {100 * cancel:.2f} % of U)")
+    print(f"  at the balancing speeds: max {1e6 * bal.before_max:.2f} um before, {1e6 * bal.after_max:.3f} um "
+          f"after (predicted from the trials); warnings: {list(bal.warnings) or 'none'}")
+    flex["balancing"][method] = out
+
+# %% [markdown]
+# 3. **The run-up after balancing, predicted vs "measured".** The "measured" run-up
+#    after balancing is simulated on the TRUE machine (its bearing coefficients and
+#    unbalances, plus the corrections, noise-free) at the run-up's speeds and sensors;
+#    the prediction is the IDENTIFIED rotor with the identified unbalances plus the
+#    same corrections. Before: the `flexible-runup` measurements.
+
+# %%
+n_sens = len(fe.SENSORS)
+before = np.zeros((fe.RUNUP_SPEEDS.size, n_sens), complex)
+for i, (w_, node, d, x_) in enumerate(zip(runup_data.speed, runup_data.node, runup_data.direction, runup_data.X)):
+    before[np.argmin(np.abs(fe.RUNUP_SPEEDS - w_)), fe.SENSORS.index((int(node), "xy"[int(d)]))] = x_
+before_max = float(np.max(np.abs(before)))
+flex["runup"] = {"before_max": before_max}
+after = {}
+for method in ("ls", "minmax"):
+    corr = [(c["node"], c["magnitude"], c["phase"]) for c in flex["balancing"][method]["corrections"]]
+    measured = fe.clean_phasors(true_machine, list(fe.UNBALANCES) + corr, fe.RUNUP_SPEEDS, fe.SENSORS)
+    predicted = fe.clean_phasors(identified, [(n, abs(u), float(np.angle(u))) for n, u in U_fit.items()] + corr,
+                                 fe.RUNUP_SPEEDS, fe.SENSORS)
+    after[method] = (measured, predicted)
+    m_max, p_max = float(np.max(np.abs(measured))), float(np.max(np.abs(predicted)))
+    diff = float(np.max(np.abs(predicted - measured)))
+    flex["runup"][method] = {"measured_after_max": m_max, "predicted_after_max": p_max, "difference_max": diff,
+                             "after_over_before": m_max / before_max, "difference_over_after": diff / m_max,
+                             "difference_over_before": diff / before_max}
+    print(f"{method}: max vibration over the run-up {1e6 * before_max:.2f} um before, {1e6 * m_max:.3f} um after "
+          f"measured ({100 * m_max / before_max:.2f} % of before), {1e6 * p_max:.3f} um predicted; predicted - "
+          f"measured at most {1e6 * diff:.3f} um: {100 * diff / m_max:.1f} % of the after level, "
+          f"{100 * diff / before_max:.2f} % of the before level")
+
+# %% [markdown]
+# The intervals' coverage of the truth is printed, not asserted: one noisy data set
+# cannot test a 95 % interval (each one misses 5 % of the time). What is asserted
+# (`tests/notebook_checks/identification.py`): the estimates and unbalances within
+# 2 % of the truth, corrections that cancel the true unbalances within 3 %, the
+# run-up after balancing below 5 % of the run-up before, and the prediction from the
+# identified rotor within 10 % of the before level of the "measured" after.
+
+# %%
+measured, predicted = after["ls"]
+fig, axes = plt.subplots(2, 2, figsize=(12, 7), sharex=True)
+for j, (ax, (node, d)) in enumerate(zip(axes.ravel(), fe.SENSORS)):
+    ax.semilogy(fe.RUNUP_SPEEDS, 1e6 * np.abs(before[:, j]), "k.-", ms=4, lw=0.6, label="before (flexible-runup)")
+    ax.semilogy(fe.RUNUP_SPEEDS, 1e6 * np.abs(predicted[:, j]), "r-", label="after LS balancing: predicted "
+                "(identified rotor)")
+    ax.semilogy(fe.RUNUP_SPEEDS, 1e6 * np.abs(measured[:, j]), "bo", ms=3, mfc="none",
+                label='after: "measured" (true machine)')
+    for c in fe_fit.critical_speeds:
+        ax.axvline(c["speed"], color="0.7", lw=0.8, ls=":")
+    ax.set_title(f"node {node}, {d}", fontsize=9)
+    ax.set_ylabel("1x amplitude (um)")
+    if j >= 2:
+        ax.set_xlabel("speed (rad/s)")
+axes[0, 0].legend(fontsize=7)
+fig.tight_layout()
+fig.savefig(os.path.join(OUT, "identification_flexible.png"), dpi=100)
+
+with open(os.path.join(OUT, "identification_claims.json"), "w") as f:
+    json.dump(claims, f, indent=2, default=float)

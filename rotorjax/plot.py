@@ -473,6 +473,52 @@ def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="
     return _save(fig, path, [a1, a2])
 
 
+def plot_fe_identification(path, result, title, unit="m"):
+    """An `FEIdentification` on a Bode plot per channel (run, node, direction):
+    measured phasors (dots) against the fitted model (lines), amplitude and phase,
+    and below the scaled residuals `(model - measured) / sigma` (real and
+    imaginary parts) against speed (frequency for receptances)."""
+    plt = _plt()
+    d = result.data
+    x = np.asarray(d.frequency if d.kind == "frf" else d.speed, dtype=float)
+    if d.kind == "frf":
+        keys = list(zip(d.input_node.tolist(), d.input_direction.tolist(), d.node.tolist(), d.direction.tolist(),
+                        d.speed.tolist()))
+        name = {k: f"{k[2]}{'xy'[k[3]]}/{k[0]}{'xy'[k[1]]} at {k[4]:g} rad/s" for k in keys}
+    else:
+        keys = list(zip(d.run.tolist(), d.node.tolist(), d.direction.tolist()))
+        name = {k: (f"run {k[0]} " if len(set(d.run.tolist())) > 1 else "") + f"node {k[1]} {'xy'[k[2]]}"
+                for k in keys}
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    scaled = (result.fitted - d.X) / result.sigma
+    for j, k in enumerate(dict.fromkeys(keys)):
+        sel = np.array([kk == k for kk in keys])
+        o = np.argsort(x[sel])
+        xs, ds, fs, rs = x[sel][o], d.X[sel][o], result.fitted[sel][o], scaled[sel][o]
+        c = f"C{j % 10}"
+        a1.plot(xs, np.abs(ds), ".", color=c, ms=4, alpha=0.7, label=f"{name[k]} measured")
+        a1.plot(xs, np.abs(fs), "-", color=c, lw=1.2)
+        a2.plot(xs, np.degrees(np.angle(ds)), ".", color=c, ms=4, alpha=0.7)
+        a2.plot(*_break_wraps(xs, np.degrees(np.angle(fs))), "-", color=c, lw=1.2)
+        a3.plot(xs, rs.real, ".", color=c, ms=3)
+        a3.plot(xs, rs.imag, "x", color=c, ms=3)
+    a1.set_yscale("log")
+    a1.set_ylabel(f"1x amplitude ({unit})" if d.kind != "frf" else "receptance (m/N)")
+    a2.set_ylabel("phase (deg)")
+    a2.set_ylim(-180, 180)
+    a2.set_yticks(np.arange(-180, 181, 90))
+    a3.set_ylabel("scaled residual (. Re, x Im)")
+    a3.axhline(0, color="k", lw=0.6)
+    a3.set_xlabel("frequency (rad/s)" if d.kind == "frf" else "speed (rad/s)")
+    for cs in result.critical_speeds:
+        for a in (a1, a2, a3):
+            a.axvspan(cs["ci95"][0], cs["ci95"][1], color="0.8", alpha=0.5, lw=0)
+    a1.set_title(title, fontsize=10)
+    for a in (a2, a3):
+        a.grid(alpha=0.3)
+    return _save(fig, path, [a1], legend=True)
+
+
 def plot_boundaries(branches, crossings, path, key, key2, box, title):
     """Stability boundaries in two parameters: every branch's dense (cubic Hermite)
     curve with its points marked, and the crossings the scan located (`box`:
@@ -716,4 +762,31 @@ def plot_level1(q, log_dec, path, q0=None, title=""):
     ax.set_xlabel("cross-coupled stiffness Q (N/m)")
     ax.set_ylabel("log decrement")
     ax.set_title(title)
+    return _save(fig, path, [ax])
+
+
+def plot_fe_balance(path, result, title):
+    """A flexible rotor's balancing (`rotorjax.identify._fe_balance.FEBalancing`): the
+    1x vibration magnitude per sensor against speed, measured before (solid) and
+    predicted after the corrections (dashed), with the corrections in the legend's
+    title. Writes a PNG to `path` and returns it."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    speeds = np.asarray(result.speeds)
+    before, after = np.abs(np.asarray(result.X0)), np.abs(np.asarray(result.predicted))
+    for k, sensor in enumerate(dict.fromkeys(result.sensors)):
+        rows = [i for i, s in enumerate(result.sensors) if s == sensor]
+        order = np.argsort(speeds[rows])
+        r = np.asarray(rows)[order]
+        color = f"C{k % 10}"
+        ax.plot(speeds[r], before[r], "-o", color=color, ms=4, lw=1.2, label=f"node {sensor[0]} {sensor[1]}: before")
+        ax.plot(speeds[r], after[r], "--s", color=color, ms=4, lw=1.2, label=f"node {sensor[0]} {sensor[1]}: after")
+    values = np.concatenate([before, after])
+    values = values[values > 0]
+    if values.size and values.max() / values.min() > 1e2:
+        ax.set_yscale("log")
+    ax.set_xlabel("speed (rad/s)")
+    ax.set_ylabel("1x vibration magnitude (m)")
+    corr = ", ".join(f"node {n}: {m:.3g} kg m at {np.degrees(p) % 360:.0f} deg" for n, m, p in result.corrections)
+    ax.set_title(f"{title}\ncorrections ({result.method}): {corr}", fontsize=9)
     return _save(fig, path, [ax])

@@ -17,7 +17,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 @pytest.mark.parametrize("name,figures", [
     ("parameter_study", ["parameter_study.png"]),
-    ("identification", ["identification.png"]),
+    ("identification", ["identification.png", "identification_flexible.png"]),
     ("stability_boundaries", ["boundary_001.png", "boundary_003.png"]),
 ])
 def test_notebook_runs(name, figures, tmp_path):

@@ -1,14 +1,48 @@
-"""`balance` and `identify`: model 002's balancing machine from measured vibration."""
+"""`balance` and `identify`: model 002's balancing machine from measured vibration;
+on a rotor file they hand over to `_fe_balance` and `_fe_identify`."""
 
 import json
 import os
 
-from ._common import InputError, Stages, build, int_list, name_list, out_stem, prepare_out, preset_and_params
+from ._common import InputError, Stages, build, get_preset, int_list, name_list, out_stem, prepare_out
+from ._common import preset_and_params
+
+#: options of the rotor-file forms, with their defaults (given with the balancing machine: bad input)
+_ROTOR_ONLY_BALANCE = {"--set": ("set", None), "--data": ("data", None), "--speeds": ("speeds", None),
+                       "--method": ("method", "ls"), "--influence": ("influence", None), "--model": ("model", False),
+                       "--service-speed": ("service_speed", None), "--grade": ("grade", 2.5)}
+_ROTOR_ONLY_IDENTIFY = {"--weights": ("weights", "relative"), "--covariance": ("covariance", "classical"),
+                        "--starts": ("starts", 32), "--spread": ("spread", 10.0), "--method": ("method", "lm")}
+
+
+def _not_here(args, options, where):
+    for option, (dest, default) in options.items():
+        if getattr(args, dest, default) != default:
+            raise InputError(f"{option} applies to {where}")
 
 
 def cmd_balance(args) -> int:
     from rotorjax import identify as idf
     from rotorjax.plot import plot_balance
+
+    if args.preset is not None:
+        from ._fe_balance import cmd_fe_balance
+
+        for option, dest in (("--runs", "runs"), ("--holes", "holes")):
+            if getattr(args, dest) is not None:
+                raise InputError(f"{option} applies to the balancing machine (no ROTOR); with a rotor file give "
+                                 "--data PHASOR_FILE")
+        if args.radius != 0.01:
+            raise InputError("--radius applies to the balancing machine (no ROTOR): a rotor file's corrections are "
+                             "unbalances, kg m")
+        if args.model:
+            if args.influence not in (None, "model"):
+                raise InputError(f"--model and --influence {args.influence} contradict each other")
+            args.influence = "model"
+        args.influence = args.influence or "trials"
+        return cmd_fe_balance(args)
+    _not_here(args, _ROTOR_ONLY_BALANCE, "a rotor file: `rotorjax balance ROTOR.toml --data FILE ...`")
+    args.rotor_mass = 10.0 if args.rotor_mass is None else args.rotor_mass
 
     path = idf.resolve_data(args.runs) if args.runs else idf.BALANCING_RUNS
     planes = int_list("--planes", args.planes) if args.planes else None
@@ -45,8 +79,23 @@ def cmd_identify(args) -> int:
     from rotorjax import identify as idf
     from rotorjax.plot import plot_identification
 
+    if get_preset(args.preset).kind == "rotor":
+        from ._fe_identify import cmd_fe_identify
+
+        for option, dest in (("--block", "block"), ("--min-speed", "min_speed")):
+            if getattr(args, dest) is not None:
+                raise InputError(f"{option} applies to the balancing machine's run-up signals, not to a rotor "
+                                 "file's phasor file")
+        return cmd_fe_identify(args)
+    _not_here(args, _ROTOR_ONLY_IDENTIFY, "rotor files")
+    if args.fit_unbalance not in (None, True):
+        raise InputError(f"--fit-unbalance {args.fit_unbalance}: the balancing machine fits its own unbalances; "
+                         "give --fit-unbalance without nodes")
+    args.fit_unbalance = args.fit_unbalance is True
+    args.block = 1 if args.block is None else args.block
+    args.min_speed = 0.0 if args.min_speed is None else args.min_speed
     preset, params = preset_and_params(args, "identify", "machine")
-    fit = name_list("--fit", args.fit, idf.FITTABLE)
+    fit = name_list("--fit", args.fit or "k1,k2,c1,c2", idf.FITTABLE)
     path = idf.resolve_data(args.data) if args.data else idf.RUNUP
     scene = build(preset, params).scene
     prepare_out(args.out)

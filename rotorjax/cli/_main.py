@@ -15,6 +15,7 @@ from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
 from ._info import cmd_data, cmd_demo, cmd_presets
+from ._phasors import cmd_phasors
 from ._simulate import cmd_simulate
 from ._stability import HOPF_RANGE, cmd_critical_speeds, cmd_hopf, cmd_stability_map, cmd_steady
 
@@ -236,31 +237,100 @@ def build_parser():
                  (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"),
                                         help="tangents by autodiff or central differences (Floquet margins)")),
              ], kinds="all presets with a reference regime")
-    bal = sub.add_parser("balance", help="correction weights from runs with trial weights",
+    bal = sub.add_parser("balance", help="correction weights from runs with trial weights (balancing machine, "
+                                         "or any rotor file: several planes and speeds)",
                          formatter_class=_Formatter,
-                         description="Influence-coefficient balancing at one speed from a measurement file "
-                                     "(time, tacho, x1, x2, ..., run, trial_plane, trial_unbalance, trial_angle)."
+                         description="Influence-coefficient balancing.\n\nWithout ROTOR: model 002's balancing "
+                                     "machine at one speed from a measurement file (time, tacho, x1, x2, ..., run, "
+                                     "trial_plane, trial_unbalance, trial_angle), --runs.\n\nWith ROTOR (a rotor "
+                                     "file): corrections in --planes (nodes) over all speeds and sensors of a phasor "
+                                     "file (--data: speed, node, direction, real, imag, run, trial_node, "
+                                     "trial_magnitude, trial_phase), by weighted least squares or min-max, with "
+                                     "influence coefficients from the trial runs, the model, or both (the model "
+                                     "checked against the trials); ISO 21940-11 and -12 explained."
                                      "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
+    bal.add_argument("preset", metavar="ROTOR", nargs="?", default=None,
+                     help="a rotor file ROTOR.toml (a shipped one by name, e.g. flexible_rig.toml); omit for the "
+                          "balancing machine")
+    bal.add_argument("--set", action="append", metavar="KEY=VALUE",
+                     help="override an entry of ROTOR (e.g. bearing0.kxx=2e6); rotor files only")
     bal.add_argument("--runs", default=None, metavar="FILE",
-                     help="CSV/.npz of runs, or a shipped dataset name (`rotorjax data list`; "
+                     help="balancing machine: CSV/.npz of runs, or a shipped dataset name (`rotorjax data list`; "
                           "default: balancing-runs)")
-    bal.add_argument("--planes", default=None, help="comma-separated plane numbers (default: all trial planes)")
-    bal.add_argument("--radius", type=positive, default=0.01, help="correction radius, m")
+    bal.add_argument("--data", default=None, metavar="FILE",
+                     help="ROTOR: phasor file, or a shipped dataset name (default for flexible_rig.toml: "
+                          "flexible-trials)")
+    bal.add_argument("--planes", default=None, help="comma-separated correction planes: plane numbers (balancing "
+                                                    "machine, default all trial planes) or nodes (ROTOR)")
+    bal.add_argument("--speeds", default=None, help="ROTOR: comma-separated speeds (rad/s) of the data to balance "
+                                                    "over (default: every speed of the trial runs)")
+    bal.add_argument("--method", default="ls", choices=("ls", "minmax"),
+                     help="ROTOR: weighted least squares, or min-max (the largest residual vibration, exactly, as "
+                          "a second-order cone program)")
+    bal.add_argument("--influence", default=None, choices=("trials", "model", "both"),
+                     help="ROTOR: influence coefficients from the trial runs, the model, or both (the model checked "
+                          "against the trials) (default: trials)")
+    bal.add_argument("--model", action="store_true", help="ROTOR: the same as --influence model")
+    bal.add_argument("--service-speed", type=positive, default=None,
+                     help="ROTOR: the service speed for ISO 21940, rad/s (default: the largest speed of the data)")
+    bal.add_argument("--grade", type=positive, default=2.5, help="ROTOR: the ISO 21940-11 grade G (mm/s) to meet")
+    bal.add_argument("--radius", type=positive, default=0.01, help="balancing machine: correction radius, m")
     bal.add_argument("--holes", type=int, default=None, metavar="N",
-                     help="split each correction onto the two nearest of N equally spaced holes (N >= 2)")
-    bal.add_argument("--rotor-mass", type=positive, default=10.0, help="rotor mass for the ISO grade, kg")
+                     help="balancing machine: split each correction onto the two nearest of N equally spaced "
+                          "holes (N >= 2)")
+    bal.add_argument("--rotor-mass", type=positive, default=None,
+                     help="rotor mass for the ISO grade, kg (default: 10 for the balancing machine, the model's "
+                          "for ROTOR)")
     _common_flags(bal)
     bal.set_defaults(fn=cmd_balance)
-    _command(sub, "identify", "identify support stiffness/damping from measured vibration", cmd_identify, [
+    _command(sub, "identify", "identify support stiffness/damping (any rotor file: bearing, support, disk and "
+             "unbalance parameters) from measured vibration", cmd_identify, [
         (("--data",), dict(default=None, metavar="FILE",
-                           help="run-up CSV/.npz, or a shipped dataset name (`rotorjax data list`; default: "
-                                "runup)")),
-        (("--fit",), dict(default="k1,k2,c1,c2", help=f"comma-separated parameters to fit, from "
-                                                      f"{', '.join(FITTABLE)}; the others stay at --set values")),
-        (("--fit-unbalance",), dict(action="store_true", help="also fit the unbalances (else the preset's)")),
-        (("--block",), dict(type=at_least(1), default=1, help="revolutions per 1x estimate")),
-        (("--min-speed",), dict(type=nonnegative, default=0.0, help="drop revolutions below this speed, rad/s")),
-    ], kinds="balancing-machine")
+                           help="measurements, or a shipped dataset name (`rotorjax data list`): a run-up CSV/.npz "
+                                "for the balancing machine (default: runup); a phasor file (speed, node, direction, "
+                                "real, imag; receptances with input_node, input_direction, frequency) for a rotor "
+                                "file (default for flexible_rig.toml: flexible-runup)")),
+        (("--fit",), dict(default=None, help=f"comma-separated parameters to fit: from {', '.join(FITTABLE)} for "
+                                             "the balancing machine (default k1,k2,c1,c2); a rotor file's names, "
+                                             "e.g. bearing0.kxx,bearing1.cyy (default: the kxx, kyy, cxx, cyy its "
+                                             "bearings give); the others stay at the file's and --set values, "
+                                             "which are the start")),
+        (("--fit-unbalance",), dict(nargs="?", const=True, default=None, metavar="NODES",
+                                    help="also fit the unbalances: the preset's (balancing machine, no value), or "
+                                         "complex unbalances at these comma-separated nodes (rotor file)")),
+        (("--block",), dict(type=at_least(1), default=None, help="balancing machine: revolutions per 1x estimate "
+                                                                 "(default 1)")),
+        (("--min-speed",), dict(type=nonnegative, default=None,
+                                help="balancing machine: drop revolutions below this speed, rad/s (default 0)")),
+        (("--weights",), dict(default="relative", choices=("relative", "uniform"),
+                              help="rotor file: each phasor weighted by 1/|X| (relative) or equally; a sigma column "
+                                   "in the file overrides")),
+        (("--covariance",), dict(default="classical", choices=("classical", "sandwich"),
+                                 help="rotor file: the intervals' covariance")),
+        (("--starts",), dict(type=at_least(1), default=32, help="rotor file: starts of the global search (1: a "
+                                                                "local fit from the file's values)")),
+        (("--spread",), dict(type=positive, default=10.0, help="rotor file: the starts span this factor either way "
+                                                               "around the file's values (log-parameters)")),
+        (("--method",), dict(default="lm", choices=("lm", "optax"), help="rotor file: Levenberg-Marquardt, or "
+                                                                          "optax's Adam (gradient descent)")),
+    ], kinds="balancing-machine, rotor files")
+    ph = sub.add_parser("phasors", help="1x phasors of raw vibration signals, written as a phasor file",
+                        formatter_class=_Formatter,
+                        description="1x phasors from a raw measurement file (time, tacho, x1, x2, ..., run, "
+                                    "trial_plane, trial_unbalance, trial_angle): one per sensor of a steady run, "
+                                    "one per block of revolutions of a run-up; written as a phasor file (speed, "
+                                    "node, direction, real, imag, run, trial_node, trial_magnitude, trial_phase)."
+                                    "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
+    ph.add_argument("raw", metavar="RAW", help="raw CSV/.npz measurement file, or a shipped dataset name")
+    ph.add_argument("--map", default=None, metavar="TEXT",
+                    help="the sensors' FE nodes and directions, e.g. x1=2:x,x2=2:y (default: the file's comment "
+                         "line '# channels: x1=2:x, x2=2:y')")
+    ph.add_argument("--out", required=True, metavar="FILE.csv", help="the phasor file to write")
+    ph.add_argument("--revolutions", type=at_least(1), default=None, metavar="N",
+                    help="revolutions per phasor of a run whose speed varies (default 1)")
+    ph.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    _debug_flag(ph)
+    ph.set_defaults(fn=cmd_phasors)
     data = sub.add_parser("data", help="the shipped measurement datasets", formatter_class=_Formatter,
                           description="`rotorjax data list` lists the shipped datasets; `rotorjax data path NAME` "
                                       "prints a dataset's file path. `--data NAME` / `--runs NAME` take the "

@@ -150,6 +150,10 @@ def campbell(rotor, speeds, n_modes=8):
     return jax.vmap(lambda s: modes(rotor, s, n_modes))(jnp.asarray(speeds, dtype=jnp.float64))
 
 
+_campbell_compiled = eqx.filter_jit(campbell)
+_modes_compiled = eqx.filter_jit(modes)
+
+
 def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="all"):
     """Intersections of the Campbell diagram's branches with the 1x line
     `frequency = speed`, located by a scan plus bisection on `omega_k(Omega) - Omega`
@@ -163,10 +167,13 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     n_modes = _check_n_modes("n_modes", n_modes, rotor, allow_none=False, bounded=True)
     as_param("xtol", xtol, sign="positive", shape=())
     speeds = np.linspace(lo, hi, n_scan)
-    camp = jax.jit(lambda s: campbell(rotor, s, n_modes))(speeds)
+    # the rotor is an argument (not a constant): one compilation per rotor layout
+    camp = _campbell_compiled(rotor, jnp.asarray(speeds), n_modes)
     freq = np.asarray(camp.frequencies)
     fwd = np.asarray(camp.forward)
-    one = jax.jit(lambda s: modes(rotor, s, n_modes))
+
+    def one(s):
+        return _modes_compiled(rotor, jnp.float64(s), n_modes)
     out = []
     for k in range(n_modes):
         g = freq[:, k] - speeds

@@ -1,4 +1,6 @@
-"""Balancing and identification from measured vibration (model 002)."""
+"""Balancing and identification from measured vibration: model 002's balancing
+machine, and any finite-element rotor file (phasor files, `identify_rotor`,
+`balance_rotor`)."""
 
 from ..models._balancing_machine import BalancingMachine as BalancingMachine
 from ..models._balancing_machine import BalancingScene as BalancingScene
@@ -38,7 +40,26 @@ from ._fit import levenberg_marquardt as levenberg_marquardt
 from ._fit import optax_fit as optax_fit
 from ._fit import residual_fn as residual_fn
 from ._fit import response_band as response_band
+from ._phasor_file import PhasorData as PhasorData
+from ._phasor_file import read_phasors as read_phasors
+from ._phasor_file import write_phasors as write_phasors
+from ._phasor_file import make_phasors as make_phasors
+from ._phasor_file import phasors_from_signals as phasors_from_signals
+from ._fe_params import RotorModel as RotorModel
+from ._fe_params import rotor_model as rotor_model
+from ._fe_identify import FEIdentification as FEIdentification
+from ._fe_identify import identify_rotor as identify_rotor
+from ._fe_identify import estimates_jacobian as estimates_jacobian
+from ._fe_balance import FEBalancing as FEBalancing
+from ._fe_balance import balance_rotor as balance_rotor
+from ._fe_balance import influence_from_phasor_runs as influence_from_phasor_runs
+from ._fe_balance import model_influence as model_influence
+from ._fe_balance import least_squares_balance as least_squares_balance
+from ._fe_balance import minmax_balance as minmax_balance
 
-#: The shipped synthetic measurements (see `rotorjax.identify._make_data`; by name: `DATASETS`).
+#: The shipped synthetic measurements (see `rotorjax.identify._make_data` and
+#: `_make_fe_data`; by name: `DATASETS`).
 BALANCING_RUNS = dataset_path("balancing-runs")
 RUNUP = dataset_path("runup")
+FLEXIBLE_RUNUP = dataset_path("flexible-runup")
+FLEXIBLE_TRIALS = dataset_path("flexible-trials")

@@ -20,6 +20,10 @@ DATASETS = {
               "sensors x1 and x2, 20 000 samples at 1 kHz, 1 % noise (for `identify`)"),
     "balancing-runs": ("balancing_runs.csv", "three steady runs at 120 rad/s, sensors x1 and x2: "
                        "no trial weight, 1e-4 kg m at 0 deg in plane 0, at 90 deg in plane 1 (for `balance`)"),
+    "flexible-runup": ("flexible_runup.csv", "1x phasors of the flexible_rig rotor (as built) at 50 speeds from 30 to "
+                       "460 rad/s through two criticals, x and y at nodes 2 and 4, 1 % noise (200 rows)"),
+    "flexible-trials": ("flexible_trials.csv", "1x phasors of the flexible_rig rotor at 70, 103, 220, 340 rad/s: "
+                        "run 0 as is, run 1 trial weight at node 2, run 2 at node 4 (48 rows)"),
 }
 
 #: The balancing machine the shipped datasets simulate (SI: kg, kg m^2, m, N/m, N s/m, kg m, deg,
@@ -30,7 +34,8 @@ RIG = {"m": 10.0, "I": 0.5, "l": 0.8, "k1": 2e5, "k2": 3e5, "c1": 150.0, "c2": 2
        "a2": 0.65, "D1": 2e-4, "D1_angle": 30.0, "D2": 3e-4, "D2_angle": 200.0, "speed": 120.0}
 
 #: other spellings accepted for a dataset name
-ALIASES = {"balancing_runs": "balancing-runs"}
+ALIASES = {"balancing_runs": "balancing-runs", "flexible_runup": "flexible-runup",
+           "flexible_trials": "flexible-trials"}
 
 
 def _canonical(name):

@@ -150,6 +150,10 @@ def _stacked_influence(machine, speeds, planes):
 
 @eqx.filter_jit
 def _res_jac(r, theta):
+    """The residuals and their Jacobian: `r.res_jac` where the residual has its own
+    (faster) one, else forward-mode autodiff."""
+    if hasattr(r, "res_jac"):
+        return r.res_jac(theta)
     return r(theta), jax.jacfwd(r)(theta)
 
 

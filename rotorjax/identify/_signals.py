@@ -335,6 +335,21 @@ def _num(v):
 
 def _read_csv(file, label):
     """`({column: float array}, _Where)` of a CSV file, or an InputError."""
+    names, rows, where = _read_table(file, label)
+    try:
+        table = np.array(rows, dtype=float)
+    except ValueError:
+        _raise_bad_cell(rows, names, where, label)
+        raise InputError(f"{label}: the data rows cannot be read as numbers") from None
+    return {n: table[:, j].copy() for j, n in enumerate(names)}, _Where(where)
+
+
+def _read_table(file, label, example=_EXAMPLE, row="sample"):
+    """The text table of a CSV file, `(names, rows, where)`: the column names, the
+    data rows as lists of strings (as many as names) and each row's 1-based line
+    number; or an InputError (not text, no header, bad names, ragged rows). No cell
+    is converted: `_read_csv` makes numbers of them. `example` (a header) and `row`
+    (what a data row holds) word the messages."""
     try:
         with open(file, "rb") as f:
             raw = f.read()
@@ -342,8 +357,8 @@ def _read_csv(file, label):
         raise InputError(f"{label}: cannot be read ({e.strerror or e})") from None
     if not raw.strip():
         size = "0 bytes" if not raw else f"{len(raw)} bytes, only whitespace"
-        raise InputError(f"{label}: empty file ({size}): expected a header row such as {_EXAMPLE} and one data "
-                         "row per sample")
+        raise InputError(f"{label}: empty file ({size}): expected a header row such as {example} and one data "
+                         f"row per {row}")
     if raw[:4] == b"PK\x03\x04":
         raise InputError(f"{label}: a zip archive (an Excel workbook or a .npz?), not a text CSV file: export the "
                          f"sheet as CSV, or name a NumPy archive .npz; expected {_FORMATS}")
@@ -372,7 +387,7 @@ def _read_csv(file, label):
             break
     if header_at is None:
         raise InputError(f"{label}: no header row and no data (only blank or comment lines): expected a header "
-                         f"row such as {_EXAMPLE} and one data row per sample")
+                         f"row such as {example} and one data row per {row}")
     header, first_data = lines[header_at], header_at + 1
     if _is_number(header.split(",")[0]):
         # `np.savetxt(..., header=...)` writes the header as a comment: accept that one
@@ -380,18 +395,18 @@ def _read_csv(file, label):
             header, first_data = lines[comment_at].strip().lstrip("#"), header_at
         else:
             raise InputError(f"{label}: line {header_at + 1} is data ({header.strip()[:40]!r}), not a header: "
-                             f"the first line must name the columns, e.g. {_EXAMPLE}")
+                             f"the first line must name the columns, e.g. {example}")
     names = [n.strip().strip('"').strip("'").strip() for n in header.split(",")]
     hline = (comment_at if first_data == header_at else header_at) + 1
     if len(names) == 1:
         for sep, word in ((";", "semicolons"), ("\t", "tabs"), ("|", "bars")):
             if sep in names[0]:
                 raise InputError(f"{label}: the header (line {hline}) is separated by {word}, not commas: "
-                                 f"expected comma-separated columns such as {_EXAMPLE}")
+                                 f"expected comma-separated columns such as {example}")
     for j, n in enumerate(names):
         if not n:
             raise InputError(f"{label}: column {j + 1} of the header (line {hline}) has no name: every column "
-                             f"needs a name, e.g. {_EXAMPLE} (a trailing comma?)")
+                             f"needs a name, e.g. {example} (a trailing comma?)")
     seen = {}
     for j, n in enumerate(names):
         if n in seen:
@@ -407,19 +422,14 @@ def _read_csv(file, label):
             where.append(i + 1)
     cols_desc = ", ".join(names)
     if not rows:
-        raise InputError(f"{label}: a header ({cols_desc}) but no data rows: expected one row per sample")
+        raise InputError(f"{label}: a header ({cols_desc}) but no data rows: expected one row per {row}")
     counts = np.fromiter(map(len, rows), dtype=int, count=len(rows))
     if np.any(counts != len(names)):
         j = int(np.argmax(counts != len(names)))
         hint = ": the file looks truncated" if j == len(rows) - 1 and counts[j] < len(names) else ""
         raise InputError(f"{label}: data row {j + 1} (line {where[j]}) has {counts[j]} field(s) but the header "
                          f"names {len(names)} columns ({cols_desc}){hint}")
-    try:
-        table = np.array(rows, dtype=float)
-    except ValueError:
-        _raise_bad_cell(rows, names, where, label)
-        raise InputError(f"{label}: the data rows cannot be read as numbers") from None
-    return {n: table[:, j].copy() for j, n in enumerate(names)}, _Where(where)
+    return names, rows, where
 
 
 def _is_number(s):

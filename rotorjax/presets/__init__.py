@@ -18,8 +18,18 @@ PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross
 def get(name) -> Preset:
     """The preset called `name`, or for a path ending in `.toml` the rotor file's
     preset (its `--set` keys are the file's scalar entries, e.g. `bearing0.kxx`); an
-    unknown name raises, listing the known ones."""
+    unknown name raises, listing the known ones. A `.toml` name that is not a file
+    but names a rotor file shipped with rotorjax (`flexible_rig.toml`) opens that one."""
     if str(name).endswith(".toml"):
+        import os
+
+        if not os.path.exists(name) and os.sep not in str(name):
+            from ..models._rotor_file import shipped_rotor
+
+            try:
+                name = str(shipped_rotor(str(name)))
+            except InputError:
+                pass
         import importlib.util
 
         if importlib.util.find_spec(f"{__name__}._rotor_file") is None:

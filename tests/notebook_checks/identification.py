@@ -59,3 +59,24 @@ def check(claims):
     assert abs(c[0]["mass_g"] - 20) < 0.3 and abs(c[0]["angle_deg"] - 210) < 1.5
     assert abs(c[1]["mass_g"] - 30) < 0.3 and abs(c[1]["angle_deg"] - 20) < 1.5
     assert claims["balancing"]["model_based_difference"] < 0.01
+
+    # the flexible rig (issue 16): the 8 bearing coefficients and 2 unbalances from the run-up
+    flex = claims["flexible"]
+    assert set(flex["estimates"]) == set(flex["truth"]) and len(flex["truth"]) == 8
+    assert all(abs(flex["error_pct"][k]) < 2.0 for k in flex["truth"]), flex["error_pct"]
+    assert flex["warnings"] == [], flex["warnings"]
+    assert [u["node"] for u in flex["unbalances"]] == [2, 4]
+    assert all(u["relative_error"] < 0.02 for u in flex["unbalances"]), flex["unbalances"]
+    assert len(flex["critical_speeds"]) == 2
+    for c in flex["critical_speeds"]:                                    # the as-built, not the design, criticals
+        assert abs(c["speed"] / c["true"] - 1) < 0.005 and abs(c["speed"] / c["design"] - 1) > 0.02, c
+    # balancing from the trial runs, LS and min-max: each correction cancels the true unbalance within 3 %
+    for method in ("ls", "minmax"):
+        b = flex["balancing"][method]
+        assert [c["node"] for c in b["corrections"]] == [2, 4]
+        assert all(c["cancel_rel"] < 0.03 for c in b["corrections"]), (method, b["corrections"])
+        # the run-up after balancing: below 5 % of before; the identified rotor predicts it within
+        # 10 % of the before level
+        r = flex["runup"][method]
+        assert r["measured_after_max"] < 0.05 * flex["runup"]["before_max"], (method, r)
+        assert r["difference_max"] < 0.10 * flex["runup"]["before_max"], (method, r)

@@ -1,0 +1,517 @@
+"""Identification of a finite-element rotor (any rotor file) from measured 1x
+phasors or impact-test receptances: bearing, support, disk and unbalance
+parameters by their rotor-file names.
+
+The fit: weighted least squares on the complex residuals `(model - measured) /
+sigma` (real and imaginary parts), over log-parameters (positive quantities) and
+scaled signed ones (`_fe_params`), by Levenberg-Marquardt with autodiff
+Jacobians through the FE model (`_fe_model`). Unbalances fitted at named nodes
+enter linearly: for given rotor parameters they are the weighted linear
+least-squares solution (variable projection), so the search runs over the rotor
+parameters only and needs no start for them.
+
+A local fit from a start a factor of a few off falls into spurious minima (a
+bearing stiffness collapsing to near zero while the unbalance absorbs the
+amplitude), so the search is global: `n_starts` starts, the given one and a
+Latin hypercube over `spread`-fold factors either way (log-parameters), all run
+by one vmapped LM (`lm_batch`), each lane to convergence; the best is the
+estimate. (Model 002's fits keep their own Python-loop LM, `_fit.levenberg_marquardt`,
+whose residuals the autodiff Jacobian there also serves.) Other minima whose cost is within the 95 %
+chi-square margin of the best and whose parameters differ by more than three
+standard deviations are reported: the data do not tell them apart.
+
+Uncertainty: the delta method at the optimum (`theta_covariance`, classical or
+sandwich) over the rotor parameters and the unbalances together; 95 % intervals
+`p exp(+-1.96 sd_log)` for log-parameters, `v +- 1.96 sd` for the others. The
+fitted rotor's forward 1x critical speeds in the data's range come with
+intervals by the same delta method, their gradient by the implicit function
+theorem on `omega_k(W; p) - W = 0`. Identifiability: the Jacobian's rank (the
+parameters in its null direction named), parameters the data barely move, and
+relative standard deviations above 0.3 are warnings.
+"""
+
+import dataclasses
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy.stats import chi2
+
+from .._errors import InputError, NumericalError
+from ._fe_model import phasor_model, predict, receptances
+from ._fe_params import RotorModel, apply, rotor_model
+from ._fit import optax_fit, theta_covariance
+from ._phasor_file import PhasorData, read_phasors
+
+WEIGHTS = ("relative", "uniform")
+#: relative weights: sigma_i = max(|X_i|, RELATIVE_FLOOR * max |X|)
+RELATIVE_FLOOR = 1e-3
+#: bound of the search around the start, in theta units (log-parameters: a factor e^7 ~ 1100)
+BOUND = 7.0
+
+
+class FEResidual(eqx.Module):
+    """`r(theta)`: the scaled residuals (real parts, then imaginary parts) of the
+    rows at rotor parameters `theta`, the fitted unbalances projected out."""
+
+    rotor: eqx.Module
+    params: tuple = eqx.field(static=True)
+    unb_nodes: tuple = eqx.field(static=True)
+    unb_mag: jax.Array
+    unb_phase: jax.Array
+    fit_nodes: tuple = eqx.field(static=True)
+    model: eqx.Module
+    X: jax.Array
+    sigma: jax.Array
+    scales: jax.Array                     # the parameters' scales (signed ones), as `apply` takes them
+    coupling: eqx.Module | None = None    # `Receptances` around the start, or None: direct solves
+
+    def _rotor(self, theta):
+        return apply(self.params, self.rotor, (self.unb_nodes, self.unb_mag, self.unb_phase), theta, self.scales)
+
+    def _matrices(self, theta, W):
+        return self._rotor(theta)[0].reduced_matrices(W)
+
+    def _parts(self, theta, R=None):
+        """`(a, B)`: the rows' phasors with the fitted unbalances zero, and their
+        response to each fitted unbalance (None when none is fitted); `R` the rows'
+        unit responses (computed when not given)."""
+        rotor, (_, mags, phases) = self._rotor(theta)
+        if R is None:
+            R = (self.model.rows(rotor) if self.coupling is None
+                 else self.coupling.rows(self.model, rotor.reduced_matrices()))
+        if self.model.kind == "frf":
+            return R, None
+        base = jnp.zeros(len(self.model.loads), dtype=jnp.complex128)
+        for j, node in enumerate(self.unb_nodes):
+            base = base.at[self.model.unit_index(node)].add(mags[j] * jnp.exp(1j * phases[j]))
+        a = jnp.sum(R * (base[None, :] + self.model.trial), axis=1)
+        if not self.fit_nodes:
+            return a, None
+        return a, R[:, np.array([self.model.unit_index(n) for n in self.fit_nodes])]
+
+    @staticmethod
+    def _project(a, B, X, sigma):
+        Bw, rw = B / sigma[:, None], (X - a) / sigma
+        return jnp.linalg.solve(Bw.conj().T @ Bw, Bw.conj().T @ rw)
+
+    def unbalances(self, theta):
+        """The fitted unbalances at `theta` (complex, kg m), the weighted linear least-squares solution."""
+        a, B = self._parts(theta)
+        return self._project(a, B, self.X, self.sigma)
+
+    def predict(self, theta, u=None, R=None):
+        a, B = self._parts(theta, R)
+        if B is None:
+            return a
+        return a + B @ (self._project(a, B, self.X, self.sigma) if u is None else u)
+
+    def res_jac(self, theta):
+        """`(r, dr/dtheta)`: forward-mode autodiff through the receptance coupling, or
+        with direct solves one LU per solve point (`PhasorModel.solves_jvp`)."""
+        if self.coupling is not None:
+            return self(theta), jax.jacfwd(self)(theta)
+        H, dH = self.model.solves_jvp(self._matrices, theta)
+        R, dR = self.model.gather(H), self.model.gather(dH)
+
+        def g(R, th):
+            return self._scaled(self.predict(th, R=R))
+
+        p = theta.shape[0]
+        res = g(R, theta)
+        J = jax.vmap(lambda dRk, ek: jax.jvp(g, (R, theta), (dRk, ek))[1], in_axes=(-1, 0), out_axes=1)(
+            dR, jnp.eye(p, dtype=theta.dtype))
+        return res, J
+
+    def _scaled(self, m):
+        d = (m - self.X) / self.sigma
+        return jnp.concatenate([jnp.real(d), jnp.imag(d)])
+
+    def __call__(self, theta):
+        return self._scaled(self.predict(theta))
+
+    def full(self, theta_u):
+        """The residuals with the fitted unbalances as parameters too: `theta_u =
+        (theta, Re u, Im u)` (for the covariance)."""
+        p, k = len(self.params), len(self.fit_nodes)
+        u = theta_u[p:p + k] + 1j * theta_u[p + k:]
+        return self._scaled(self.predict(theta_u[:p], u if k else None))
+
+
+def _res_jac(r, th):
+    return r.res_jac(th)
+
+
+@eqx.filter_jit
+def _lm_init(r, theta0):
+    res, J = jax.vmap(lambda th: _res_jac(r, th))(theta0)
+    n = theta0.shape[0]
+    return (theta0, res, J, jnp.sum(res**2, axis=1), jnp.full(n, 1e-3), jnp.zeros(n, dtype=bool))
+
+
+@eqx.filter_jit
+def _lm_step(r, state, center, tol):
+    """One Levenberg-Marquardt iteration of every lane (lanes that are done keep their state)."""
+
+    def one(th, res, J, cost, lam, done):
+        JtJ, g = J.T @ J, J.T @ res
+        d = jnp.diag(JtJ)
+        step = -jnp.linalg.solve(JtJ + lam * jnp.diag(d + 1e-12 * jnp.max(d)), g)
+        new = jnp.clip(th + jnp.clip(step, -2.0, 2.0), center - BOUND, center + BOUND)
+        res_n, J_n = _res_jac(r, new)
+        cost_n = res_n @ res_n
+        ok = jnp.isfinite(cost_n) & (cost_n < cost) & ~done
+        small = ok & (((cost - cost_n) <= tol * cost) | (jnp.max(jnp.abs(new - th)) < 1e-10))
+        th, res, J, cost = (jnp.where(ok, a, b) for a, b in ((new, th), (res_n, res), (J_n, J), (cost_n, cost)))
+        lam = jnp.where(done, lam, jnp.where(ok, jnp.maximum(lam / 10, 1e-12), lam * 10))
+        return th, res, J, cost, lam, done | small | (lam > 1e12)
+
+    return jax.vmap(one)(*state)
+
+
+def lm_batch(r, theta0, center, max_iter=200, tol=1e-12):
+    """Levenberg-Marquardt from each row of `theta0` at once: the fit, global stage
+    and polish in one. Each iteration is one compiled, vmapped step over all lanes (a
+    Python loop around it: XLA's CPU runtime can stall on a `while_loop` around
+    LAPACK calls, and the loop stops as soon as every lane is done; a lane is done
+    when a step lowers the cost by less than `tol` relatively, or when no damping
+    makes a step lower it, i.e. at rounding). Steps are limited to 2 units and the
+    iterates to `center +- BOUND`. Returns `(theta, cost, done, iterations)`."""
+    state = _lm_init(r, jnp.asarray(theta0))
+    center = jnp.asarray(center)
+    it = 0
+    for it in range(1, max_iter + 1):
+        state = _lm_step(r, state, center, tol)
+        if bool(jnp.all(state[5])):
+            break
+    return state[0], state[3], state[5], it
+
+
+def starts(center, params, n_starts, spread, seed=0):
+    """`n_starts` starting points: `center` first, then a Latin hypercube over
+    `[-log(spread), log(spread)]` per log-parameter (`[-spread, spread]` scaled
+    units for signed ones, `[-pi, pi]` for phases) around it."""
+    rng = np.random.default_rng(seed)
+    p = len(params)
+    n = max(int(n_starts) - 1, 0)
+    u = (np.stack([rng.permutation(n) for _ in range(p)], axis=1) + rng.random((n, p))) / max(n, 1)
+    half = np.array([np.log(spread) if q.log else (np.pi / q.scale if q.name.endswith(".phase") else spread)
+                     for q in params])
+    return np.concatenate([center[None, :], center[None, :] + (2 * u - 1) * half[None, :]])
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class FEIdentification:
+    """The result of `identify_rotor`: estimates with 95 % intervals, standard
+    deviations and correlations, the fitted unbalances, the fitted rotor's critical
+    speeds with intervals, the data against the fit, warnings."""
+
+    names: tuple
+    estimates: dict
+    intervals: dict
+    std: dict
+    correlation: np.ndarray
+    unbalances: list            # [{"node", "magnitude", "phase", "magnitude_ci95", "phase_ci95"}]
+    critical_speeds: list       # [{"speed", "ci95", "mode"}]
+    residual_rms: float
+    converged: bool
+    iterations: int
+    warnings: list
+    minima: list                # other minima the data do not tell apart: [{"cost", "estimates"}]
+    cost: float
+    n_starts: int
+    data: PhasorData = dataclasses.field(repr=False)
+    fitted: np.ndarray = dataclasses.field(repr=False)      # the model's phasors of the rows
+    sigma: np.ndarray = dataclasses.field(repr=False)
+    theta: np.ndarray = dataclasses.field(repr=False)       # the fitted rotor parameters (theta units)
+    covariance: np.ndarray = dataclasses.field(repr=False)  # of (theta, Re u, Im u)
+    residual: FEResidual = dataclasses.field(repr=False)
+
+    def as_dict(self):
+        return {"estimates": self.estimates, "ci95": self.intervals, "residual_rms": self.residual_rms,
+                "warnings": list(self.warnings), "std": self.std,
+                "correlation": {"names": list(self.names), "matrix": np.round(self.correlation, 6).tolist()},
+                "unbalances": self.unbalances, "critical_speeds": self.critical_speeds,
+                "converged": self.converged, "iterations": self.iterations, "n_starts": self.n_starts,
+                "minima": self.minima, "cost": self.cost, "n_rows": int(self.data.n)}
+
+
+def _sigma(data, weights):
+    if data.sigma is not None:
+        return np.asarray(data.sigma, dtype=float)
+    if weights == "uniform":
+        return np.ones(data.n)
+    mag = np.abs(data.X)
+    return np.maximum(mag, RELATIVE_FLOOR * max(float(mag.max()), 1e-300))
+
+
+def _values(params, theta):
+    return {p.name: float(p.from_theta(theta[k])) for k, p in enumerate(params)}
+
+
+def problem(rotor, data, fit, fit_unbalance=(), overrides=None, weights="relative", coupling=True):
+    """`(model, params, residual, center)`: the `RotorModel`, the fitted
+    `Parameter`s, the `FEResidual` and the start in theta units."""
+    model = rotor if isinstance(rotor, RotorModel) else rotor_model(rotor, overrides)
+    data = data if isinstance(data, PhasorData) else read_phasors(data)
+    if weights not in WEIGHTS:
+        raise InputError(f"--weights {weights}: expected one of {', '.join(WEIGHTS)}")
+    fit = tuple(fit)
+    fit_unbalance = tuple(int(n) for n in fit_unbalance)
+    if not fit and not fit_unbalance:
+        raise InputError("--fit: name at least one parameter to fit (e.g. bearing0.kxx), or --fit-unbalance NODES")
+    params = model.parameters(fit)
+    if len(set(fit_unbalance)) != len(fit_unbalance):
+        raise InputError(f"--fit-unbalance {','.join(map(str, fit_unbalance))}: a node is named twice")
+    for n in fit_unbalance:
+        if not 0 <= n < model.rotor.n_nodes:
+            raise InputError(f"--fit-unbalance {n}: not a node of the rotor (0..{model.rotor.n_nodes - 1})")
+    if data.kind == "frf":
+        if fit_unbalance:
+            raise InputError(f"--fit-unbalance: {data.path} holds receptances (impact tests), which no unbalance "
+                             "drives")
+        if any(p.leaf == "unbalance" for p in params):
+            raise InputError(f"--fit: {data.path} holds receptances (impact tests): unbalance parameters cannot "
+                             "be fitted from them")
+    elif not (model.unbalances or fit_unbalance or np.any(data.trial_node >= 0)):
+        raise InputError(f"{model.label} has no [[unbalance]] and nothing is fitted at a node: the model of "
+                         f"{data.path} has no excitation; give --fit-unbalance NODES (the unbalance is then fitted)")
+    unb_nodes = tuple(int(u.node_index) for u in model.unbalances)
+    pm = phasor_model(model.rotor, data, unb_nodes + fit_unbalance)
+    sig = _sigma(data, weights)
+    r = FEResidual(model.rotor, params, unb_nodes,
+                   jnp.array([float(u.magnitude) for u in model.unbalances], dtype=jnp.float64),
+                   jnp.array([float(u.phase) for u in model.unbalances], dtype=jnp.float64),
+                   fit_unbalance, pm, jnp.asarray(data.X, dtype=jnp.complex128), jnp.asarray(sig),
+                   jnp.array([q.scale for q in params], dtype=jnp.float64).reshape(len(params)))
+    center = np.array([p.to_theta(p.start) for p in params], dtype=float)
+    if coupling:
+        r = eqx.tree_at(lambda m: m.coupling, r, receptances(pm, model.rotor, r._matrices, center),
+                        is_leaf=lambda x: x is None)
+    if pm.kind == "unbalance" and len(fit_unbalance) > 0 and 2 * data.n < 2 * len(fit_unbalance) + len(params):
+        raise InputError(f"{data.path}: {data.n} phasors cannot determine {len(params)} parameters and "
+                         f"{len(fit_unbalance)} complex unbalances")
+    return model, params, r, center
+
+
+def _rotor_of(r, theta):
+    return r._rotor(theta)[0]
+
+
+@eqx.filter_jit
+def _critical_gradient(r, W, theta, k):
+    """`(g_W, g_theta)` of `g = omega_k(W; theta) - W` (the implicit function theorem's inputs)."""
+    from ..flexible._linear import damped_frequencies
+
+    def g(W, th):
+        return damped_frequencies(_rotor_of(r, th), W, k + 1)[k] - W
+
+    return jax.grad(g, argnums=(0, 1))(W, theta)
+
+
+def _critical_speeds(r, theta, cov, lo, hi):
+    """The fitted rotor's forward 1x critical speeds in `[lo, hi]` with 95 % intervals
+    (delta method; `dW/dtheta = -g_theta / g_W` on `omega_k(W; theta) = W`)."""
+    from ..flexible._linear import critical_speeds_1x
+
+    rotor = eqx.filter_jit(_rotor_of)(r, jnp.asarray(theta))
+    out = []
+    n_modes = min(12, len(rotor.free_dofs))
+    for W, k in critical_speeds_1x(rotor, lo, hi, n_modes=n_modes, whirl="forward"):
+        gW, gth = _critical_gradient(r, jnp.float64(W), jnp.asarray(theta), int(k))
+        dW = -np.asarray(gth) / float(gW)
+        c = cov[:len(theta), :len(theta)]
+        sd = float(np.sqrt(max(dW @ c @ dW, 0.0)))
+        out.append({"speed": float(W), "ci95": [float(W - 1.96 * sd), float(W + 1.96 * sd)], "std": sd,
+                    "mode": int(k)})
+    return out
+
+
+def identify_rotor(rotor, data, fit, *, fit_unbalance=(), overrides=None, weights="relative",
+                   covariance="classical", n_starts=32, spread=10.0, method="lm", max_iter=200, seed=0,
+                   critical_speeds=True) -> FEIdentification:
+    """Fit the rotor-file parameters `fit` (names as `--set` keys: `bearing0.kxx`, ...)
+    and the unbalances at the nodes `fit_unbalance` to measured phasors.
+
+    **Arguments:**
+    - `rotor`: a rotor file (its values, with `overrides`, are the start) or a `RotorModel`.
+    - `data`: a `PhasorData` or a phasor file (unbalance phasors, trial runs, or receptances).
+    - `weights`: `"relative"` (sigma = |X|, floored at 1e-3 of the largest: every
+      phasor counts by its relative error, as noise proportional to the signal
+      makes it) or `"uniform"`; a file's `sigma` column overrides both.
+    - `covariance`: `"classical"` or `"sandwich"` (unequal variances).
+    - `n_starts`, `spread`, `seed`: the global stage (1 start: a local fit).
+    - `method`: `"lm"` or `"optax"` (Adam from the given start, `20 max_iter` steps, no global
+      stage: the gradient-descent option, for comparison; slower).
+    - `critical_speeds`: report the fitted rotor's forward critical speeds in the data's speed range.
+
+    **Returns:** an `FEIdentification`. **Raises:** `InputError` naming the option,
+    file and row; `NumericalError` when no start gives a finite fit.
+    """
+    if covariance not in ("classical", "sandwich"):
+        raise InputError(f"--covariance {covariance}: expected classical or sandwich")
+    if method not in ("lm", "optax"):
+        raise InputError(f"--method {method}: expected lm or optax")
+    if int(n_starts) < 1:
+        raise InputError(f"--starts {n_starts}: at least 1")
+    if not spread > 1:
+        raise InputError(f"--spread {spread}: must be > 1 (a factor either way)")
+    model, params, r, center = problem(rotor, data, fit, fit_unbalance, overrides, weights)
+    data = data if isinstance(data, PhasorData) else read_phasors(data)
+    warnings = []
+    if model.nonlinear:
+        warnings.append(f"the 1x model is the linear rotor: the file's {', '.join(sorted(set(model.nonlinear)))} "
+                        "component(s) are left out")
+    p = len(params)
+    minima, n_used = [], 1
+    ths = costs = None
+    if p and method == "optax":
+        # gradient descent (Adam) from the given start: the comparison option, no global stage
+        theta, info = optax_fit(r, center, steps=max_iter * 20)
+        theta, info["converged"] = np.asarray(theta), True
+    elif p:
+        th0 = starts(center, params, n_starts, spread, seed)
+        ths, costs, done, it = lm_batch(r, jnp.asarray(th0), jnp.asarray(center), max_iter=max_iter)
+        ths, costs = np.asarray(ths), np.asarray(costs)
+        ok = np.isfinite(costs)
+        if not ok.any():
+            raise NumericalError(f"identify: no start gives a finite fit of {', '.join(q.name for q in params)}")
+        best = int(np.argmin(np.where(ok, costs, np.inf)))
+        n_used = int(ok.sum())
+        theta = ths[best]
+        info = {"iterations": it, "converged": bool(np.asarray(done)[best])}
+    else:
+        theta, info = np.zeros(0), {"iterations": 0, "converged": True}
+    k = len(r.fit_nodes)
+    u, res, J, fitted = (np.asarray(a) for a in _at_optimum(r, jnp.asarray(theta)))
+    full = np.concatenate([theta, u.real, u.imag])
+    if not np.all(np.isfinite(res)) or not np.all(np.isfinite(J)):
+        raise NumericalError("identify: the fitted model gives non-finite phasors or gradients")
+    cost = float(res @ res)
+    cov = theta_covariance(J, res, covariance, n_points=data.n)
+    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    est, ints, std = {}, {}, {}
+    for i, q in enumerate(params):
+        v = float(q.from_theta(theta[i]))
+        est[q.name] = v
+        if q.log:
+            std[q.name] = v * float(sd[i])
+            ints[q.name] = [v * float(np.exp(-1.96 * sd[i])), v * float(np.exp(1.96 * sd[i]))]
+            rel = float(sd[i])
+        else:
+            s = float(sd[i]) * q.scale
+            std[q.name], ints[q.name] = s, [v - 1.96 * s, v + 1.96 * s]
+            rel = s / max(abs(v), 1e-300)
+        if rel > 0.3:
+            warnings.append(f"{q.name} is poorly determined by the data (relative sd {rel:.2f}): its 95 % "
+                            "interval is wide; the measurements barely depend on it")
+    unb = []
+    for j, node in enumerate(r.fit_nodes):
+        ur, ui = p + j, p + k + j
+        c = cov[np.ix_([ur, ui], [ur, ui])]
+        mag = abs(u[j])
+        gm = np.array([u[j].real, u[j].imag]) / max(mag, 1e-300)
+        gp = np.array([-u[j].imag, u[j].real]) / max(mag**2, 1e-300)
+        sm, sp = float(np.sqrt(max(gm @ c @ gm, 0))), float(np.sqrt(max(gp @ c @ gp, 0)))
+        unb.append({"node": node, "magnitude": float(mag), "phase": float(np.angle(u[j])),
+                    "magnitude_ci95": [float(mag - 1.96 * sm), float(mag + 1.96 * sm)],
+                    "phase_ci95": [float(np.angle(u[j]) - 1.96 * sp), float(np.angle(u[j]) + 1.96 * sp)]})
+    names_all = [q.name for q in params] + [f"unbalance@{n}.re" for n in r.fit_nodes] + \
+        [f"unbalance@{n}.im" for n in r.fit_nodes]
+    warnings += _identifiability(J, names_all)
+    dof = max(res.size - full.size, 1)
+    if ths is not None:
+        minima = _other_minima(params, ths, costs, theta, cost, sd[:p], chi2.ppf(0.95, p) * cost / dof)
+        if minima:
+            alt = minima[0]["estimates"]
+            warnings.append(f"{len(minima)} other minim{'um' if len(minima) == 1 else 'a'} fit the data comparably "
+                            f"(within the 95 % chi-square margin of the best): e.g. "
+                            + ", ".join(f"{n} = {alt[n]:.4g} (best {est[n]:.4g})" for n in list(alt)[:4])
+                            + "; the data do not tell them apart")
+    if not info["converged"]:
+        warnings.append("the fit did not converge: the estimates are the last iterate")
+    corr = cov[:p, :p] / np.maximum(np.outer(sd[:p], sd[:p]), 1e-300)
+    speeds = data.speed if data.kind != "frf" else data.frequency
+    crit = []
+    if critical_speeds and data.kind != "frf" and p:
+        crit = _critical_speeds(r, theta, cov, float(np.min(speeds)), float(np.max(speeds)))
+    return FEIdentification(
+        names=tuple(q.name for q in params), estimates=est, intervals=ints, std=std, correlation=corr,
+        unbalances=unb, critical_speeds=crit,
+        residual_rms=float(np.sqrt(np.mean(np.abs(fitted - data.X) ** 2))), converged=bool(info["converged"]),
+        iterations=int(info["iterations"]), warnings=warnings, minima=minima, cost=cost, n_starts=n_used,
+        data=data, fitted=fitted, sigma=np.asarray(r.sigma), theta=theta, covariance=cov, residual=r)
+
+
+@eqx.filter_jit
+def _at_optimum(r, theta):
+    """The fitted unbalances, the residuals and Jacobian over (theta, Re u, Im u), and
+    the model's phasors, at `theta` (one compiled call)."""
+    if r.fit_nodes:
+        u = r.unbalances(theta)
+    else:
+        u = jnp.zeros(0, dtype=jnp.complex128)
+    full = jnp.concatenate([theta, jnp.real(u), jnp.imag(u)])
+    return u, r.full(full), jax.jacfwd(r.full)(full), r.predict(theta)
+
+
+def _identifiability(J, names):
+    """Warnings on the Jacobian (columns in theta units): rank, and parameters it barely sees."""
+    out = []
+    norms = np.linalg.norm(J, axis=0)
+    top = max(float(norms.max()), 1e-300) if norms.size else 1.0
+    blind = [n for n, v in zip(names, norms) if v < 1e-8 * top]
+    for n in blind:
+        out.append(f"the data cannot see {n}: the measurements do not change with it (e.g. a bearing at a node "
+                   "of the excited modes, or a direction not measured)")
+    if J.shape[1] > 1:
+        U, s, Vt = np.linalg.svd(J / np.maximum(norms, 1e-300), full_matrices=False)
+        if s[-1] < 1e-8 * s[0]:
+            v = Vt[-1]
+            involved = [names[i] for i in np.argsort(-np.abs(v)) if abs(v[i]) > 0.2]
+            out.append(f"the Jacobian is rank deficient (condition {s[0] / max(s[-1], 1e-300):.1e}): "
+                       f"{', '.join(involved)} cannot be told apart by these data")
+    return out
+
+
+def _other_minima(params, ths, costs, theta, cost, sd, margin):
+    """Distinct converged minima of the global stage within `margin` of the best cost."""
+    out = []
+    order = np.argsort(np.where(np.isfinite(costs), costs, np.inf))
+    seen = [theta]
+    for i in order:
+        if not np.isfinite(costs[i]) or costs[i] > cost + margin:
+            break
+        d = np.abs(ths[i] - theta)
+        if np.all(d <= np.maximum(3 * sd, 0.02)):
+            continue
+        if any(np.all(np.abs(ths[i] - s) <= np.maximum(3 * sd, 0.02)) for s in seen[1:]):
+            continue
+        seen.append(ths[i])
+        out.append({"cost": float(costs[i]), "estimates": _values(params, ths[i])})
+        if len(out) == 3:
+            break
+    return out
+
+
+def estimates_jacobian(result: FEIdentification):
+    """`d estimate / d (Re X, Im X)`, shape `(n_params, 2 n_rows)`: how the estimates
+    move with the measured phasors, by the implicit function theorem on the
+    optimality condition `grad_theta |r(theta, X)|^2 = 0` (exact for the fit the
+    optimiser returned; checked against re-fits of perturbed data in the tests)."""
+    r = result.residual
+    theta = jnp.asarray(result.theta)
+    Xr = jnp.concatenate([jnp.real(r.X), jnp.imag(r.X)])
+    n = r.X.shape[0]
+
+    def grad_cost(th, x):
+        rr = eqx.tree_at(lambda m: m.X, r, x[:n] + 1j * x[n:])
+        return jax.grad(lambda t: 0.5 * jnp.sum(rr(t) ** 2))(th)
+
+    H = jax.jacfwd(grad_cost, argnums=0)(theta, Xr)
+    B = jax.jacfwd(grad_cost, argnums=1)(theta, Xr)
+    dtheta = -np.linalg.solve(np.asarray(H), np.asarray(B))
+    scale = np.array([float(q.from_theta(result.theta[i])) if q.log else q.scale
+                      for i, q in enumerate(r.params)])
+    return scale[:, None] * dtheta
