@@ -26,6 +26,14 @@ the truth (up or down at random).
   same starts, and (the global search's peer) scipy LM from each of the same 32
   starts rotorjax's global stage uses (`_fe_identify.starts`) around the first
   random start, the best kept.
+- rotorjax fit only (the same work as scipy's fits): `_fe_identify.problem` built once
+  per random start outside the timing (its `rotor_model` as above), then
+  `_fe_identify.lm_batch(r, th0, center)` timed alone, `th0 = _fe_identify.starts(center,
+  params, n, 10.0)` with n = 1 (a local fit: scipy LM/TRF's peer) and n = 32 (scipy LM
+  from the same 32 starts' peer); compiled first, then the median of repeats per start
+  and the median over the starts. The whole call's time is also split into stages
+  (rotor file read, problem set-up, fit, critical speeds, the rest: data read, optimum
+  Jacobian, covariance, intervals, other minima) from timers around those functions.
 - One residual + Jacobian evaluation of each: rotorjax `_fit._res_jac` (forward
   autodiff; the unbalances projected out: 400 x 8) and numpy residual + 2-point
   finite differences (400 x 12, as least_squares computes it).
@@ -49,11 +57,13 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import machine, timed, write_results  # noqa: E402
+from _common import machine, timed, timed_first, write_results  # noqa: E402
 
 FIT_UNBALANCE = (2, 4)
 DATASET = "flexible-runup"
 CONVERGED_REL = 0.05
+WHOLE_CALL = ("whole identify_rotor call = rotor file read + problem set-up + fit + covariance/intervals + "
+              "critical speeds with intervals")
 SEED = 2024
 TOL = 1e-10
 
@@ -200,9 +210,33 @@ def main():
         raise SystemExit("the numpy model does not reproduce rotorjax's phasors")
 
     # --- rotorjax: the whole identify_rotor call ---
+    # stage timers: identify_rotor calls these through _fe_identify's globals; each wrapper
+    # waits for its results so its time is its own
+    stage = {}
+
+    def timer(name, fn):
+        def wrapped(*a, **k):
+            t0 = time.perf_counter()
+            r = jax.block_until_ready(fn(*a, **k))
+            stage[name] = stage.get(name, 0.0) + time.perf_counter() - t0
+            return r
+        return wrapped
+
+    originals = {n: getattr(fi, n) for n in ("problem", "lm_batch", "_critical_speeds")}
+    stage_names = {"problem": "problem_setup_s", "lm_batch": "fit_lm_batch_s", "_critical_speeds": "critical_speeds_s"}
+
     def rj_call(start, n_starts):
-        return identify_rotor(rotor_model(path, start), DATASET, fit, fit_unbalance=FIT_UNBALANCE,
-                              n_starts=n_starts)
+        stage.clear()
+        t0 = time.perf_counter()
+        model = rotor_model(path, start)
+        stage["rotor_model_s"] = time.perf_counter() - t0
+        for n, f in originals.items():
+            setattr(fi, n, timer(stage_names[n], f))
+        try:
+            return identify_rotor(model, DATASET, fit, fit_unbalance=FIT_UNBALANCE, n_starts=n_starts)
+        finally:
+            for n, f in originals.items():
+                setattr(fi, n, f)
 
     def rj_run(n_starts):
         t0 = time.perf_counter()
@@ -215,12 +249,16 @@ def main():
             t = time.perf_counter() - t0
             est = np.array([res.estimates[k] for k in fit])
             covered = [bool(res.intervals[k][0] <= TRUTH[k] <= res.intervals[k][1]) for k in fit]
+            stages = dict(stage)
+            stages["rest_s"] = t - sum(stages.values())
             runs.append({"s": t, "max_rel_error": err(est), "converged_to_truth": err(est) < CONVERGED_REL,
-                         "ci95_covered": int(sum(covered)), "ci95_all_cover": all(covered),
+                         "stages": stages, "ci95_covered": int(sum(covered)), "ci95_all_cover": all(covered),
                          "not_covered": [k for k, c in zip(fit, covered) if not c],
                          "cost": res.cost, "converged": res.converged, "n_starts": res.n_starts,
                          "other_minima": len(res.minima)})
-        return {"s": float(np.median([r["s"] for r in runs])), "first_call_s": first, "runs": runs}
+        stages = {k: float(np.median([r["stages"][k] for r in runs])) for k in runs[0]["stages"]}
+        return {"what": WHOLE_CALL, "s": float(np.median([r["s"] for r in runs])), "first_call_s": first,
+                "stages_median_s": stages, "runs": runs}
 
     out = {"benchmark": "FE identification (flexible_rig, 8 bearing coefficients, flexible-runup)",
            "machine": machine(), "date": datetime.datetime.now().isoformat(timespec="seconds"),
@@ -250,6 +288,34 @@ def main():
             "identify_rotor_prebuilt_model_no_critical_speeds_s": t_nocrit,
             "note": "problem setup: phasor model + receptances at the start (their solves jitted anew per call)"}
         print("rotorjax breakdown:", json.dumps(rj["breakdown_32_starts"]), flush=True)
+
+    # --- rotorjax: the fit alone (lm_batch on a problem built outside the timing) ---
+    repeats_fit = 1 if args.smoke else 3
+    built = []
+    for s in starts:
+        _, params_s, r_s, center_s = fi.problem(rotor_model(path, s), data, fit, FIT_UNBALANCE)
+        built.append((params_s, r_s, center_s))
+    fo = out["rotorjax_fit_only"] = {}
+    for n in ((1,) if args.smoke else (1, 32)):
+        runs, first = [], None
+        for params_s, r_s, center_s in built:
+            th0 = fi.starts(center_s, params_s, n, 10.0)
+            t, t_first, (ths, costs, done, it) = timed_first(
+                lambda: fi.lm_batch(r_s, jnp.asarray(th0), jnp.asarray(center_s)), repeats_fit)
+            first = t_first if first is None else first
+            costs = np.asarray(costs)
+            best = int(np.argmin(np.where(np.isfinite(costs), costs, np.inf)))
+            est = [float(p.from_theta(v)) for p, v in zip(params_s, np.asarray(ths)[best])]
+            runs.append({"s": t, "first_s": t_first, "max_rel_error": err(est),
+                         "converged_to_truth": err(est) < CONVERGED_REL, "cost": float(costs[best]),
+                         "iterations": int(it), "converged": bool(np.asarray(done)[best])})
+        fo[f"n_starts_{n}"] = {"s": float(np.median([r["s"] for r in runs])), "first_call_s": first,
+                               "runs": runs}
+        print(f"rotorjax fit only, {n} start(s):", json.dumps(fo[f"n_starts_{n}"]), flush=True)
+    fo["note"] = ("_fe_identify.lm_batch alone on a problem built per start outside the timing; th0 = "
+                  "_fe_identify.starts(center, params, n, 10.0); first_call_s: start 0's first call (compiled "
+                  "already by the whole-call runs when the shapes match); s: median over the starts of the "
+                  f"median of {repeats_fit} repeat(s)")
 
     # --- scipy: local fits from the same starts, and LM from rotorjax's 32 global starts ---
     sp = out["scipy"] = {}
@@ -301,32 +367,45 @@ def main():
                               "out; direct: one LU per speed; numpy: residual + 2-point FD over "
                               "(8 log-coefficients, 4 unbalance parts)"}
 
-    ratios = {"res_jac": t_np / t_rj}
+    whole = {}
     for m in sp:
-        ratios[f"scipy_{m}_over_rotorjax_n_starts_1"] = sp[m]["s"] / rj["n_starts_1"]["s"]
+        whole[f"scipy_{m}_over_rotorjax_n_starts_1"] = sp[m]["s"] / rj["n_starts_1"]["s"]
         if "n_starts_32" in rj:
-            ratios[f"scipy_{m}_over_rotorjax_n_starts_32"] = sp[m]["s"] / rj["n_starts_32"]["s"]
+            whole[f"scipy_{m}_over_rotorjax_n_starts_32"] = sp[m]["s"] / rj["n_starts_32"]["s"]
+    equal = {f"scipy_{m}_over_rotorjax_fit_only_1_start": sp[m]["s"] / fo["n_starts_1"]["s"]
+             for m in ("lm", "trf") if m in sp}
+    if "lm_32_starts" in sp:
+        equal["scipy_lm_32_starts_over_rotorjax_fit_only_32_starts"] = sp["lm_32_starts"]["s"] / fo["n_starts_32"]["s"]
+    ratios = {"res_jac": t_np / t_rj, "equal_work_fit_only": equal, "whole_call": whole}
     out["time_ratios_scipy_over_rotorjax"] = ratios
+    out["time_ratios_note"] = ("> 1: rotorjax faster. equal_work_fit_only: scipy's fit against rotorjax's lm_batch "
+                               "alone (problem built outside both timings); whole_call: scipy's fit only against "
+                               "rotorjax's " + WHOLE_CALL + " (unequal work)")
 
     print(f"\n{out['n_rows']} phasors, {out['n_dofs']} dofs, {len(fit)} coefficients + "
           f"{len(FIT_UNBALANCE)} complex unbalances; {len(starts)} start(s) 2-5x off; medians after compilation")
-    print(f"{'method':38s} {'time s':>9s} {'max rel err':>24s} {'to truth':>9s} {'CI95 cover':>11s}")
-    rows = [(f"rotorjax identify_rotor, {k[len('n_starts_'):]} start(s)", v) for k, v in rj.items()
+    print(f"{'method':44s} {'time s':>9s} {'max rel err':>24s} {'to truth':>9s} {'CI95 cover':>11s}")
+    rows = [(f"rotorjax whole call, {k[len('n_starts_'):]} start(s)", v) for k, v in rj.items()
             if k.startswith("n_starts_")]
+    rows += [(f"rotorjax fit only (lm_batch), {k[len('n_starts_'):]} start(s)", v) for k, v in fo.items()
+             if k.startswith("n_starts_")]
     rows += [(f"scipy least_squares {m}", v) for m, v in sp.items()]
     for name, v in rows:
         errs = ", ".join(f"{x['max_rel_error']:.2g}" for x in v["runs"])
         conv = sum(x["converged_to_truth"] for x in v["runs"])
         cover = (f"{sum(x['ci95_all_cover'] for x in v['runs'])}/{len(v['runs'])} all"
                  if "ci95_all_cover" in v["runs"][0] else "-")
-        print(f"{name:38s} {v['s']:9.3f} {errs:>24s} {conv:>5d}/{len(v['runs'])} {cover:>11s}")
+        print(f"{name:44s} {v['s']:9.3f} {errs:>24s} {conv:>5d}/{len(v['runs'])} {cover:>11s}")
     for k, v in rj.items():
         if k.startswith("n_starts_"):
-            print(f"rotorjax {k} first (compiling) call: {v['first_call_s']:.1f} s")
+            print(f"rotorjax {k} first (compiling) call: {v['first_call_s']:.1f} s; whole-call stages (median s): "
+                  + ", ".join(f"{a} {b:.3f}" for a, b in v["stages_median_s"].items()))
     rjj = out["res_jac"]
     print(f"residual+Jacobian: rotorjax {rjj['rotorjax_s'] * 1e3:.2f} ms (direct solves "
           f"{rjj['rotorjax_direct_solves_s'] * 1e3:.2f} ms), numpy+FD {rjj['numpy_fd_s'] * 1e3:.2f} ms")
-    print("time ratios scipy/rotorjax:", {k: round(v, 3) for k, v in ratios.items()})
+    print("time ratios scipy/rotorjax: res+jac", round(ratios["res_jac"], 3))
+    print("  equal work (fit only):", {k: round(v, 3) for k, v in equal.items()})
+    print("  whole call (unequal work):", {k: round(v, 3) for k, v in whole.items()})
     if args.smoke:
         print("smoke run: nothing written")
     else:

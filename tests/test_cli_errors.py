@@ -7,6 +7,7 @@ a temporary folder; `{d}` in an argument is that folder."""
 
 import os
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -14,12 +15,14 @@ import pytest
 import rotorjax
 from rotorjax.cli import main
 from rotorjax.identify import BALANCING_RUNS
+from rotorjax.identify._datasets import dataset_path
 
 #: the shipped rotor files
 ROTORS = os.path.join(os.path.dirname(rotorjax.__file__), "rotors")
 
 S, A, R, F, C, B = ("simulate", "elliptic-abb"), ("anisotropic-abb",), ("ross-compare",), ("flexible-abb",), \
     ("cantilever-limiters",), ("balancing-machine",)
+FR, FU = ("flexible_rig.toml",), ("--fit-unbalance", "2,4")
 
 CASES = [
     # --- simulate: presets and --set ---
@@ -280,6 +283,93 @@ CASES = [
     (["identify", *R], 2, r"`identify` does not apply to 'ross-compare'"),
     (["identify", *B, "--data", "{d}/nox2.csv"], 2, r"two sensor columns"),
     (["identify", *B, "--set", "a1=0.5", "--set", "a2=0.5"], 2, r"a1=0.5, a2=0.5"),
+    # --- identify on a rotor file ---
+    (["identify", *FR, "--fit", "bearing0.kzz", *FU], 2,
+     r"--fit bearing0\.kzz: not a parameter of this rotor file; a bearing's coefficients are kxx"),
+    (["identify", *FR, "--fit", "bearing0.kxx,foo", *FU], 2, r"--fit foo: not a parameter of this rotor file"),
+    (["identify", *FR, "--fit", "bearing0.kxx,bearing0.kxx", *FU], 2, r"--fit: bearing0\.kxx is named twice"),
+    (["identify", *FR, "--fit", ",", *FU], 2, r"--fit ',': expected comma-separated names"),
+    (["identify", *FR, "--fit-unbalance"], 2, r"--fit-unbalance: name the nodes of the unbalances .* 2,4"),
+    (["identify", *FR, "--fit-unbalance", "2,99"], 2, r"--fit-unbalance 99: not a node of the rotor \(0\.\.6\)"),
+    (["identify", *FR, "--fit-unbalance", "2,x"], 2, r"--fit-unbalance '2,x': expected comma-separated node"),
+    (["identify", *FR, "--fit-unbalance=-1"], 2, r"--fit-unbalance '-1': node -1 is negative"),
+    (["identify", *FR, "--fit-unbalance", "2,2"], 2, r"--fit-unbalance 2,2: a node is named twice"),
+    (["identify", *B, "--fit-unbalance", "2,4"], 2,
+     r"--fit-unbalance 2,4: the balancing machine fits its own unbalances; give --fit-unbalance without nodes"),
+    (["identify", *FR, "--block", "2", *FU], 2, r"--block applies to the balancing machine's run-up signals"),
+    (["identify", *FR, "--min-speed", "10", *FU], 2, r"--min-speed applies to the balancing machine"),
+    (["identify", *B, "--weights", "uniform"], 2, r"--weights applies to a rotor file: `rotorjax identify ROTOR"),
+    (["identify", *B, "--covariance", "sandwich"], 2, r"--covariance applies to a rotor file"),
+    (["identify", *B, "--starts", "3"], 2, r"--starts applies to a rotor file"),
+    (["identify", *B, "--spread", "3"], 2, r"--spread applies to a rotor file"),
+    (["identify", *B, "--method", "optax"], 2, r"--method applies to a rotor file"),
+    (["identify", *FR, *FU, "--spread", "0.5"], 2, r"--spread 0\.5: must be > 1"),
+    (["identify", *FR, *FU, "--starts", "0"], 2, r"argument --starts: must be an integer >= 1"),
+    (["identify", *FR, *FU, "--weights", "bogus"], 2, r"argument --weights: invalid choice: 'bogus'"),
+    (["identify", *FR, *FU, "--method", "newton"], 2, r"argument --method: invalid choice: 'newton'"),
+    (["identify", *FR, *FU, "--data", "{d}/missing.csv"], 2, r"missing\.csv: no such file, and not a shipped dataset"),
+    (["identify", *FR, *FU, "--data", "{d}/empty.csv"], 2, r"empty\.csv: empty file"),
+    (["identify", *FR, *FU, "--data", "{d}/unknowncol.csv"], 2, r"unknowncol\.csv: unknown column\(s\) 'foo'"),
+    (["identify", *FR, *FU, "--data", "{d}/dirz.csv"], 2,
+     r"dirz\.csv: column 'direction', data row 4 \(line 5\): 'z' is not a direction"),
+    (["identify", *FR, *FU, "--data", "{d}/node99.csv"], 2,
+     r"node99\.csv: data row 3 \(line 4\): node 99 is not a node of the rotor \(0\.\.6\)"),
+    (["identify", *FR, *FU, "--data", "{d}/frf.csv"], 2,
+     r"--fit-unbalance: .*frf\.csv holds receptances \(impact tests\), which no unbalance drives"),
+    (["identify", "{d}/rig_copy.toml", *FU], 2, r"identify .*rig_copy\.toml: give the measurements with --data FILE"),
+    (["identify", *FR], 2, r"flexible_rig\.toml has no \[\[unbalance\]\] .*no excitation; give --fit-unbalance NODES"),
+    (["identify", "{rotors}/tapered_two_material.toml", "--data", "flexible-runup", "--fit", "bearing0.kxx"], 2,
+     r"--fit bearing0\.kxx: bearing0 is tabulated against speed"),
+    (["identify", *FR, *FU, "--set", "bearing0.kzz=1"], 2, r"unknown parameter 'bearing0\.kzz'"),
+    (["identify", *FR, *FU, "--set", "bearing0.kxx=-1"], 2, r"--set bearing0\.kxx=-1: must be >= 0"),
+    # --- balance on a rotor file ---
+    (["balance", *FR, "--runs", "balancing-runs"], 2, r"--runs applies to the balancing machine \(no ROTOR\)"),
+    (["balance", *FR, "--holes", "4"], 2, r"--holes applies to the balancing machine \(no ROTOR\)"),
+    (["balance", *FR, "--radius", "0.02"], 2, r"--radius applies to the balancing machine \(no ROTOR\)"),
+    (["balance", "--set", "bearing0.kxx=1"], 2, r"--set applies to a rotor file: `rotorjax balance ROTOR\.toml"),
+    (["balance", "--data", "flexible-trials"], 2, r"--data applies to a rotor file"),
+    (["balance", "--speeds", "70"], 2, r"--speeds applies to a rotor file"),
+    (["balance", "--influence", "model"], 2, r"--influence applies to a rotor file"),
+    (["balance", "--model"], 2, r"--model applies to a rotor file"),
+    (["balance", "--method", "minmax"], 2, r"--method applies to a rotor file"),
+    (["balance", "--grade", "1"], 2, r"--grade applies to a rotor file"),
+    (["balance", *FR, "--planes", "2,3"], 2,
+     r"flexible-trials: plane 3 has no trial run .*the trial weights are at node\(s\) 2, 4"),
+    (["balance", *FR, "--planes", "2,x"], 2, r"--planes 2,x: expected comma-separated integers"),
+    (["balance", *FR, "--planes", "2,99"], 2, r"--planes 2,99: node 99 is not a node of the rotor \(nodes 0\.\.6\)"),
+    (["balance", *FR, "--planes", "2,2"], 2, r"--planes 2,2: a value is repeated"),
+    (["balance", *FR, "--planes", "2,4", "--speeds", "70,75"], 2,
+     r"--speeds 70,75: 75 rad/s is not a speed of the baseline run of flexible-trials \(its speeds: 70, 103"),
+    (["balance", *FR, "--planes", "2,4", "--speeds", "70,70"], 2, r"--speeds 70,70: 70 rad/s is given twice"),
+    (["balance", *FR, "--planes", "2,4", "--speeds", "70,abc"], 2, r"--speeds 70,abc: expected comma-separated"),
+    (["balance", *FR, "--planes", "2,4", "--speeds=-5"], 2, r"--speeds -5: speeds must be finite and > 0"),
+    (["balance", *FR, "--planes", "2,4", "--model", "--influence", "trials"], 2,
+     r"--model and --influence trials contradict each other"),
+    (["balance", *FR, "--planes", "2,4", "--method", "bogus"], 2, r"argument --method: invalid choice: 'bogus'"),
+    (["balance", *FR, "--planes", "2,4", "--influence", "bogus"], 2, r"argument --influence: invalid choice"),
+    (["balance", *FR, "--planes", "2,4", "--data", "flexible-runup"], 2,
+     r"flexible-runup: plane 2 has no trial run .*no trial runs .*--influence model"),
+    (["balance", *FR, "--data", "flexible-runup", "--influence", "model"], 2,
+     r"--planes: flexible-runup has no trial runs to take the correction planes from"),
+    (["balance", *FR, "--planes", "0,1,2,3,4,5,6", "--speeds", "70", "--influence", "model"], 2,
+     r"flexible-trials: 4 measurement\(s\) at the chosen speeds cannot determine 7 plane corrections"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/frf.csv"], 2,
+     r"frf\.csv: an impact-test \(FRF\) file has no unbalance runs"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/missing.csv"], 2, r"missing\.csv: no such file"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/dirz.csv"], 2, r"dirz\.csv: column 'direction', data row 4"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/node99.csv", "--influence", "model"], 2,
+     r"node99\.csv: data row 3 \(line 4\): node 99 is not a node of the rotor"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/nobase.csv"], 2,
+     r"nobase\.csv: no baseline run .*runs 1, 2 all carry trial weights"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/twobase.csv"], 2,
+     r"twobase\.csv: runs 0, 3 have no trial weight; exactly one baseline run"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/gap.csv"], 2,
+     r"gap\.csv: run 1 \(trial weight at node 2\) has no measurement at speed 103 rad/s, node 0, direction y"),
+    (["balance", *FR, "--planes", "2,4", "--data", "{d}/twotrial.csv"], 2,
+     r"twotrial\.csv: plane 2 has 2 trial runs \(1, 3\)"),
+    (["balance", *FR, "--planes", "2,4", "--set", "bearing0.kzz=1"], 2, r"unknown parameter 'bearing0\.kzz'"),
+    (["balance", *FR, "--planes", "2,4", "--service-speed", "0"], 2, r"argument --service-speed: must be > 0"),
+    (["balance", "elliptic-abb", "--planes", "2,4"], 2, r"`balance` does not apply to 'elliptic-abb'"),
     # --- data, presets, the command line itself ---
     (["data", "path", "nosuch"], 2, r"nosuch"),
     (["data", "bogus"], 2, r"invalid choice: 'bogus'"),
@@ -305,6 +395,28 @@ def files(tmp_path_factory):
     (d / "nox2.csv").write_text("\n".join(",".join(r.split(",")[i] for i in keep) for r in lines) + "\n")
     rows = lines[:10] + [lines[10].replace(lines[10].split(",")[2], "nan", 1)] + lines[11:20]
     (d / "nan.csv").write_text("\n".join(rows) + "\n")
+    # phasor files (the shipped flexible-rig ones, spoilt) and a rotor file without a default dataset
+    runup = open(dataset_path("flexible-runup")).read().splitlines()
+    (d / "unknowncol.csv").write_text("\n".join([runup[0] + ",foo"] + [r + ",1" for r in runup[1:]]) + "\n")
+    bad = runup[4].split(",")
+    bad[2] = "z"
+    (d / "dirz.csv").write_text("\n".join(runup[:4] + [",".join(bad)] + runup[5:]) + "\n")
+    bad = runup[3].split(",")
+    bad[1] = "99"
+    (d / "node99.csv").write_text("\n".join(runup[:3] + [",".join(bad)] + runup[4:]) + "\n")
+    (d / "frf.csv").write_text("speed,node,direction,real,imag,frequency,input_node,input_direction\n"
+                               + "".join(f"0,{n},{x},{1e-7 * (i + 1)},-1e-7,{50 + 10 * i},2,x\n"
+                                         for n, x in ((0, "x"), (6, "y")) for i in range(20)))
+    trials = open(dataset_path("flexible-trials")).read().splitlines()
+    head, body = trials[0], trials[1:]
+    run = {r: [line for line in body if line.split(",")[5] == str(r)] for r in (0, 1, 2)}
+    (d / "nobase.csv").write_text("\n".join([head] + run[1] + run[2]) + "\n")
+    again = [",".join(line.split(",")[:5] + ["3", "", "", ""]) for line in run[0]]
+    (d / "twobase.csv").write_text("\n".join([head] + body + again) + "\n")
+    (d / "gap.csv").write_text("\n".join([head] + run[0] + run[1][:5] + run[1][6:] + run[2]) + "\n")
+    again = [line.replace(",1,2,", ",3,2,") for line in run[1]]
+    (d / "twotrial.csv").write_text("\n".join([head] + body + again) + "\n")
+    shutil.copy(os.path.join(ROTORS, "flexible_rig.toml"), d / "rig_copy.toml")
     return d
 
 

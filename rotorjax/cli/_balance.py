@@ -87,7 +87,7 @@ def cmd_identify(args) -> int:
                 raise InputError(f"{option} applies to the balancing machine's run-up signals, not to a rotor "
                                  "file's phasor file")
         return cmd_fe_identify(args)
-    _not_here(args, _ROTOR_ONLY_IDENTIFY, "rotor files")
+    _not_here(args, _ROTOR_ONLY_IDENTIFY, "a rotor file: `rotorjax identify ROTOR.toml --data FILE ...`")
     if args.fit_unbalance not in (None, True):
         raise InputError(f"--fit-unbalance {args.fit_unbalance}: the balancing machine fits its own unbalances; "
                          "give --fit-unbalance without nodes")

@@ -22,7 +22,7 @@ KIND_COMMANDS = {
                "`stability-map`, `continue`",
     "machine": "a balancing machine: use `balance`, `identify`",
     "rotor": "a rotor file's finite-element rotor: use `simulate`, `campbell`, `response`, `critical-speeds`, "
-             "`static`, `modes`, `ucs`, `frf`, `level1`",
+             "`static`, `modes`, `ucs`, `frf`, `level1`, `identify`, `balance`",
 }
 
 

@@ -36,16 +36,23 @@ def _as_option(e, args):
 
 
 def cmd_fe_balance(args) -> int:
-    from rotorjax.identify._fe_balance import balance_rotor
+    from rotorjax.identify._fe_balance import _check_unbalance_data, balance_rotor
     from rotorjax.identify._phasor_file import read_phasors
     from rotorjax.plot import plot_fe_balance
 
     preset, params = preset_and_params(args, "balance", ("rotor",))
-    planes = int_list("--planes", args.planes)
+    planes = None if args.planes is None else int_list("--planes", args.planes)
     speeds = None if args.speeds is None else _speed_list(args.speeds)
     if args.out:
         prepare_out(args.out)
     data = read_phasors(args.data if args.data is not None else DEFAULT_DATA)
+    if planes is None:   # default: every node that carries a trial weight in the data
+        _check_unbalance_data(data)
+        planes = sorted({int(n) for n in data.trial_node if n >= 0})
+        if not planes:
+            raise InputError(f"--planes: {data.path} has no trial runs to take the correction planes from; name "
+                             "them (FE nodes), e.g. --planes 2,4")
+        args.planes = ",".join(map(str, planes))
     rotor = build(preset, params).scene.rotor
     rotor = getattr(rotor, "rotor", rotor)   # a reduced rotor's full one
     try:

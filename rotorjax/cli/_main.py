@@ -261,7 +261,8 @@ def build_parser():
                      help="ROTOR: phasor file, or a shipped dataset name (default for flexible_rig.toml: "
                           "flexible-trials)")
     bal.add_argument("--planes", default=None, help="comma-separated correction planes: plane numbers (balancing "
-                                                    "machine, default all trial planes) or nodes (ROTOR)")
+                                                    "machine) or nodes (ROTOR); default: every plane or node with "
+                                                    "a trial run")
     bal.add_argument("--speeds", default=None, help="ROTOR: comma-separated speeds (rad/s) of the data to balance "
                                                     "over (default: every speed of the trial runs)")
     bal.add_argument("--method", default="ls", choices=("ls", "minmax"),

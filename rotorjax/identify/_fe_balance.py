@@ -175,8 +175,11 @@ def influence_from_phasor_runs(data, planes, speeds=None):
         trial_runs = [r for r, (_, t) in runs.items() if t is not None and t[0] == plane]
         if not trial_runs:
             at = sorted({t[0] for _, t in runs.values() if t is not None})
+            where = (f"the trial weights are at node(s) {', '.join(map(str, at))}" if at else
+                     "the file has no trial runs (no trial_node): take the influence coefficients from the "
+                     "model (--influence model), or measure a trial run per plane")
             raise InputError(f"{label}: plane {plane} has no trial run (a run with its trial weight at node "
-                             f"{plane}); the trial weights are at node(s) {', '.join(map(str, at)) or 'none'}")
+                             f"{plane}); {where}")
         if len(trial_runs) > 1:
             raise InputError(f"{label}: plane {plane} has {len(trial_runs)} trial runs "
                              f"({', '.join(map(str, trial_runs))}); exactly one per plane is needed")
@@ -500,6 +503,14 @@ def balance_rotor(data, planes, speeds=None, method="ls", influence="trials", ro
         raise InputError(f"influence={influence!r} needs the rotor model (rotor=...); use influence='trials' "
                          f"without one")
     planes = _check_planes(planes, full)
+    if full is not None:
+        _check_unbalance_data(data)
+        node = np.asarray(data.node)
+        bad = np.flatnonzero((node < 0) | (node >= full.n_nodes))
+        if bad.size:
+            i = int(bad[0])
+            raise InputError(f"{_label(data)}: {_row(data, i)}: node {int(node[i])} is not a node of the rotor "
+                             f"(0..{full.n_nodes - 1})")
     for name, v in (("rotor_mass", rotor_mass), ("service_speed", service_speed), ("grade", grade)):
         if v is not None:
             as_numpy(name, v, sign="positive", shape=())

@@ -198,6 +198,23 @@ def _start(matrices, theta0):
     return matrices(theta0, 0.0), jax.jacfwd(lambda th: matrices(th, 0.0))(theta0)
 
 
+@eqx.filter_jit
+def _blocks(model, matrices, theta0, S, D, start):
+    """`G = Z0^-1` on the blocks `(S, L)`, `(S, D)`, `(D, D)`, `(D, L)` at every solve
+    point: one solve per point with the loads and unit columns on `D`."""
+    n = start[0].shape[0]
+    F = model.unit_loads(n)
+    E = jnp.zeros((n, D.shape[0]), dtype=jnp.complex128).at[D, jnp.arange(D.shape[0])].set(1.0)
+    L = F.shape[1]
+
+    def one(W, w, s):
+        M, C, G1, K = start if not model.speed_dependent else matrices(theta0, W)
+        X = frequency_response(M, C + W * G1, K, jnp.concatenate([s * F, E], axis=1), w)
+        return X[S, :L], X[S, L:], X[D][:, L:], X[D][:, :L]
+
+    return jax.vmap(one)(*model.points())
+
+
 def receptances(model: PhasorModel, rotor, matrices, theta0):
     """The `Receptances` of `model` around `theta0` for parameters that change
     `matrices(theta, W)` (the rotor's `reduced_matrices`), or None when they change
@@ -212,15 +229,7 @@ def receptances(model: PhasorModel, rotor, matrices, theta0):
     if D.size > COUPLING_FRACTION * n:
         return None
     S, sensor = np.unique(np.asarray(model.out), return_inverse=True)
-    F = model.unit_loads(n)
-    E = jnp.zeros((n, D.size), dtype=jnp.complex128).at[D, np.arange(D.size)].set(1.0)
-
-    def one(W, w, s):
-        M, C, G1, K = (M0, C0, G10, K0) if not model.speed_dependent else matrices(jnp.asarray(theta0), W)
-        X = frequency_response(M, C + W * G1, K, jnp.concatenate([s * F, E], axis=1), w)
-        L = F.shape[1]
-        return X[S, :L], X[S, L:], X[D, L:], X[D, :L]
-
-    G_SL, G_SD, G_DD, G_DL = jax.jit(jax.vmap(one))(*model.points())
+    G_SL, G_SD, G_DD, G_DL = _blocks(model, matrices, jnp.asarray(theta0, dtype=jnp.float64), jnp.asarray(S),
+                                     jnp.asarray(D), (M0, C0, G10, K0))
     start = tuple(a[D][:, D] for a in (M0, C0, G10, K0))
     return Receptances(jnp.asarray(D), G_SL, G_SD, G_DD, G_DL, start, jnp.asarray(sensor.ravel()))

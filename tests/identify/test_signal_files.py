@@ -309,7 +309,7 @@ def test_dataset_names_resolve_to_the_shipped_files(name, expected):
 
 
 def test_datasets_table():
-    assert set(idf.DATASETS) == {"runup", "balancing-runs"}
+    assert set(idf.DATASETS) == {"runup", "balancing-runs", "flexible-runup", "flexible-trials"}
     for name, (filename, description) in idf.DATASETS.items():
         assert os.path.isfile(os.path.join(idf.DATA_DIR, filename))
         assert description and "\n" not in description
