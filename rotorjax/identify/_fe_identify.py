@@ -70,6 +70,11 @@ class FEResidual(eqx.Module):
     def _rotor(self, theta):
         return apply(self.params, self.rotor, (self.unb_nodes, self.unb_mag, self.unb_phase), theta, self.scales)
 
+    def values(self, theta):
+        """The parameters' values at `theta` (`(p,)`)."""
+        return jnp.stack([q.from_theta(theta[k], self.scales[k]) for k, q in enumerate(self.params)]) \
+            if self.params else jnp.zeros(0)
+
     def _matrices(self, theta, W):
         return self._rotor(theta)[0].reduced_matrices(W)
 
@@ -77,10 +82,15 @@ class FEResidual(eqx.Module):
         """`(a, B)`: the rows' phasors with the fitted unbalances zero, and their
         response to each fitted unbalance (None when none is fitted); `R` the rows'
         unit responses (computed when not given)."""
-        rotor, (_, mags, phases) = self._rotor(theta)
-        if R is None:
-            R = (self.model.rows(rotor) if self.coupling is None
-                 else self.coupling.rows(self.model, rotor.reduced_matrices()))
+        if self.coupling is not None:
+            # the parameters' values set into the coupling directly: no FE assembly
+            _, (_, mags, phases) = apply(self.params, None, (self.unb_nodes, self.unb_mag, self.unb_phase), theta,
+                                         self.scales)
+            if R is None:
+                R = self.coupling.rows(self.model, self.values(theta))
+        else:
+            rotor, (_, mags, phases) = self._rotor(theta)
+            R = self.model.rows(rotor) if R is None else R
         if self.model.kind == "frf":
             return R, None
         base = jnp.zeros(len(self.model.loads), dtype=jnp.complex128)
@@ -287,7 +297,9 @@ def problem(rotor, data, fit, fit_unbalance=(), overrides=None, weights="relativ
                    jnp.array([q.scale for q in params], dtype=jnp.float64).reshape(len(params)))
     center = np.array([p.to_theta(p.start) for p in params], dtype=float)
     if coupling:
-        r = eqx.tree_at(lambda m: m.coupling, r, receptances(pm, model.rotor, r._matrices, center),
+        v0 = np.array([q.from_theta(c) for q, c in zip(params, center)], dtype=float).reshape(len(params))
+        dv0 = np.array([v if q.log else q.scale for q, v in zip(params, v0)], dtype=float).reshape(len(params))
+        r = eqx.tree_at(lambda m: m.coupling, r, receptances(pm, model.rotor, r._matrices, center, v0, dv0),
                         is_leaf=lambda x: x is None)
     if pm.kind == "unbalance" and len(fit_unbalance) > 0 and 2 * data.n < 2 * len(fit_unbalance) + len(params):
         raise InputError(f"{data.path}: {data.n} phasors cannot determine {len(params)} parameters and "

@@ -163,21 +163,28 @@ class Receptances(eqx.Module):
         H_SL = G_SL - G_SD (I + dZ G_DD)^-1 dZ G_DL,   dZ = Z(theta) - Z0 on D,
 
     `S` the sensor dofs, `L` the loads: per parameter set a `d x d` solve per
-    point instead of a full one (structural modification, receptance coupling)."""
+    point instead of a full one (structural modification, receptance coupling).
+
+    The matrices are affine in each parameter's value (a bearing coefficient, a
+    pedestal's, a disk's mass or inertia enters once), so `dZ` is assembled from
+    the values directly, `dX = sum_k (v_k - v_k0) B_k` on `D` with `B_k` the
+    derivative of `X` with respect to value `k`: no FE assembly per parameter set."""
 
     dofs: jax.Array              # (d,) free-dof positions of D
     G_SL: jax.Array              # (P, n_S, L)
     G_SD: jax.Array              # (P, n_S, d)
     G_DD: jax.Array              # (P, d, d)
     G_DL: jax.Array              # (P, d, L)
-    start: tuple                 # (M, C, G1, K) on D at the start
+    basis: tuple                 # (B_M, B_C, B_G1, B_K), each (p, d, d): d(matrix on D) / d(value k)
+    values0: jax.Array           # (p,) the values at the start
     sensor: jax.Array            # (n_rows,) each row's sensor among S
 
-    def rows(self, model, mats):
-        """The rows' unit responses (as `PhasorModel.rows`) for the matrices `mats` =
-        `(M, C, G1, K)` (free dofs, speed 0) of the modified rotor."""
+    def rows(self, model, values):
+        """The rows' unit responses (as `PhasorModel.rows`) of the rotor with the
+        parameter values `values` (`(p,)`, in the order of the fit)."""
         D = self.dofs
-        dM, dC, dG1, dK = (a[D][:, D] - a0 for a, a0 in zip(mats, self.start))
+        dv = values - self.values0
+        dM, dC, dG1, dK = (jnp.tensordot(dv, B, axes=1) for B in self.basis)
         W, w, _ = model.points()
 
         def one(W, w, G_SL, G_SD, G_DD, G_DL):
@@ -215,10 +222,12 @@ def _blocks(model, matrices, theta0, S, D, start):
     return jax.vmap(one)(*model.points())
 
 
-def receptances(model: PhasorModel, rotor, matrices, theta0):
+def receptances(model: PhasorModel, rotor, matrices, theta0, values0, dvalues0):
     """The `Receptances` of `model` around `theta0` for parameters that change
     `matrices(theta, W)` (the rotor's `reduced_matrices`), or None when they change
-    more than `COUPLING_FRACTION` of the dofs (then the direct solves are cheaper)."""
+    more than `COUPLING_FRACTION` of the dofs (then the direct solves are cheaper).
+    `values0` are the parameters' values at `theta0` and `dvalues0` their
+    derivatives with respect to theta there."""
     n = len(rotor.free_dofs)
     (M0, C0, G10, K0), d = _start(matrices, jnp.asarray(theta0, dtype=jnp.float64))
     touched = np.zeros(n, dtype=bool)
@@ -231,5 +240,7 @@ def receptances(model: PhasorModel, rotor, matrices, theta0):
     S, sensor = np.unique(np.asarray(model.out), return_inverse=True)
     G_SL, G_SD, G_DD, G_DL = _blocks(model, matrices, jnp.asarray(theta0, dtype=jnp.float64), jnp.asarray(S),
                                      jnp.asarray(D), (M0, C0, G10, K0))
-    start = tuple(a[D][:, D] for a in (M0, C0, G10, K0))
-    return Receptances(jnp.asarray(D), G_SL, G_SD, G_DD, G_DL, start, jnp.asarray(sensor.ravel()))
+    dv = jnp.asarray(dvalues0, dtype=jnp.float64)
+    basis = tuple(jnp.moveaxis(a[D][:, D], -1, 0) / dv[:, None, None] for a in d)
+    return Receptances(jnp.asarray(D), G_SL, G_SD, G_DD, G_DL, basis, jnp.asarray(values0, dtype=jnp.float64),
+                       jnp.asarray(sensor.ravel()))

@@ -160,7 +160,8 @@ def rotor_model(path, overrides=None) -> RotorModel:
 def apply(params, rotor, unbalances, theta, scales):
     """`(rotor, unbalances)` with the parameters set from `theta` (pure JAX:
     differentiable and vmappable); `unbalances` as `(nodes, magnitudes, phases)`,
-    `scales` the signed parameters' scales (an array: values, not structure)."""
+    `scales` the signed parameters' scales (an array: values, not structure);
+    `rotor` None: the unbalances only."""
     nodes, mags, phases = unbalances
     for k, p in enumerate(params):
         v = p.from_theta(theta[k], scales[k])
@@ -170,6 +171,8 @@ def apply(params, rotor, unbalances, theta, scales):
                 mags = mags.at[j].set(v)
             else:
                 phases = phases.at[j].set(v)
+            continue
+        if rotor is None:
             continue
         a = getattr(rotor, p.leaf)
         for (r, c) in p.entries:
