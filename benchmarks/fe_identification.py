@@ -286,7 +286,7 @@ def main():
         rj["breakdown_32_starts"] = {
             "rotor_model_s": rj["rotor_model_s"], "problem_setup_s": t_problem, "global_lm_batch_s": t_global,
             "identify_rotor_prebuilt_model_no_critical_speeds_s": t_nocrit,
-            "note": "problem setup: phasor model + receptances at the start (their solves jitted anew per call)"}
+            "note": "problem setup: phasor model + receptances at the start (one LU per speed, compiled once)"}
         print("rotorjax breakdown:", json.dumps(rj["breakdown_32_starts"]), flush=True)
 
     # --- rotorjax: the fit alone (lm_batch on a problem built outside the timing) ---

@@ -21,7 +21,7 @@ DATASETS = {
     "balancing-runs": ("balancing_runs.csv", "three steady runs at 120 rad/s, sensors x1 and x2: "
                        "no trial weight, 1e-4 kg m at 0 deg in plane 0, at 90 deg in plane 1 (for `balance`)"),
     "flexible-runup": ("flexible_runup.csv", "1x phasors of the flexible_rig rotor (as built) at 50 speeds from 30 to "
-                       "460 rad/s through two criticals, x and y at nodes 2 and 4, 1 % noise (200 rows)"),
+                       "460 rad/s through two criticals, x and y at the bearings (nodes 0, 6), 1 % noise (200 rows)"),
     "flexible-trials": ("flexible_trials.csv", "1x phasors of the flexible_rig rotor at 70, 103, 220, 340 rad/s: "
                         "run 0 as is, run 1 trial weight at node 2, run 2 at node 4 (48 rows)"),
 }
