@@ -1,5 +1,6 @@
-"""`fe-balance`: multi-plane, multi-speed balancing of a rotor file's flexible rotor
-from a phasor file (a baseline run and one trial run per plane)."""
+"""`balance ROTOR.toml`: multi-plane, multi-speed balancing of a rotor file's
+flexible rotor from a phasor file (a baseline run and one trial run per plane, or
+the model's influence coefficients)."""
 
 import json
 import math

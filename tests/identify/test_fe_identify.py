@@ -186,6 +186,19 @@ def test_gyroscopic_inertia_invisible_at_rest(truth_rotor):
     assert any(w.startswith("the data cannot see disk0.Ip") for w in res.warnings), res.warnings
 
 
+def test_other_minima_reported():
+    """Distinct minima within the chi-square margin are reported; the same minimum
+    reached twice, and minima far worse, are not."""
+    from rotorjax.identify._fe_identify import _other_minima
+    from rotorjax.identify._fe_params import Parameter
+
+    params = (Parameter("bearing0.kxx", "bearing_params", ((0, 0),), True, 1.0, 1e6),)
+    best = np.array([np.log(1e6)])
+    ths = np.log(np.array([[1e6], [1e6 * (1 + 1e-4)], [3e6], [9e6]]))
+    out = _other_minima(params, ths, np.array([1.0, 1.0, 1.05, 50.0]), best, 1.0, np.array([0.01]), 0.2)
+    assert len(out) == 1 and abs(out[0]["estimates"]["bearing0.kxx"] / 3e6 - 1) < 1e-12
+
+
 # --- impact tests (receptances) ----------------------------------------------------------
 
 def _receptances(rotor, speed, noise=0.0, seed=0):
