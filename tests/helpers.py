@@ -12,3 +12,14 @@ def tree_allclose(a, b, rtol=1e-10, atol=1e-12) -> bool:
 def central_difference(f, x, h):
     """Central finite difference of scalar `f` at scalar `x` (error O(h^2))."""
     return (f(x + h) - f(x - h)) / (2 * h)
+
+
+def set_csv_field(line_no, field, value):
+    """An edit of a CSV text's lines: field `field` (0-based) of line `line_no`
+    (1-based) set to `value` (for the bad-file tables)."""
+    def edit(lines):
+        parts = lines[line_no - 1].split(",")
+        parts[field] = value
+        lines[line_no - 1] = ",".join(parts)
+        return lines
+    return edit

@@ -16,6 +16,7 @@ their coefficients and cannot be fitted coefficient by coefficient.
 """
 
 import dataclasses
+import os
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -145,15 +146,19 @@ class RotorModel:
         return _fittable(self.rotor, self.entries, len(self.unbalances))
 
 
-def rotor_model(path, overrides=None) -> RotorModel:
-    """The `RotorModel` of the rotor file at `path` with `--set` `overrides`."""
-    label, _, entries = file_parameters(path)
-    scene = load_rotor(path, overrides)
+def rotor_model(path, overrides=None, *, scene=None, entries=None) -> RotorModel:
+    """The `RotorModel` of the rotor file at `path` with `--set` `overrides`; a
+    caller that has built the file's `scene` and read its `entries` (the `--set`
+    keys, e.g. a preset's `defaults`) passes them, and the file is not read again."""
+    if entries is None:
+        label, _, entries = file_parameters(path)
+    else:
+        label = os.fspath(path)
+    if scene is None:
+        scene = load_rotor(path, overrides)
     rotor = getattr(scene.rotor, "rotor", scene.rotor)   # a reduced rotor: its full one
     unb = tuple(c for c in scene.components if isinstance(c, Unbalance))
     other = tuple(type(c).__name__ for c in scene.components if not isinstance(c, Unbalance))
-    if overrides:
-        entries = dict(entries)
     return RotorModel(label, rotor, unb, entries, other)
 
 

@@ -9,6 +9,7 @@ import pytest
 from rotorjax import identify as idf
 from rotorjax._errors import InputError
 from rotorjax.cli import main
+from tests.helpers import set_csv_field
 
 FS = 1000.0                                   # samples per second
 X_TRUE = np.array([2e-6 + 1e-6j, -0.5e-6 + 3e-6j])   # the sensors' 1x phasors (m)
@@ -32,14 +33,7 @@ def _text(header=HEADER, rows=ROWS, edit=None):
     return "\n".join(lines) + "\n"
 
 
-def _set(line_no, field, value):
-    """Edit: field `field` (0-based) of line `line_no` (1-based) set to `value`."""
-    def edit(lines):
-        parts = lines[line_no - 1].split(",")
-        parts[field] = value
-        lines[line_no - 1] = ",".join(parts)
-        return lines
-    return edit
+_set = set_csv_field
 
 
 def _file(tmp_path, content, name="ph.csv"):

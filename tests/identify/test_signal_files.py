@@ -10,6 +10,7 @@ import pytest
 
 from rotorjax import identify as idf
 from rotorjax._errors import InputError
+from tests.helpers import set_csv_field
 
 F, FS, N = 20.0, 1000.0, 500          # 20 rev/s sampled at 1 kHz, 0.5 s (10 revolutions) per run
 
@@ -70,14 +71,7 @@ def _csv(cols=None, edit=None, name="bad.csv"):
     return build
 
 
-def _set(line_no, field, value):
-    """Edit: set field `field` (0-based) of the file's line `line_no` (1-based)."""
-    def edit(lines):
-        parts = lines[line_no - 1].split(",")
-        parts[field] = value
-        lines[line_no - 1] = ",".join(parts)
-        return lines
-    return edit
+_set = set_csv_field
 
 
 def _npz(cols, name="bad.npz"):
