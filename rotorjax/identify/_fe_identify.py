@@ -39,7 +39,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from .._errors import InputError, NumericalError
-from ._fe_model import phasor_model, predict, receptances
+from ._fe_model import phasor_model, receptances
 from ._fe_params import RotorModel, apply, rotor_model
 from ._fit import optax_fit, theta_covariance
 from ._phasor_file import PhasorData, read_phasors

@@ -140,16 +140,6 @@ def phasor_model(rotor, data, unbalance_nodes=()) -> "PhasorModel":
                        rotor.speed_dependent)
 
 
-def predict(model: PhasorModel, rotor, unbalance=None):
-    """The model's phasors of the rows: `unbalance` (complex, one per load node of
-    `model.loads`; the trial weights are added per row) for unbalance data; the
-    receptances for frf data."""
-    R = model.rows(rotor)
-    if model.kind == "frf":
-        return R
-    return jnp.sum(R * (unbalance[None, :] + model.trial), axis=1)
-
-
 #: the receptance coupling pays when the modified dofs are at most this fraction of the free dofs
 COUPLING_FRACTION = 0.5
 
