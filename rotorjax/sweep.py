@@ -1,4 +1,5 @@
-"""Evaluate a per-point function over a parameter grid with vmap."""
+"""Evaluate a per-point function over a parameter grid: vmapped, or, for a function that
+returns an initial-value problem (`rotorjax.IVP`), integrated in one buffered batch."""
 
 import dataclasses
 import math
@@ -9,7 +10,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._distributed import check_initialized, gather, local_range
 from .models._validate import InputError, as_count, check_choice, show
+from .solve._batch import IVP, simulate_batch
 
 
 @dataclasses.dataclass(frozen=True)
@@ -71,21 +74,44 @@ def sweep(
     chunk_size: int | None = 256,
     progress: bool | None = None,
     shard: bool = False,
+    distributed: bool = False,
+    lanes: int | None = None,
+    steps_per_round: int = 8,
+    batch: str = "buffered",
 ) -> SweepResult:
     """Evaluate `fn(point)` at every point of `grid`, vmapped.
 
     **Arguments:**
     - `fn`: takes `{name: scalar}` for one point, returns a pytree of arrays. Pure,
-      unbatched: write it for one point, `sweep` lifts it.
+      unbatched: write it for one point, `sweep` lifts it. A function that returns
+      a `rotorjax.IVP(scene, y0, t_span, ...)` has the whole grid integrated by
+      `rotorjax.solve.simulate_batch` (no lane waits for the slowest one) and the
+      sweep's `values` are the batched `SimulationResult`.
     - `grid`: `{name: values}`.
     - `mode`: `"product"` (cartesian grid over the named axes) or `"zip"` (equal-length
       arrays, one point per index).
     - `chunk_size`: points per vmapped call, to bound memory (`None`: all at once).
       Smaller chunks also group neighbouring points, which cuts the lock-step cost
       of adaptive solvers under vmap. The last chunk is padded, so one compilation.
-    - `progress`: show a tqdm bar (default: when there is more than one chunk).
+    - `progress`: show a tqdm bar (default: when there is more than one chunk, on
+      process 0 only).
     - `shard`: split each chunk over all local devices (`jax.sharding`); the chunk
       is padded to a multiple of the device count.
+    - `distributed`: split the grid over the processes of a `jax.distributed` run
+      (call `jax.distributed.initialize()` first in every process; on CPU with
+      `jax_cpu_collectives_implementation="gloo"`). Each process evaluates one
+      contiguous slice of the points, chunk by chunk on its own local devices
+      (`shard=True` still splits each chunk over them); the slices are then
+      all-gathered, so every process returns the whole result, in grid order. With
+      one process it is the ordinary sweep. Raises `InputError` if a launcher
+      (srun, mpirun) started several processes but `jax.distributed` was not
+      initialized.
+    - `lanes`, `steps_per_round`, `batch`: for a function returning an `IVP` (see
+      `simulate_batch`): points integrated at once (default `min(points, 128)`),
+      steps between refills, and the method ("buffered", "pallas", or "vmap": the
+      lock-step `simulate` under vmap, chunk by chunk). `chunk_size` and `progress`
+      apply to the "vmap" method and to other functions; `shard=True` gives each local
+      device its own buffer of lanes.
 
     **Returns:** a `SweepResult` whose `values` leaves have the grid's shape in front.
     """
@@ -95,7 +121,11 @@ def sweep(
     total = math.prod(shape)
     flat = {k: jnp.asarray(v.reshape(-1)) for k, v in points.items()}
     chunk_size = total if chunk_size is None else as_count("chunk_size", chunk_size, minimum=1)
-    chunk = min(chunk_size, total)
+    if distributed:
+        check_initialized()
+    start, stop = local_range(total) if distributed else (0, total)  # this process's points
+    # every process uses the chunk shape of the largest slice: one compilation
+    chunk = min(chunk_size, -(-total // jax.process_count()) if distributed else total)
     sharding = None
     if shard:
         devices = jax.local_devices()
@@ -103,24 +133,57 @@ def sweep(
         chunk = int(math.ceil(chunk / nd) * nd)
         mesh = jax.sharding.Mesh(np.array(devices), ("points",))
         sharding = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("points"))
-    n_chunks = int(math.ceil(total / chunk))
-    batched = eqx.filter_jit(eqx.filter_vmap(fn))
+    n_chunks = max(int(math.ceil((stop - start) / chunk)), 1)  # an empty slice still yields shapes
+    check_choice("batch", batch, ("buffered", "pallas", "vmap"))
+    if batch != "vmap" and isinstance(eqx.filter_eval_shape(fn, {k: v[0] for k, v in flat.items()}), IVP):
+        values = _integrate(fn, flat, start, stop, lanes, steps_per_round, batch, shard)
+        if distributed:
+            values = gather(values, total)
+        values = jax.tree_util.tree_map(lambda x: x.reshape(shape + x.shape[1:]), values)
+        return SweepResult(axes=axes, points=points, values=values, shape=shape)
+    batched = eqx.filter_jit(eqx.filter_vmap(_simulated(fn)))
 
     starts = range(0, n_chunks * chunk, chunk)
     if progress is None:
-        progress = n_chunks > 1
+        progress = n_chunks > 1 and jax.process_index() == 0
     if progress:
         from tqdm.auto import tqdm
 
         starts = tqdm(starts, total=n_chunks, desc="sweep", unit="chunk")
     outs = []
     for s in starts:
-        idx = np.minimum(np.arange(s, s + chunk), total - 1)  # pad by repeating the last point
+        idx = np.minimum(np.arange(start + s, start + s + chunk), stop - 1)  # pad: repeat the last point
         part = {k: v[idx] for k, v in flat.items()}
         if sharding is not None:
             part = jax.device_put(part, sharding)
         outs.append(jax.tree_util.tree_map(np.asarray, batched(part)))
-    values = jax.tree_util.tree_map(
-        lambda *xs: np.concatenate(xs, axis=0)[:total].reshape(shape + xs[0].shape[1:]), *outs
-    )
+    values = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:stop - start], *outs)
+    if distributed:
+        values = gather(values, total)
+    values = jax.tree_util.tree_map(lambda x: x.reshape(shape + x.shape[1:]), values)
     return SweepResult(axes=axes, points=points, values=values, shape=shape)
+
+
+def _simulated(fn):
+    """`fn`, with an `IVP` it returns integrated by `simulate` (the lock-step path)."""
+    def one(point):
+        out = fn(point)
+        if isinstance(out, IVP):
+            from .solve import simulate
+
+            return simulate(out.scene, out.y0, out.t_span, saveat=out.saveat, solver=out.solver,
+                            rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
+        return out
+    return one
+
+
+def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
+    """The points `[start, stop)` of `fn`'s initial-value problems, integrated in one batch
+    (an empty slice integrates the last point once, for the shapes)."""
+    idx = np.arange(start, stop) if stop > start else np.array([stop - 1])
+    problems = eqx.filter_jit(eqx.filter_vmap(fn))({k: v[idx] for k, v in flat.items()})
+    res = simulate_batch(problems.scene, problems.y0, problems.t_span, saveat=problems.saveat,
+                         solver=problems.solver, rtol=problems.rtol, atol=problems.atol,
+                         max_steps=problems.max_steps, lanes=lanes, steps_per_round=steps_per_round,
+                         method=method, shard=shard)
+    return jax.tree_util.tree_map(lambda x: np.asarray(x)[:stop - start], res)

@@ -21,7 +21,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "rotorjax"
 RANK = {
     "_errors": 0, "_config": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
     "models": 1,
-    "solve": 2, "sweep": 2,
+    "solve": 2, "sweep": 2, "_distributed": 2,
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
     "plot": 3.5,
     "presets": 4,

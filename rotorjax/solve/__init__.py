@@ -7,3 +7,5 @@ from ._stiffness import STIFFNESS_THRESHOLD as STIFFNESS_THRESHOLD
 from ._stiffness import choose_solver as choose_solver
 from ._stiffness import stiffness_ratio as stiffness_ratio
 from ._events import simulate_events as simulate_events
+from ._batch import IVP as IVP
+from ._batch import simulate_batch as simulate_batch
