@@ -9,7 +9,9 @@ Dimensionless rotor with N correction weights on anisotropic supports:
 State y = [xi, eta, psi_1..psi_N, xid, etad, psid_1..psid_N], psi_j = phi_j - n t,
 psid_j = phid_j - n, psidd_j = phidd_j.  float64 throughout.
 
-Contents: rhs_numpy (generic (N+2)x(N+2) solve), scipy_loop (solve_ivp per speed),
+Contents: rhs_numpy (generic (N+2)x(N+2) solve), rhs_python / make_rhs_python
+(closed-form, pure Python: scalar `math`, the structured 2x2 solve by hand; the
+strongest scipy peer), scipy_loop (solve_ivp per speed, either right-hand side),
 numba_rk4 (fixed-step classical RK4, prange over speeds, structured 2x2 solve),
 numba_rhs_ns (ns per RHS evaluation).
 """
@@ -53,9 +55,70 @@ def rhs_numpy(t, y, p):
     return np.concatenate((y[2 + N:], acc))
 
 
+# --------------------------------------------------------------------------- pure Python
+def make_rhs_python(p):
+    """`rhs(t, y)` for the parameters `p` (with `p["n"]`): closed form in scalar Python
+    (`math.sin/cos`, the weights' accelerations eliminated by hand so that only the
+    2x2 system for xi'', eta'' is solved, as in the numba kernel). Returns a list."""
+    n = float(p["n"])
+    n_eta2 = float(p["n_eta"]) ** 2
+    two_mu_xi, two_mu_eta = 2.0 * float(p["mu_xi"]), 2.0 * float(p["mu_eta"])
+    sigma, eps, mu_w = float(p["sigma"]), float(p["eps"]), float(p["mu_w"])
+    cn2 = float(p["c"]) * n * n
+    se = sigma * eps
+    sin, cos = math.sin, math.cos
+
+    def rhs(t, y):
+        y = y.tolist()
+        N = (len(y) - 4) >> 1
+        m = N + 2
+        nt = n * t
+        sss = scc = ssc = ssg = scg = sc2 = ss2 = 0.0
+        ss, cc = [], []
+        for j in range(N):
+            phi = y[2 + j] + nt
+            s = sin(phi)
+            co = cos(phi)
+            ss.append(s)
+            cc.append(co)
+            psid = y[m + 2 + j]
+            g = -mu_w * psid
+            w2 = (psid + n) * (psid + n)
+            sss += s * s
+            scc += co * co
+            ssc += s * co
+            ssg += s * g
+            scg += co * g
+            sc2 += w2 * co
+            ss2 += w2 * s
+        b1 = -two_mu_xi * y[m] - y[0] + sigma * sc2 + cn2 * cos(nt) + sigma * ssg
+        b2 = -two_mu_eta * y[m + 1] - n_eta2 * y[1] + sigma * ss2 + cn2 * sin(nt) - sigma * scg
+        a11 = 1.0 - se * sss
+        a12 = se * ssc
+        a22 = 1.0 - se * scc
+        det = a11 * a22 - a12 * a12
+        X = (b1 * a22 - a12 * b2) / det
+        E = (a11 * b2 - a12 * b1) / det
+        out = y[m:]
+        out.append(X)
+        out.append(E)
+        for j in range(N):
+            out.append(-mu_w * y[m + 2 + j] + eps * (ss[j] * X - cc[j] * E))
+        return out
+
+    return rhs
+
+
+def rhs_python(t, y, p):
+    """Pure-Python closed-form right-hand side (see `make_rhs_python`), as an array."""
+    return np.asarray(make_rhs_python(p)(float(t), np.asarray(y, dtype=np.float64)))
+
+
 # --------------------------------------------------------------------------- scipy
-def scipy_loop(speeds, y0, t_end, p, method="DOP853", rtol=1e-6, atol=1e-9):
-    """Plain Python loop of solve_ivp over speeds. -> (final_states, wall_s, n_failed)."""
+def scipy_loop(speeds, y0, t_end, p, method="DOP853", rtol=1e-6, atol=1e-9, rhs="python"):
+    """Plain Python loop of solve_ivp over speeds, with the pure-Python right-hand side
+    (`rhs="python"`, the strongest scipy peer) or the numpy one (`rhs="numpy"`).
+    -> (final_states, wall_s, n_failed)."""
     speeds = np.asarray(speeds, dtype=np.float64)
     y0 = np.asarray(y0, dtype=np.float64)
     out = np.empty((len(speeds), len(y0)))
@@ -64,8 +127,12 @@ def scipy_loop(speeds, y0, t_end, p, method="DOP853", rtol=1e-6, atol=1e-9):
     for i, n in enumerate(speeds):
         pp = dict(p)
         pp["n"] = float(n)
-        sol = solve_ivp(rhs_numpy, (0.0, float(t_end)), y0, method=method,
-                        rtol=rtol, atol=atol, args=(pp,))
+        if rhs == "python":
+            fun, args = make_rhs_python(pp), None
+        else:
+            fun, args = rhs_numpy, (pp,)
+        sol = solve_ivp(fun, (0.0, float(t_end)), y0, method=method,
+                        rtol=rtol, atol=atol, args=args)
         if not sol.success:
             n_failed += 1
         out[i] = sol.y[:, -1]
@@ -231,8 +298,9 @@ def _checks():
     for n in (0.5, 3.0, 10.0):
         for t in (0.0, 1.3, 17.0):
             q = dict(p, n=n)
-            mm = max(mm, np.abs(rhs_numpy(t, y, q)).max(), np.abs(numba_rhs(t, y, q)).max())
-    # numpy (generic solve) vs numba (structured 2x2) at random states
+            mm = max(mm, np.abs(rhs_numpy(t, y, q)).max(), np.abs(numba_rhs(t, y, q)).max(),
+                     np.abs(rhs_python(t, y, q)).max())
+    # numpy (generic solve) vs numba and pure Python (structured 2x2) at random states
     rng = np.random.default_rng(0)
     md = 0.0
     for N in (1, 2, 3, 5):
@@ -240,15 +308,16 @@ def _checks():
             yy = rng.normal(size=2 * N + 4)
             q = dict(p, n=rng.uniform(0.5, 10), eps=rng.uniform(0, 0.3))
             t = rng.uniform(0, 50)
-            a, b = rhs_numpy(t, yy, q), numba_rhs(t, yy, q)
-            md = max(md, np.abs(a - b).max() / max(1.0, np.abs(a).max()))
+            a = rhs_numpy(t, yy, q)
+            for b in (numba_rhs(t, yy, q), rhs_python(t, yy, q)):
+                md = max(md, np.abs(a - b).max() / max(1.0, np.abs(a).max()))
     return mm, md
 
 
 if __name__ == "__main__":
     mm, md = _checks()
     print(f"check main motion: max|rhs| = {mm:.3e}  (rounding level; sigma=c, psi=2pi/3,4pi/3)")
-    print(f"check numpy-vs-numba rhs: max rel diff = {md:.3e}")
+    print(f"check numpy vs numba and pure-Python rhs: max rel diff = {md:.3e}")
     assert mm < 1e-12 and md < 1e-13
 
     p = dict(n_eta=7.0, mu_xi=0.25, mu_eta=0.5, sigma=0.5, c=0.5, eps=0.01, mu_w=0.5)

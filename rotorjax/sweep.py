@@ -171,6 +171,11 @@ def _simulated(fn):
         if isinstance(out, IVP):
             from .solve import simulate
 
+            if out.events:
+                from .solve import simulate_events
+
+                return simulate_events(out.scene, out.y0, out.t_span, saveat=out.saveat or 2, solver=out.solver,
+                                       rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
             return simulate(out.scene, out.y0, out.t_span, saveat=out.saveat, solver=out.solver,
                             rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
         return out
@@ -185,5 +190,5 @@ def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
     res = simulate_batch(problems.scene, problems.y0, problems.t_span, saveat=problems.saveat,
                          solver=problems.solver, rtol=problems.rtol, atol=problems.atol,
                          max_steps=problems.max_steps, lanes=lanes, steps_per_round=steps_per_round,
-                         method=method, shard=shard)
+                         method=method, shard=shard, events=problems.events)
     return jax.tree_util.tree_map(lambda x: np.asarray(x)[:stop - start], res)

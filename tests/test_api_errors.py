@@ -79,6 +79,22 @@ def sweep(**kw):
     return rj.sweep(**dict(args, **kw))
 
 
+def batch(**kw):
+    """Two jeffcott() scenes batched along a leading axis."""
+    s = jeffcott()
+    scenes = jax.tree_util.tree_map(lambda a: jnp.stack([a, a]) if eqx.is_array(a) else a, s)
+    y0 = s.rest_state(np.array([1.0, 2.0]))
+    args = dict(scenes=scenes, y0s=jnp.stack([y0, y0]), t_span=(0.0, 1.0))
+    return rj.solve.simulate_batch(**dict(args, **kw))
+
+
+def ivp_sweep(**kw):
+    s = jeffcott()
+    y0 = s.rest_state(np.array([1.0, 2.0]))
+    args = dict(fn=lambda p: rj.IVP(s, y0 * p["a"], (0.0, 1.0)), grid={"a": [1.0, 2.0]})
+    return rj.sweep(**dict(args, **kw))
+
+
 def limiters(**kw):
     return Limiters(**dict(dict(angles=ANGLES, clearance=0.01, stiffness=850.0), **kw))
 
@@ -267,6 +283,20 @@ CASES = [
     (sweep, dict(mode="diagonal"), r"mode must be one of 'product', 'zip'; got 'diagonal'"),
     (sweep, dict(chunk_size=0), r"chunk_size must be an integer >= 1, got 0"),
     (sweep, dict(fn=3.0), r"fn must be a function of one grid point, got 3\.0"),
+    (sweep, dict(batch="lockstep"), r"batch must be one of 'buffered', 'pallas', 'vmap'; got 'lockstep'"),
+    (ivp_sweep, dict(lanes=0), r"lanes must be an integer >= 1, got 0"),
+    (ivp_sweep, dict(steps_per_round=1.5), r"steps_per_round must be an integer >= 1, got 1\.5"),
+    # batched integration
+    (batch, dict(y0s=np.zeros((2, 5))), r"y0s must have shape \(N, 8\) for this scene .*got shape \(2, 5\)"),
+    (batch, dict(y0s=np.zeros(8)), r"y0s must have shape \(N, state_size\), got shape \(8,\)"),
+    (batch, dict(y0s=np.zeros((3, 8))), r"scenes must carry the batch axis N = 3 \(len\(y0s\)\)"),
+    (batch, dict(method="scan"), r"method must be one of 'buffered', 'pallas', 'vmap'; got 'scan'"),
+    (batch, dict(lanes=-1), r"lanes must be an integer >= 1, got -1"),
+    (batch, dict(rtol=0.0), r"rtol must be > 0, got 0\.0"),
+    (batch, dict(t_span=(1.0, 0.0)), r"t_span must be increasing"),
+    (batch, dict(events=True), r"simulate_batch\(events=True\) needs a scene with `contact_indicator`"),
+    (batch, dict(method="pallas", saveat=5), r"saveat: method='pallas' returns the final state only"),
+    (batch, dict(method="pallas", solver="kvaerno5"), r"solver"),
 ]
 
 

@@ -22,9 +22,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..models._contract import require
 from ..models._validate import InputError, as_count, check_choice
 from ._results import SimulationResult
-from ._simulate import _check_inputs, _field, _saveat, _split_span
+from ._simulate import _check_inputs, _check_scene, _saveat, _split_span
 from ._stiffness import choose_solver
 
 #: The batch methods: "buffered" (this module), "pallas" (one kernel per block of
@@ -39,7 +40,8 @@ class IVP(eqx.Module):
     `scene` and `y0` vary over the grid; the time span, output times, solver and
     tolerances (static fields) are the same for every point. `sweep` integrates the
     whole grid in one buffered batch (`simulate_batch`) and returns the batched
-    `SimulationResult`.
+    `SimulationResult`. `events=True`: event-located contact switching, as
+    `simulate_events` (for scenes with contacts).
     """
 
     scene: eqx.Module
@@ -50,11 +52,13 @@ class IVP(eqx.Module):
     rtol: float = eqx.field(static=True, default=1e-8)
     atol: float = eqx.field(static=True, default=1e-10)
     max_steps: int = eqx.field(static=True, default=200_000)
+    events: bool = eqx.field(static=True, default=False)
 
 
 def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float = 1e-8,
                    atol: float = 1e-10, max_steps: int = 200_000, lanes: int | None = None,
-                   steps_per_round: int = 8, method: str = "buffered", shard: bool = False) -> SimulationResult:
+                   steps_per_round: int = 8, method: str = "buffered", shard: bool = False,
+                   events: bool = False) -> SimulationResult:
     """Integrate a batch of scenes, each from its own initial state.
 
     **Arguments:**
@@ -68,6 +72,11 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     - `shard`: with several local devices (GPUs, or host CPUs under
       `XLA_FLAGS=--xla_force_host_platform_device_count=K`), give each its own
       buffer of `lanes / devices` lanes and every device-th point ("buffered" only).
+    - `events`: locate contact switches (scenes with `contact_indicator` and
+      `vector_field(t, y, active)`, such as model 004 with limiters): a step that
+      crosses one is cut at the crossing (bisection on the dense output), the
+      contact set switched and the solver restarted; `stats["num_events"]` counts
+      them ("buffered" only).
     - `method`: "buffered" (lanes refilled from the queue), "pallas" (the whole
       adaptive loop of a block of lanes in one Pallas kernel; explicit Runge-Kutta,
       final state only), "vmap" (`simulate` vmapped: lanes in lock-step).
@@ -80,11 +89,21 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     n = y0s.shape[0]
     t0, t1 = _split_span(t_span)
     scene0 = jax.tree_util.tree_map(lambda a: a[0] if eqx.is_array(a) else a, scenes)
+    _check_scene(scene0)
+    if y0s.shape[1] != scene0.state_size:
+        raise InputError(f"y0s must have shape (N, {scene0.state_size}) for this scene ({scene0.describe()}), "
+                         f"got shape {y0s.shape}")
     max_steps = _check_inputs(scene0, y0s[0], t0, t1, rtol, atol, max_steps)
     solver = choose_solver(scene0, y0s[0], t0, solver)
     steps_per_round = as_count("steps_per_round", steps_per_round, minimum=1)
     lanes = min(n, 128) if lanes is None else min(as_count("lanes", lanes, minimum=1), n)
     f64 = lambda v: jnp.asarray(v, dtype=jnp.float64)  # noqa: E731
+    if events:
+        require(scene0, "contact_indicator", "simulate_batch(events=True)")
+        if scene0.n_contacts < 1:
+            raise InputError("events: the scene has no contacts (limiters); use events=False")
+        if method != "buffered":
+            raise InputError(f"events=True needs method='buffered', got method={method!r}")
     if method == "pallas":
         if saveat is not None:
             raise InputError("saveat: method='pallas' returns the final state only; use saveat=None, or "
@@ -106,11 +125,11 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     rest = (f64(t0), f64(t1), ts, solver, f64(rtol), f64(atol), jnp.asarray(max_steps))
     devices = jax.local_devices() if shard else []
     if len(devices) < 2 or n < 2:
-        return _buffered(scenes, y0s, *rest, lanes, steps_per_round, final_only)
-    return _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, devices)
+        return _buffered(scenes, y0s, *rest, lanes, steps_per_round, final_only, events)
+    return _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, events, devices)
 
 
-def _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, devices):
+def _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, events, devices):
     """`run` on each local device with its own buffer (`jax.pmap`): point `i` goes to
     device `i mod D` (neighbouring points cost alike, so the devices share the work
     evenly); padded with the last point, results put back in order."""
@@ -119,7 +138,7 @@ def _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, devices
     order = np.minimum(np.arange(per * d).reshape(per, d).T.reshape(-1), n - 1)
     split = lambda a: a[order].reshape((d, per) + a.shape[1:]) if eqx.is_array(a) else a  # noqa: E731
     out = _buffered_pmap(jax.tree_util.tree_map(split, scenes), split(y0s), *rest,
-                         min(-(-lanes // d), per), steps_per_round, final_only)
+                         min(-(-lanes // d), per), steps_per_round, final_only, events)
     back = np.argsort(order, kind="stable")[:n]  # the first copy of each point
     return jax.tree_util.tree_map(lambda a: a.reshape((d * per,) + a.shape[2:])[back], out)
 
@@ -156,6 +175,7 @@ class _Lanes(eqx.Module):
 
     idx: jax.Array
     scene: eqx.Module
+    active: jax.Array
     t: jax.Array
     tnext: jax.Array
     y: jax.Array
@@ -167,11 +187,18 @@ class _Lanes(eqx.Module):
     accepted: jax.Array
     rejected: jax.Array
     result: jax.Array
+    events: jax.Array
 
 
-def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only):
+def _lane_field(t, y, args):
+    scene, active = args
+    return scene.vector_field(t, y, active) if active.shape[0] else scene.vector_field(t, y)
+
+
+def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only,
+                   events):
     n, n_save = y0s.shape[0], ts.shape[0]
-    term = diffrax.ODETerm(_field)
+    term = diffrax.ODETerm(_lane_field)
     controller = diffrax.PIDController(rtol=rtol, atol=atol)
     solver = _with_tolerances(solver, controller)
     order = solver.error_order(term)
@@ -179,18 +206,24 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
     clip_floor = jnp.nextafter(t1, -jnp.inf)
     ok = diffrax.RESULTS.successful
 
+    def signed(scene_arrays, active, t, y):
+        """+g while a contact is open, -g while closed: a switch is an up-crossing."""
+        g = eqx.combine(scene_arrays, static).contact_indicator(t, y)
+        return jnp.where(active, -1.0, 1.0) * g
+
     def start(scene_arrays, y0):
         scene = eqx.combine(scene_arrays, static)
-        tnext, cstate = controller.init(term, t0, t1, y0, None, scene, solver.func, order)
+        active = scene.contact_indicator(t0, y0) > 0 if events else jnp.zeros((0,), bool)
+        tnext, cstate = controller.init(term, t0, t1, y0, None, (scene, active), solver.func, order)
         tnext = jnp.minimum(tnext, t1)
-        return tnext, solver.init(term, t0, tnext, y0, scene), cstate
+        return tnext, solver.init(term, t0, tnext, y0, (scene, active)), cstate, active
 
-    def step(scene_arrays, t, tnext, y, sstate, cstate, made_jump):
-        scene = eqx.combine(scene_arrays, static)
-        y1, yerr, dense, sstate1, sres = solver.step(term, t, tnext, y, scene, sstate, made_jump)
+    def step(scene_arrays, active, t, tnext, y, sstate, cstate, made_jump):
+        args = (eqx.combine(scene_arrays, static), active)
+        y1, yerr, dense, sstate1, sres = solver.step(term, t, tnext, y, args, sstate, made_jump)
         yerr = jnp.where(jnp.isnan(yerr), jnp.inf, yerr)
         keep, tprev, tn, mj, cstate1, cres = controller.adapt_step_size(
-            t, tnext, y, y1, scene, yerr, order, cstate)
+            t, tnext, y, y1, args, yerr, order, cstate)
         tprev = jnp.minimum(tprev, t1)
         tn = jnp.where(tn > clip_floor, jnp.where(keep, t1, tprev + 0.5 * (t1 - tprev)), tn)
         pick = lambda a, b: jnp.where(keep, a, b)  # noqa: E731
@@ -202,6 +235,36 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
     def evaluate(t_a, t_b, dense, y_b, t):
         y_t = solver.interpolation_cls(t0=t_a, t1=t_b, **dense).evaluate(t)
         return jnp.where(t == t_b, y_b, y_t)
+
+    def switch(lanes_, accepted, t_a, t_b, dense, y_b):
+        """Lanes whose accepted step crossed a contact switch: cut the step at the
+        first crossing (bisection on the dense output, to rounding), switch the
+        contact set there and restart the solver (`made_jump`) with the same step."""
+        crossed = accepted & jnp.any(jax.vmap(signed)(lanes_.scene, lanes_.active, lanes_.t, lanes_.y) > 0,
+                                     axis=1)
+
+        def locate(scene_arrays, active, t_a, t_b, dense, y_b):
+            h = lambda t: jnp.max(signed(scene_arrays, active, t, evaluate(t_a, t_b, dense, y_b, t)))  # noqa: E731
+
+            def halve(_, c):
+                lo, hi = c
+                mid = 0.5 * (lo + hi)
+                up = h(mid) > 0
+                return jnp.where(up, lo, mid), jnp.where(up, mid, hi)
+
+            _, hit = jax.lax.fori_loop(0, 64, halve, (t_a, t_b))
+            y_hit = evaluate(t_a, t_b, dense, y_b, hit)
+            return hit, y_hit, active ^ (signed(scene_arrays, active, hit, y_hit) > 0)
+
+        t_hit, y_hit, active = jax.lax.cond(
+            jnp.any(crossed), lambda: jax.vmap(locate)(lanes_.scene, lanes_.active, t_a, t_b, dense, y_b),
+            lambda: (lanes_.t, lanes_.y, lanes_.active))
+        c1 = crossed[:, None]
+        return dataclasses.replace(
+            lanes_, t=jnp.where(crossed, t_hit, lanes_.t), y=jnp.where(c1, y_hit, lanes_.y),
+            active=jnp.where(c1, active, lanes_.active), made_jump=lanes_.made_jump | crossed,
+            tnext=jnp.where(crossed, jnp.minimum(t_hit + (lanes_.tnext - lanes_.t), t1), lanes_.tnext),
+            events=lanes_.events + jnp.where(crossed, 1, 0))
 
     def running(lanes_):
         return ((lanes_.idx < n) & (lanes_.t < t1) & (lanes_.steps < max_steps)
@@ -227,7 +290,7 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         live = running(lanes_)
         t_old, tnext_old = lanes_.t, lanes_.tnext
         (t, tn, y, ss, cs, mj, keep, dense, y1, result) = jax.vmap(step)(
-            lanes_.scene, lanes_.t, lanes_.tnext, lanes_.y, lanes_.solver_state, lanes_.controller_state,
+            lanes_.scene, lanes_.active, lanes_.t, lanes_.tnext, lanes_.y, lanes_.solver_state, lanes_.controller_state,
             lanes_.made_jump)
         sel = lambda a, b: jnp.where(live.reshape(live.shape + (1,) * (a.ndim - 1)), a, b)  # noqa: E731
         new = dataclasses.replace(
@@ -235,6 +298,8 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
             steps=lanes_.steps + 1, accepted=lanes_.accepted + jnp.where(keep, 1, 0),
             rejected=lanes_.rejected + jnp.where(keep, 0, 1), result=result)
         new = jax.tree_util.tree_map(sel, new, lanes_)
+        if events:
+            new = switch(new, live & keep, t_old, tnext_old, dense, y1)
         if final_only:  # written at retirement
             return new, ys
         reached = jnp.where(live & keep, new.t, -jnp.inf)
@@ -249,8 +314,8 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         finite = jnp.all(jnp.isfinite(lanes_.y), axis=1)
         code = jnp.where(lanes_.result == 0, jnp.where(lanes_.t < t1, 1, jnp.where(finite, 0, 2)), 3)
         values = {"code": code, "num_steps": lanes_.steps, "num_accepted_steps": lanes_.accepted,
-                  "num_rejected_steps": lanes_.rejected}
-        out = {k: v.at[target].set(values[k]) for k, v in out.items()}
+                  "num_rejected_steps": lanes_.rejected, "num_events": lanes_.events}
+        out = {k: v.at[target].set(values[k]) for k, v in out.items()}  # the dump row n for the others
         if final_only:
             ys = ys.at[target, 0].set(jnp.where((lanes_.t >= t1)[:, None], lanes_.y, jnp.inf))
         free = finished | (lanes_.idx >= n)
@@ -266,12 +331,12 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
     def _fresh(take, points, lanes_, idx):
         scene_arrays = jax.tree_util.tree_map(lambda a: a[points], arrays)
         y0 = y0s[points]
-        tnext, ss, cs = jax.vmap(start)(scene_arrays, y0)
+        tnext, ss, cs, active = jax.vmap(start)(scene_arrays, y0)
         zeros = jnp.zeros_like(lanes_.steps)
-        started = _Lanes(idx=idx, scene=scene_arrays, t=jnp.broadcast_to(t0, tnext.shape), tnext=tnext, y=y0,
-                         solver_state=ss, controller_state=cs, made_jump=jnp.zeros_like(lanes_.made_jump),
-                         save_i=zeros, steps=zeros, accepted=zeros, rejected=zeros,
-                         result=jnp.zeros_like(lanes_.result))
+        started = _Lanes(idx=idx, scene=scene_arrays, active=active, t=jnp.broadcast_to(t0, tnext.shape),
+                         tnext=tnext, y=y0, solver_state=ss, controller_state=cs,
+                         made_jump=jnp.zeros_like(lanes_.made_jump), save_i=zeros, steps=zeros, accepted=zeros,
+                         rejected=zeros, result=jnp.zeros_like(lanes_.result), events=zeros)
         sel = lambda a, b: jnp.where(take.reshape(take.shape + (1,) * (a.ndim - 1)), a, b)  # noqa: E731
         merged = jax.tree_util.tree_map(sel, started, lanes_)
         return dataclasses.replace(merged, idx=idx)
@@ -283,24 +348,24 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
 
     # An empty buffer (every lane "finished" at point n), then the first fill.
     first = jnp.zeros((lanes,), dtype=jnp.int32)
-    tnext, ss, cs = jax.vmap(start)(jax.tree_util.tree_map(lambda a: a[first], arrays), y0s[first])
+    tnext, ss, cs, active = jax.vmap(start)(jax.tree_util.tree_map(lambda a: a[first], arrays), y0s[first])
     zeros = jnp.zeros((lanes,), dtype=jnp.int32)
     empty = _Lanes(idx=jnp.full((lanes,), n, dtype=jnp.int32), scene=jax.tree_util.tree_map(lambda a: a[first], arrays),
-                   t=jnp.broadcast_to(t0, (lanes,)), tnext=tnext, y=y0s[first], solver_state=ss,
+                   active=active, t=jnp.broadcast_to(t0, (lanes,)), tnext=tnext, y=y0s[first], solver_state=ss,
                    controller_state=cs, made_jump=jnp.zeros((lanes,), bool), save_i=zeros, steps=zeros,
-                   accepted=zeros, rejected=zeros, result=zeros)
+                   accepted=zeros, rejected=zeros, result=zeros, events=zeros)
     ys = jnp.full((n + 1, n_save, y0s.shape[1]), jnp.inf)
-    out = {k: jnp.zeros((n + 1,), dtype=jnp.int32) for k in ("code", "num_steps", "num_accepted_steps",
-                                                             "num_rejected_steps")}
+    counts = ("num_steps", "num_accepted_steps", "num_rejected_steps") + (("num_events",) if events else ())
+    out = {k: jnp.zeros((n + 1,), dtype=jnp.int32) for k in ("code",) + counts}
     c = refill((empty, ys, out, jnp.asarray(0), jnp.asarray(0)))
     _, ys, out, _, _ = jax.lax.while_loop(lambda c: c[4] < n, round_, c)
     ys = ys[:n]
     ts_all = jnp.broadcast_to(ts, (n, n_save))
     outputs = eqx.filter_vmap(lambda sc, t, y: jax.vmap(sc.outputs)(t, y))(scenes, ts_all, ys)
-    stats = {k: out[k][:n] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
+    stats = {k: out[k][:n] for k in counts}
     return SimulationResult(ts=ts_all, ys=ys, outputs=outputs, code=out["code"][:n], stats=stats,
                             solver=type(solver).__name__ + "+buffered")
 
 
 _buffered = eqx.filter_jit(_buffered_impl)
-_buffered_pmap = eqx.filter_pmap(_buffered_impl, in_axes=(0, 0) + (None,) * 10)
+_buffered_pmap = eqx.filter_pmap(_buffered_impl, in_axes=(0, 0) + (None,) * 11)
