@@ -37,8 +37,10 @@ class IVP(eqx.Module):
     """An initial-value problem at one grid point: what a function swept by
     `rotorjax.sweep` returns to have the sweep integrate it.
 
-    `scene` and `y0` vary over the grid; the time span, output times, solver and
-    tolerances (static fields) are the same for every point. `sweep` integrates the
+    `scene`, `y0` and `t_span` may vary over the grid (a span per point: a number
+    of revolutions at each speed); the output times (None or a count of states
+    over each span), solver and tolerances (static fields) are the same for every
+    point. `sweep` integrates the
     whole grid in one buffered batch (`simulate_batch`) and returns the batched
     `SimulationResult`. `events=True`: event-located contact switching, as
     `simulate_events` (for scenes with contacts).
@@ -46,7 +48,7 @@ class IVP(eqx.Module):
 
     scene: eqx.Module
     y0: jax.Array
-    t_span: tuple = eqx.field(static=True)
+    t_span: tuple
     saveat: object = eqx.field(static=True, default=None)
     solver: object = eqx.field(static=True, default="auto")
     rtol: float = eqx.field(static=True, default=1e-8)
@@ -87,7 +89,9 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     check_choice("method", method, METHODS)
     y0s = _batch_states(scenes, y0s)
     n = y0s.shape[0]
-    t0, t1 = _split_span(t_span)
+    t0s, t1s = _spans(t_span, n)
+    t0, t1 = t0s[0], t1s[0]
+    uniform = bool(np.all(t0s == t0) and np.all(t1s == t1))
     scene0 = jax.tree_util.tree_map(lambda a: a[0] if eqx.is_array(a) else a, scenes)
     _check_scene(scene0)
     if y0s.shape[1] != scene0.state_size:
@@ -104,7 +108,11 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
             raise InputError("events: the scene has no contacts (limiters); use events=False")
         if method != "buffered":
             raise InputError(f"events=True needs method='buffered', got method={method!r}")
+    if not uniform and not (saveat is None or isinstance(saveat, (int, np.integer))):
+        raise InputError("saveat: with a time span per point give a count of saved states (or None), not times")
     if method == "pallas":
+        if not uniform:
+            raise InputError("t_span: method='pallas' takes one time span for all points")
         if saveat is not None:
             raise InputError("saveat: method='pallas' returns the final state only; use saveat=None, or "
                              "method='buffered' for saved times")
@@ -115,21 +123,44 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     if method == "vmap":
         from ._simulate import _solve
 
-        save = _saveat(saveat, t0, t1)
         return eqx.filter_vmap(
-            lambda sc, y: _solve(sc, y, f64(t0), f64(t1), save, solver, f64(rtol), f64(atol), max_steps,
-                                 None, None))(scenes, y0s)
-    save = _saveat(saveat, t0, t1)
-    final_only = save.subs.ts is None
-    ts = jnp.reshape(f64(t1), (1,)) if final_only else save.subs.ts
-    rest = (f64(t0), f64(t1), ts, solver, f64(rtol), f64(atol), jnp.asarray(max_steps))
+            lambda sc, y, a, b: _solve(sc, y, a, b, _saveat(saveat, a, b), solver, f64(rtol), f64(atol),
+                                       max_steps, None, None))(scenes, y0s, f64(t0s), f64(t1s))
+    _saveat(saveat, t0, t1)  # checks
+    relative = isinstance(saveat, (int, np.integer)) and not isinstance(saveat, bool)
+    final_only = saveat is None
+    # output times: absolute, or fractions of each point's span (a count of saved states)
+    ts = jnp.ones((1,)) if final_only else jnp.linspace(0.0, 1.0, int(saveat)) if relative else f64(saveat)
+    rest = (ts, solver, f64(rtol), f64(atol), jnp.asarray(max_steps))
+    static = (steps_per_round, final_only, relative, events)
     devices = jax.local_devices() if shard else []
     if len(devices) < 2 or n < 2:
-        return _buffered(scenes, y0s, *rest, lanes, steps_per_round, final_only, events)
-    return _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, events, devices)
+        return _buffered(scenes, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
+    return _over_devices(scenes, y0s, f64(t0s), f64(t1s), rest, lanes, static, devices)
 
 
-def _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, events, devices):
+def _spans(t_span, n):
+    """`(t0s, t1s)`, one per point, from a pair of scalars or of length-`n` arrays."""
+    t0, t1 = _split_span(t_span)
+    out = []
+    for name, v in (("t_span[0]", t0), ("t_span[1]", t1)):
+        try:
+            a = np.asarray(v, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be a number or an array of one per point, got {v!r}") from None
+        if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n):
+            raise InputError(f"{name} must be a number or an array of {n} (one per point), got shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"{name} must be finite, got {a}")
+        out.append(np.broadcast_to(a, (n,)))
+    bad = np.flatnonzero(~(out[1] > out[0]))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(f"t_span must be increasing (t1 > t0), got ({out[0][i]}, {out[1][i]}) at point {i}")
+    return out
+
+
+def _over_devices(scenes, y0s, t0s, t1s, rest, lanes, static, devices):
     """`run` on each local device with its own buffer (`jax.pmap`): point `i` goes to
     device `i mod D` (neighbouring points cost alike, so the devices share the work
     evenly); padded with the last point, results put back in order."""
@@ -137,8 +168,8 @@ def _over_devices(scenes, y0s, rest, lanes, steps_per_round, final_only, events,
     per = -(-n // d)
     order = np.minimum(np.arange(per * d).reshape(per, d).T.reshape(-1), n - 1)
     split = lambda a: a[order].reshape((d, per) + a.shape[1:]) if eqx.is_array(a) else a  # noqa: E731
-    out = _buffered_pmap(jax.tree_util.tree_map(split, scenes), split(y0s), *rest,
-                         min(-(-lanes // d), per), steps_per_round, final_only, events)
+    out = _buffered_pmap(jax.tree_util.tree_map(split, scenes), split(y0s), split(t0s), split(t1s), *rest,
+                         min(-(-lanes // d), per), *static)
     back = np.argsort(order, kind="stable")[:n]  # the first copy of each point
     return jax.tree_util.tree_map(lambda a: a.reshape((d * per,) + a.shape[2:])[back], out)
 
@@ -176,6 +207,8 @@ class _Lanes(eqx.Module):
     idx: jax.Array
     scene: eqx.Module
     active: jax.Array
+    t0: jax.Array
+    t1: jax.Array
     t: jax.Array
     tnext: jax.Array
     y: jax.Array
@@ -195,15 +228,14 @@ def _lane_field(t, y, args):
     return scene.vector_field(t, y, active) if active.shape[0] else scene.vector_field(t, y)
 
 
-def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only,
-                   events):
+def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only,
+                   relative, events):
     n, n_save = y0s.shape[0], ts.shape[0]
     term = diffrax.ODETerm(_lane_field)
     controller = diffrax.PIDController(rtol=rtol, atol=atol)
     solver = _with_tolerances(solver, controller)
     order = solver.error_order(term)
     arrays, static = eqx.partition(scenes, eqx.is_array)
-    clip_floor = jnp.nextafter(t1, -jnp.inf)
     ok = diffrax.RESULTS.successful
 
     def signed(scene_arrays, active, t, y):
@@ -211,21 +243,22 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         g = eqx.combine(scene_arrays, static).contact_indicator(t, y)
         return jnp.where(active, -1.0, 1.0) * g
 
-    def start(scene_arrays, y0):
+    def start(scene_arrays, y0, t0, t1):
         scene = eqx.combine(scene_arrays, static)
         active = scene.contact_indicator(t0, y0) > 0 if events else jnp.zeros((0,), bool)
         tnext, cstate = controller.init(term, t0, t1, y0, None, (scene, active), solver.func, order)
         tnext = jnp.minimum(tnext, t1)
         return tnext, solver.init(term, t0, tnext, y0, (scene, active)), cstate, active
 
-    def step(scene_arrays, active, t, tnext, y, sstate, cstate, made_jump):
+    def step(scene_arrays, active, t1, t, tnext, y, sstate, cstate, made_jump):
         args = (eqx.combine(scene_arrays, static), active)
         y1, yerr, dense, sstate1, sres = solver.step(term, t, tnext, y, args, sstate, made_jump)
         yerr = jnp.where(jnp.isnan(yerr), jnp.inf, yerr)
         keep, tprev, tn, mj, cstate1, cres = controller.adapt_step_size(
             t, tnext, y, y1, args, yerr, order, cstate)
         tprev = jnp.minimum(tprev, t1)
-        tn = jnp.where(tn > clip_floor, jnp.where(keep, t1, tprev + 0.5 * (t1 - tprev)), tn)
+        clip = tn > jnp.nextafter(t1, -jnp.inf)
+        tn = jnp.where(clip, jnp.where(keep, t1, tprev + 0.5 * (t1 - tprev)), tn)
         pick = lambda a, b: jnp.where(keep, a, b)  # noqa: E731
         # 0: fine, 1: the step-size controller's failure, 2: the solver's (not `code`)
         result = jnp.where(keep & (sres != ok), 2, jnp.where(cres != ok, 1, 0))
@@ -263,18 +296,25 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         return dataclasses.replace(
             lanes_, t=jnp.where(crossed, t_hit, lanes_.t), y=jnp.where(c1, y_hit, lanes_.y),
             active=jnp.where(c1, active, lanes_.active), made_jump=lanes_.made_jump | crossed,
-            tnext=jnp.where(crossed, jnp.minimum(t_hit + (lanes_.tnext - lanes_.t), t1), lanes_.tnext),
+            tnext=jnp.where(crossed, jnp.minimum(t_hit + (lanes_.tnext - lanes_.t), lanes_.t1), lanes_.tnext),
             events=lanes_.events + jnp.where(crossed, 1, 0))
 
+    def time(lanes_, k):
+        """The lanes' `k`-th output times (`k` one per lane)."""
+        if not relative:
+            return ts[k]
+        a, b = lanes_.t0, lanes_.t1
+        return jnp.where(k == n_save - 1, b, a + (b - a) * ts[k])
+
     def running(lanes_):
-        return ((lanes_.idx < n) & (lanes_.t < t1) & (lanes_.steps < max_steps)
+        return ((lanes_.idx < n) & (lanes_.t < lanes_.t1) & (lanes_.steps < max_steps)
                 & (lanes_.result == 0))
 
     def save_due(ys, lanes_, reached, value):
         """Write every output time `<= reached` not yet saved; `value(k)` gives the
-        lanes' states at the output times `ts[k]`."""
+        lanes' states at their output times `k`."""
         def due(save_i):
-            return (lanes_.idx < n) & (save_i < n_save) & (ts[jnp.minimum(save_i, n_save - 1)] <= reached)
+            return (lanes_.idx < n) & (save_i < n_save) & (time(lanes_, jnp.minimum(save_i, n_save - 1)) <= reached)
 
         def body(c):
             ys, save_i = c
@@ -290,7 +330,7 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         live = running(lanes_)
         t_old, tnext_old = lanes_.t, lanes_.tnext
         (t, tn, y, ss, cs, mj, keep, dense, y1, result) = jax.vmap(step)(
-            lanes_.scene, lanes_.active, lanes_.t, lanes_.tnext, lanes_.y, lanes_.solver_state, lanes_.controller_state,
+            lanes_.scene, lanes_.active, lanes_.t1, lanes_.t, lanes_.tnext, lanes_.y, lanes_.solver_state, lanes_.controller_state,
             lanes_.made_jump)
         sel = lambda a, b: jnp.where(live.reshape(live.shape + (1,) * (a.ndim - 1)), a, b)  # noqa: E731
         new = dataclasses.replace(
@@ -303,7 +343,7 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         if final_only:  # written at retirement
             return new, ys
         reached = jnp.where(live & keep, new.t, -jnp.inf)
-        value = lambda k: jax.vmap(evaluate)(t_old, tnext_old, dense, y1, jnp.broadcast_to(ts[k], t_old.shape))  # noqa: E731
+        value = lambda k: jax.vmap(evaluate)(t_old, tnext_old, dense, y1, time(new, k))  # noqa: E731
         ys, save_i = save_due(ys, new, reached, value)
         return dataclasses.replace(new, save_i=save_i), ys
 
@@ -312,28 +352,29 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
         finished = (lanes_.idx < n) & ~running(lanes_)
         target = jnp.where(finished, lanes_.idx, n)
         finite = jnp.all(jnp.isfinite(lanes_.y), axis=1)
-        code = jnp.where(lanes_.result == 0, jnp.where(lanes_.t < t1, 1, jnp.where(finite, 0, 2)), 3)
+        code = jnp.where(lanes_.result == 0, jnp.where(lanes_.t < lanes_.t1, 1, jnp.where(finite, 0, 2)), 3)
         values = {"code": code, "num_steps": lanes_.steps, "num_accepted_steps": lanes_.accepted,
                   "num_rejected_steps": lanes_.rejected, "num_events": lanes_.events}
         out = {k: v.at[target].set(values[k]) for k, v in out.items()}  # the dump row n for the others
         if final_only:
-            ys = ys.at[target, 0].set(jnp.where((lanes_.t >= t1)[:, None], lanes_.y, jnp.inf))
+            ys = ys.at[target, 0].set(jnp.where((lanes_.t >= lanes_.t1)[:, None], lanes_.y, jnp.inf))
         free = finished | (lanes_.idx >= n)
         new_idx = next_point + jnp.cumsum(free) - 1
         take = free & (new_idx < n)
         idx = jnp.where(take, new_idx, jnp.where(finished, n, lanes_.idx))
         fresh = _fresh(take, jnp.minimum(new_idx, n - 1), lanes_, idx)
         if not final_only:
-            ys, save_i = save_due(ys, fresh, jnp.where(take, t0, -jnp.inf), lambda k: fresh.y)
+            ys, save_i = save_due(ys, fresh, jnp.where(take, fresh.t0, -jnp.inf), lambda k: fresh.y)
             fresh = dataclasses.replace(fresh, save_i=save_i)
         return fresh, ys, out, next_point + jnp.sum(take), retired + jnp.sum(finished)
 
     def _fresh(take, points, lanes_, idx):
         scene_arrays = jax.tree_util.tree_map(lambda a: a[points], arrays)
         y0 = y0s[points]
-        tnext, ss, cs, active = jax.vmap(start)(scene_arrays, y0)
+        t0, t1 = t0s[points], t1s[points]
+        tnext, ss, cs, active = jax.vmap(start)(scene_arrays, y0, t0, t1)
         zeros = jnp.zeros_like(lanes_.steps)
-        started = _Lanes(idx=idx, scene=scene_arrays, active=active, t=jnp.broadcast_to(t0, tnext.shape),
+        started = _Lanes(idx=idx, scene=scene_arrays, active=active, t0=t0, t1=t1, t=t0,
                          tnext=tnext, y=y0, solver_state=ss, controller_state=cs,
                          made_jump=jnp.zeros_like(lanes_.made_jump), save_i=zeros, steps=zeros, accepted=zeros,
                          rejected=zeros, result=jnp.zeros_like(lanes_.result), events=zeros)
@@ -348,10 +389,11 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
 
     # An empty buffer (every lane "finished" at point n), then the first fill.
     first = jnp.zeros((lanes,), dtype=jnp.int32)
-    tnext, ss, cs, active = jax.vmap(start)(jax.tree_util.tree_map(lambda a: a[first], arrays), y0s[first])
+    tnext, ss, cs, active = jax.vmap(start)(jax.tree_util.tree_map(lambda a: a[first], arrays), y0s[first],
+                                            t0s[first], t1s[first])
     zeros = jnp.zeros((lanes,), dtype=jnp.int32)
     empty = _Lanes(idx=jnp.full((lanes,), n, dtype=jnp.int32), scene=jax.tree_util.tree_map(lambda a: a[first], arrays),
-                   active=active, t=jnp.broadcast_to(t0, (lanes,)), tnext=tnext, y=y0s[first], solver_state=ss,
+                   active=active, t0=t0s[first], t1=t1s[first], t=t0s[first], tnext=tnext, y=y0s[first], solver_state=ss,
                    controller_state=cs, made_jump=jnp.zeros((lanes,), bool), save_i=zeros, steps=zeros,
                    accepted=zeros, rejected=zeros, result=zeros, events=zeros)
     ys = jnp.full((n + 1, n_save, y0s.shape[1]), jnp.inf)
@@ -360,7 +402,13 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
     c = refill((empty, ys, out, jnp.asarray(0), jnp.asarray(0)))
     _, ys, out, _, _ = jax.lax.while_loop(lambda c: c[4] < n, round_, c)
     ys = ys[:n]
-    ts_all = jnp.broadcast_to(ts, (n, n_save))
+    if final_only:
+        ts_all = t1s[:, None]
+    elif relative:  # the times `time` saved at
+        last = jnp.arange(n_save) == n_save - 1
+        ts_all = jnp.where(last, t1s[:, None], t0s[:, None] + (t1s - t0s)[:, None] * ts[None, :])
+    else:
+        ts_all = jnp.broadcast_to(ts, (n, n_save))
     outputs = eqx.filter_vmap(lambda sc, t, y: jax.vmap(sc.outputs)(t, y))(scenes, ts_all, ys)
     stats = {k: out[k][:n] for k in counts}
     return SimulationResult(ts=ts_all, ys=ys, outputs=outputs, code=out["code"][:n], stats=stats,
@@ -368,4 +416,4 @@ def _buffered_impl(scenes, y0s, t0, t1, ts, solver, rtol, atol, max_steps, lanes
 
 
 _buffered = eqx.filter_jit(_buffered_impl)
-_buffered_pmap = eqx.filter_pmap(_buffered_impl, in_axes=(0, 0) + (None,) * 11)
+_buffered_pmap = eqx.filter_pmap(_buffered_impl, in_axes=(0, 0, 0, 0) + (None,) * 10)

@@ -165,3 +165,19 @@ def test_each_host_device_runs_its_own_buffer():
     env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr[-3000:]
+
+
+def test_a_time_span_per_point():
+    """Three revolutions at each speed: the span follows the point (a count of saved
+    states is spread over each point's own span)."""
+    speeds = jnp.array([1.5, 4.0])
+
+    def one(p):
+        return rj.IVP(scene(p["n"]), Y0, (0.0, 3 * 2 * jnp.pi / p["n"]), saveat=4, solver="dopri8", **TOLS)
+
+    res = rj.sweep(one, {"n": speeds}, lanes=1)
+    for i, n in enumerate(np.asarray(speeds)):
+        t1 = 3 * 2 * np.pi / n
+        ref = rj.simulate(scene(n), Y0, (0.0, t1), saveat=4, solver="dopri8", **TOLS)
+        np.testing.assert_allclose(res.values.ts[i], ref.ts, rtol=1e-15)
+        np.testing.assert_allclose(res.values.ys[i], ref.ys, rtol=0, atol=1e-7 * float(np.max(np.abs(ref.ys))))
