@@ -1,4 +1,5 @@
-"""`bifurcation`: an extrema diagram over a swept parameter (vmapped runs)."""
+"""`bifurcation`: an extrema diagram over a swept parameter (one batch of runs: each
+run advances by its own adaptive steps, `rotorjax.solve.simulate_batch`)."""
 
 import json
 import math
@@ -20,15 +21,15 @@ def cmd_bifurcation(args) -> int:
 
     from rotorjax.analysis._summary import precession_diagram, speeds_at
     from rotorjax.plot import plot_bifurcation
-    from rotorjax.solve import simulate
+    from rotorjax.solve import IVP
     from rotorjax.sweep import sweep
 
     preset, params = preset_and_params(args, "bifurcation", "contact")
     key, lo, hi, n = grid_spec("--param", args.param, preset, params, allowed=tuple(preset.sweepable))
     base = build(preset, params)
-    if base.extras.get("events"):
-        raise InputError("--set events=1: bifurcation sweeps use the smoothed contact (events=0); the "
-                         "event-located contact runs one point at a time (`simulate --set events=1`)")
+    events = bool(base.extras.get("events"))
+    if events and args.batch != "buffered":
+        raise InputError("--set events=1: event-located contact runs in the buffered batch; drop --batch vmap")
     where = preset.sweepable[key]
     try:
         where(base.scene)
@@ -44,26 +45,31 @@ def cmd_bifurcation(args) -> int:
 
     def run(p):
         scene = eqx.tree_at(where, scene0, jnp.broadcast_to(p[key], jnp.shape(where(scene0))))
-        t1 = 2 * jnp.pi / scene.speed.speed(0.0) * revolutions
-        r = simulate(scene, y0, (0.0, t1), saveat=n_save, solver=solver, rtol=args.rtol, atol=args.atol,
-                     max_steps=args.max_steps)
-        o = r.outputs
-        return {"ts": r.ts, "x": o["disk_x"], "y": o["disk_y"], "vx": o["disk_vx"], "vy": o["disk_vy"],
-                "code": r.code}
+        t1 = 2 * jnp.pi / scene.speed.speed(0.0) * revolutions  # a span per point when N is swept
+        return IVP(scene, y0, (0.0, t1), saveat=n_save, solver=solver, rtol=args.rtol, atol=args.atol,
+                   max_steps=args.max_steps, events=events)
 
     values = np.linspace(lo, hi, n)
     chunk = args.chunk or auto_chunk(n)
-    res = sweep(run, {key: values}, chunk_size=chunk, progress=not args.json and n > chunk)
+    res = sweep(run, {key: values}, chunk_size=chunk, progress=not args.json and n > chunk, batch=args.batch,
+                lanes=args.lanes)
+    r = res.values
+    lanes = {"ts": r.ts, "x": r.outputs["disk_x"], "y": r.outputs["disk_y"], "vx": r.outputs["disk_vx"],
+             "vy": r.outputs["disk_vy"], "code": r.code}
     speed = float(speeds_at(scene0, [0.0])[0])
     speeds = values if key == preset.speed_key else np.full(n, speed)
-    rows, extrema, lams, switches = precession_diagram(key, values, res.values, speeds, revolutions,
+    rows, extrema, lams, switches = precession_diagram(key, values, lanes, speeds, revolutions,
                                                        base.extras.get("analysis_revolutions", 300))
     stem = out_stem(args.out, preset, "bifurcation_", f"_{key}")
     plot_bifurcation(values, extrema, lams, stem + ".png", key,
                      title=f"{preset.name}: extrema of disk x vs {key} ({preset.speed_key} = "
                            f"{params[preset.speed_key]:g}, {revolutions} revolutions)")
     failed = sum(r["code"] != 0 for r in rows)
+    steps = np.asarray(r.stats["num_steps"])
     out = {"preset": preset.name, "param": key, "params": params, "points": rows,
+           "batch": {"method": args.batch, "solver": r.solver, "steps_mean": float(steps.mean()),
+                     "steps_max": int(steps.max()),
+                     **({"events": [int(e) for e in np.asarray(r.stats["num_events"])]} if events else {})},
            "Lambda_sign_switches": switches, "failed_points": failed,
            "files": {"plot": stem + ".png", "data": stem + ".json"}}
     write_json(stem + ".json", out, indent=2)

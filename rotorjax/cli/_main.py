@@ -208,13 +208,20 @@ def build_parser():
                                     f"{HOPF_RANGE[1]:g})"),
         (("--n-scan",), dict(type=at_least(2), default=80, help="scan points before bisection")),
     ], kinds="cantilever-limiters")
-    _command(sub, "bifurcation", "extrema diagram over a swept parameter (vmapped)", cmd_bifurcation, [
+    _command(sub, "bifurcation", "extrema diagram over a swept parameter (one batch of runs)", cmd_bifurcation, [
         (("--param",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NP"), required=True,
                             help=f"the swept --set key (one of {', '.join(SWEEPABLE)}), its range and number "
                                  "of points (>= 2)")),
         *_integration(1_000_000),
+        (("--batch",), dict(choices=("buffered", "vmap"), default="buffered",
+                            help="buffered: every run advances by its own adaptive steps in a fixed set of "
+                                 "lanes refilled as runs finish (default); vmap: the previous lock-step "
+                                 "chunks")),
+        (("--lanes",), dict(type=at_least(1), default=None,
+                            help="runs integrated at once by the buffered batch (default: all, up to 128)")),
         (("--chunk",), dict(type=at_least(1), default=None,
-                            help="lanes per vmapped call (default: up to 16, so that progress shows)")),
+                            help="--batch vmap: lanes per vmapped call (default: up to 16, so that progress "
+                                 "shows)")),
     ], kinds="cantilever-limiters")
     _command(sub, "continue", "continuation: a branch in one parameter, or a stability boundary in two",
              cmd_continue, [
