@@ -48,3 +48,40 @@ def write_results(name, out):
         json.dump(out, f, indent=2)
     print(f"wrote {path}")
     return path
+
+
+def _busy_ticks():
+    with open("/proc/stat") as f:
+        v = [int(x) for x in f.readline().split()[1:]]
+    return v[0] + v[1] + v[2] + v[5] + v[6] + v[7]  # user nice system irq softirq steal
+
+
+class CpuWatch:
+    """How busy the machine was with other processes while a benchmark ran: cores
+    busy in all (`/proc/stat`, Linux) minus this process's own CPU time, over the wall
+    time. On a shared machine, timings taken while `other_cores_busy` is large are
+    slowed; ratios measured in the same run are more robust than absolute times."""
+
+    def __init__(self):
+        self.start()
+
+    def start(self):
+        self._t, self._cpu, self._ticks = time.perf_counter(), sum(os.times()[:4]), self._read()
+        return self
+
+    @staticmethod
+    def _read():
+        try:
+            return _busy_ticks()
+        except (OSError, ValueError, IndexError):
+            return None
+
+    def report(self):
+        wall = time.perf_counter() - self._t
+        own = sum(os.times()[:4]) - self._cpu
+        ticks = self._read()
+        if ticks is None or self._ticks is None or wall <= 0:
+            return {"wall_s": wall, "own_cpu_s": own, "other_cores_busy": None}
+        busy = (ticks - self._ticks) / os.sysconf("SC_CLK_TCK")
+        return {"wall_s": wall, "own_cpu_s": own, "all_cpu_s": busy,
+                "other_cores_busy": max(busy - own, 0.0) / wall, "cpu_count": os.cpu_count()}
