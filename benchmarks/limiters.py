@@ -13,9 +13,20 @@ the disk to the limiters in the first revolution: several contacts) against roto
 maximum disk x over the last 150 revolutions are reported too. The ratio at
 matched accuracy interpolates each scipy method's time at rotorjax's error
 (log-log in its ladder).
-(b) A 64-point eccentricity sweep (eps in [0, 0.002], 300 revolutions, smoothed
-contact, rotorjax at rtol 1e-7) in vmapped calls vs a scipy LSODA loop at the
-tolerance that matches rotorjax's error, timed on a subset and extrapolated.
+(b) A 64-point eccentricity sweep (eps in [0, 0.002], 300 revolutions, 12 000 saved
+states per point for `<Lambda>`, smoothed contact, rotorjax Dopri8 at rtol 1e-7) vs a
+scipy LSODA loop at the tolerance that matches rotorjax's error (the loosest rung of
+its ladder at least as accurate as rotorjax's smoothed run), timed on a subset of
+eccentricities spread over the range and scaled to the sweep. rotorjax runs it
+  - through the public path: `rotorjax.sweep` over a function returning
+    `rotorjax.IVP` (the buffered batch: each lane advances by its own adaptive steps
+    and is refilled from the queue), on one device and with `shard=True` over the two
+    host devices (XLA_FLAGS set below, before jax is imported); `lanes` tuned briefly;
+  - the same with event-located contact (`IVP(..., events=True)`), sharded;
+  - the previous path: vmapped `simulate` in calls of 16 lanes (lock-step).
+Steps per point (mean and max) show the lock-step waste; the target (issue 17) is
+>= 50x the LSODA loop. `--only sweep` runs part (b) alone and updates only its key
+(`"sweep"`) in the existing JSON, with the matched tolerance from the JSON's part (a).
 
 (c) The full FE model (all 32 dofs) against the 6-mode reduction, 50 revolutions:
 the stiffness ratio, the solver "auto" picks, Dopri8 and Kvaerno5 on each.
@@ -29,11 +40,16 @@ import os
 import sys
 import time
 
-import numpy as np
+# Two host devices, so that the sharded sweep can use both cores (must precede jax).
+os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
+
+import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from _common import machine, timed, write_results  # noqa: E402
+from _common import CpuWatch, machine, timed, timed_first, write_results  # noqa: E402
+
+LADDERS = {"Radau": (1e-7, 1e-9), "LSODA": (1e-7, 1e-9, 1e-11, 1e-12)}
 
 
 def _with_ratio(d):
@@ -45,12 +61,20 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--revolutions", type=int, default=300)
     ap.add_argument("--n-sweep", type=int, default=64)
-    ap.add_argument("--scipy-sweep", type=int, default=3)
+    ap.add_argument("--scipy-sweep", type=int, default=4,
+                    help="eccentricities (spread over the range) the LSODA loop is timed on")
+    ap.add_argument("--repeats", type=int, default=2, help="timed calls per sweep variant (median)")
+    ap.add_argument("--lanes", type=int, nargs="+", default=[8, 16, 32],
+                    help="lanes (in all) tried for the buffered sweep")
+    ap.add_argument("--only", choices=("all", "sweep"), default="all",
+                    help="'sweep': part (b) alone, merged into the existing JSON")
+    ap.add_argument("--isolate-shard", type=int, default=1,
+                    help="1: run each sharded sweep task in a fresh process, retried if it aborts")
+    ap.add_argument("--child", help=argparse.SUPPRESS)
+    ap.add_argument("--child-out", help=argparse.SUPPRESS)
     args = ap.parse_args()
 
-    import equinox as eqx
     import jax
-    import jax.numpy as jnp
 
     import rotorjax as rj
     from rotorjax.analysis import precession
@@ -68,6 +92,22 @@ def main():
     n_save = 40 * args.revolutions
     ts = np.linspace(0, T, n_save)
     t20 = 2 * np.pi / N * 5
+    if args.child:  # one sharded sweep task (see _task_in_child)
+        row = _run_task(_sweep_tools(args, scene, y0, T, n_save, ts, N), json.loads(args.child))
+        with open(args.child_out, "w") as f:
+            json.dump(row, f)
+        return
+    if args.only == "sweep":
+        path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "limiters.json")
+        with open(path) as f:
+            out = json.load(f)
+        if out["setup"]["revolutions"] != args.revolutions:
+            raise SystemExit(f"--only sweep needs the JSON's revolutions ({out['setup']['revolutions']})")
+        out["sweep"] = eccentricity_sweep(args, scene, y0, T, n_save, ts, N, out["single_run"])
+        out["sweep"]["note"] = "part (b) run alone (--only sweep) and merged; parts (a), (c) from an earlier run"
+        print(json.dumps({k: v for k, v in out["sweep"].items() if k not in ("eps",)}, indent=1)[:4000])
+        write_results("limiters", out)
+        return
     ref20 = rj.simulate(scene, y0, (0.0, t20), saveat=None, solver="dopri8", rtol=1e-12, atol=1e-15,
                         max_steps=10**7)
     ref13 = rj.simulate(scene, y0, (0.0, t20), saveat=None, solver="dopri8", rtol=1e-13, atol=1e-16,
@@ -110,7 +150,7 @@ def main():
                 **stats(np.asarray(res.ts), np.asarray(res.ys))}
             print(name, tol, runs[f"{name}_rtol{tol:g}"], flush=True)
     model = NumpyModel004(scene)
-    ladders = {"Radau": (1e-7, 1e-9), "LSODA": (1e-7, 1e-9, 1e-11, 1e-12)}
+    ladders = LADDERS
     for method, tols in ladders.items():
         for tol in tols:
             t0 = time.perf_counter()
@@ -154,40 +194,14 @@ def main():
     print(full_runs, flush=True)
 
     # (b) eccentricity sweep
-    eps = np.linspace(0.0, 0.002, args.n_sweep)
-
-    def one(e):
-        s = eqx.tree_at(lambda s: s.eps, scene, e)
-        r = rj.simulate(s, y0, (0.0, T), saveat=n_save, solver="dopri8", rtol=1e-7, atol=1e-7, max_steps=10**7)
-        o = r.outputs
-        return o["disk_x"], o["disk_y"], o["disk_vx"], o["disk_vy"], r.code
-
-    # vmapped calls of 16 lanes: adaptive lanes run in lock-step, so a few smaller
-    # calls beat one of 64 (measured: 6.6 s vs 8.7 s)
-    sweep_fn = jax.jit(jax.vmap(one))
-
-    def sweep_all():
-        parts = [sweep_fn(jnp.asarray(eps[i:i + 16])) for i in range(0, len(eps), 16)]
-        return [jnp.concatenate(a) for a in zip(*parts)]
-    t_sweep, (x, y, vx, vy, code) = timed(sweep_all, repeats=1)
-    lams = [precession(ts, *(np.asarray(a)[i] for a in (x, y, vx, vy)), N, window=(0.5, 1.0)).mean
-            for i in range(len(eps))]
-    # scipy LSODA's tolerance at rotorjax's (rtol 1e-7) error, from its ladder
-    target = runs["rotorjax_smooth_dopri8_rtol1e-07"]["error_after_5_revolutions"]
-    sweep_tol = max([t for t in ladders["LSODA"] if runs[f"scipy_LSODA_rtol{t:g}"]["error_after_5_revolutions"]
-                     <= target] or [min(ladders["LSODA"])])
-    t0 = time.perf_counter()
-    for e in eps[: args.scipy_sweep]:
-        m = NumpyModel004(eqx.tree_at(lambda s: s.eps, scene, jnp.float64(e)))
-        solve_ivp(m, (0.0, T), np.asarray(y0), method="LSODA", rtol=sweep_tol, atol=sweep_tol, t_eval=ts)
-    t_scipy_each = (time.perf_counter() - t0) / args.scipy_sweep
-    switch = [float(0.5 * (eps[i] + eps[i + 1])) for i in range(len(eps) - 1) if np.sign(lams[i]) != np.sign(lams[i + 1])]
+    sweep = eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs)
 
     base = runs["rotorjax_smooth_dopri8_rtol1e-07"]["seconds"]
     out = {
         "benchmark": "model 004 limiters",
         "machine": machine(),
         "versions": {"jax": jax.__version__},
+        "gpu": "not available to this task",
         "setup": {"revolutions": args.revolutions, "N": N, "eps": p["eps"], "kappa": p["kappa"],
                   "perturbation": p["perturbation"],
                   "n_modes": p["n_modes"], "smoothing": p["smoothing"], "saved_states": n_save},
@@ -205,15 +219,206 @@ def main():
             for ours in ("rotorjax_smooth_dopri8_rtol1e-07", "rotorjax_smooth_dopri8_rtol1e-09",
                          "rotorjax_events_dopri8_rtol1e-07")},
         "reduction_and_stiffness": full_runs,
-        "sweep": {"n": args.n_sweep, "rotorjax_s": t_sweep, "rotorjax_s_per_point": t_sweep / args.n_sweep,
-                  "failed": int(np.sum(np.asarray(code) != 0)), "scipy_LSODA_s_per_point": t_scipy_each,
-                  "scipy_subset": args.scipy_sweep, "scipy_rtol": sweep_tol,
-                  "ratio": t_scipy_each * args.n_sweep / t_sweep,
-                  "eps": eps.tolist(), "mean_Lambda": lams, "Lambda_sign_switch_eps": switch},
+        "sweep": sweep,
     }
     print(json.dumps({k: v for k, v in out.items() if k not in ("machine",)}, indent=1)[:4000])
     write_results("limiters", out)
 
+
+def _sweep_tools(args, scene, y0, T, n_save, ts, N):
+    """The sweep's grid and runners: `vmapped()`, `buffered(events, **sweep_kw)` (each a
+    function returning disk x, y, vx, vy, codes, steps) and `measure(name, fn)`."""
+    import equinox as eqx
+    import jax
+    import jax.numpy as jnp
+
+    import rotorjax as rj
+    from rotorjax.analysis import precession
+
+    eps = np.linspace(0.0, 0.002, args.n_sweep)
+
+    def one(e):
+        s = eqx.tree_at(lambda s: s.eps, scene, e)
+        r = rj.simulate(s, y0, (0.0, T), saveat=n_save, solver="dopri8", rtol=1e-7, atol=1e-7, max_steps=10**7)
+        o = r.outputs
+        return o["disk_x"], o["disk_y"], o["disk_vx"], o["disk_vy"], r.code, r.stats["num_steps"]
+
+    # the previous path: vmapped calls of 16 lanes (adaptive lanes run in lock-step,
+    # so a few smaller calls beat one of 64: measured 6.6 s vs 8.7 s)
+    sweep_fn = jax.jit(jax.vmap(one))
+
+    def vmapped():
+        parts = [sweep_fn(jnp.asarray(eps[i:i + 16])) for i in range(0, len(eps), 16)]
+        return [np.asarray(jnp.concatenate(a)) for a in zip(*parts)]
+
+    def problem(events):
+        def ivp(point):
+            s = eqx.tree_at(lambda s: s.eps, scene, point["eps"])
+            return rj.IVP(s, y0, (0.0, T), saveat=n_save, solver="dopri8", rtol=1e-7, atol=1e-7,
+                          max_steps=10**7, events=events)
+        return ivp
+
+    problems = {False: problem(False), True: problem(True)}
+
+    def buffered(events=False, **kw):
+        def run():
+            v = rj.sweep(problems[events], {"eps": eps}, progress=False, **kw).values
+            o = v.outputs
+            return [np.asarray(a) for a in (o["disk_x"], o["disk_y"], o["disk_vx"], o["disk_vy"], v.code,
+                                            v.stats["num_steps"])]
+        return run
+
+    def measure(name, fn, **extra):
+        watch = CpuWatch()
+        t, first, (x, y, vx, vy, code, steps) = timed_first(fn, repeats=args.repeats)
+        lams = [float(precession(ts, x[i], y[i], vx[i], vy[i], N, window=(0.5, 1.0)).mean)
+                for i in range(len(eps))]
+        row = {"s": t, "s_per_point": t / len(eps), "first_call_s": first, "failed": int(np.sum(code != 0)),
+               "steps_mean": float(np.mean(steps)), "steps_max": int(np.max(steps)),
+               "steps_max_over_mean": float(np.max(steps) / np.mean(steps)), "mean_Lambda": lams,
+               "other_cores_busy": watch.report()["other_cores_busy"], **extra}
+        print(f"  sweep [{name}]: {t:.2f} s ({t / len(eps) * 1e3:.1f} ms/point), steps mean "
+              f"{row['steps_mean']:.0f} max {row['steps_max']}, failed {row['failed']}", flush=True)
+        return row
+
+    return {"eps": eps, "vmapped": vmapped, "buffered": buffered, "measure": measure}
+
+
+def _run_task(tools, task):
+    """One buffered-sweep task: `{"kind": "tune"}` (a compiling call, then one timed
+    call) or `{"kind": "measure"}` (`measure`), with `lanes`, `shard`, `events`."""
+    fn = tools["buffered"](events=task["events"], lanes=task["lanes"], shard=task["shard"])
+    if task["kind"] == "tune":
+        fn()
+        watch = CpuWatch()
+        t0 = time.perf_counter()
+        fn()
+        return {"s": time.perf_counter() - t0, "other_cores_busy": watch.report()["other_cores_busy"]}
+    return tools["measure"](task["name"], fn, lanes=task["lanes"])
+
+
+def _task_in_child(args, task, attempts=5):
+    """`_run_task` in a fresh process, retried when it aborts: the sharded sweep with
+    saved states sometimes deadlocks in XLA's CPU all-reduce rendezvous (the process
+    aborts after 40 s; see the JSON's note). -> (row or None, return codes of aborts)."""
+    import subprocess
+    import tempfile
+
+    aborts = []
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "task.json")
+        for _ in range(attempts):
+            cmd = [sys.executable, os.path.abspath(__file__), "--child", json.dumps(task), "--child-out", out,
+                   "--revolutions", str(args.revolutions), "--n-sweep", str(args.n_sweep),
+                   "--repeats", str(args.repeats)]
+            rc = subprocess.run(cmd, stderr=subprocess.DEVNULL).returncode
+            if rc == 0:
+                with open(out) as f:
+                    return json.load(f), aborts
+            aborts.append(rc)
+            print(f"  (child aborted with code {rc}: XLA CPU rendezvous deadlock; retrying)", flush=True)
+    return None, aborts
+
+
+def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
+    """Part (b): the eccentricity sweep by each rotorjax path and the LSODA loop at
+    matched accuracy (`runs`: part (a)'s single runs, for the matched tolerance)."""
+    import inspect
+
+    import equinox as eqx
+    import jax
+    import jax.numpy as jnp
+
+    import rotorjax as rj
+    from rotorjax.solve import simulate_batch
+    from tests.reference.model_004 import NumpyModel004
+
+    tools = _sweep_tools(args, scene, y0, T, n_save, ts, N)
+    eps = tools["eps"]
+    n_dev = len(jax.local_devices())
+    aborts = []
+
+    def task(kind, lanes, shard, events=False, name=""):
+        t = {"kind": kind, "lanes": lanes, "shard": shard, "events": events, "name": name}
+        if not (shard and args.isolate_shard):
+            return _run_task(tools, t)
+        row, failed = _task_in_child(args, t)
+        aborts.extend({"task": t, "return_code": rc} for rc in failed)
+        return row
+
+    prev = "vmapped simulate, calls of 16 lanes (previous path)"
+    variants = {prev: tools["measure"]("vmap16", tools["vmapped"])}
+    # brief tuning of the buffer size (steps_per_round 8), one timed call each
+    tuning = []
+    for shard in (False, True):
+        for lanes in args.lanes:
+            r = task("tune", lanes, shard)
+            if r is None:
+                continue
+            tuning.append({"devices": n_dev if shard else 1, "lanes": lanes, "steps_per_round": 8, **r})
+            print(f"  tune: {tuning[-1]['devices']} device(s), {lanes} lanes: {r['s']:.2f} s", flush=True)
+    best = {sh: min((r for r in tuning if (r["devices"] > 1) == sh), key=lambda r: r["s"], default={}).get("lanes")
+            for sh in (False, True)}
+    one_dev, sharded = "sweep buffered, 1 device", f"sweep buffered, shard=True over {n_dev} host devices"
+    variants[one_dev] = task("measure", best[False], False, name=one_dev)
+    if best[True] is not None:
+        variants[sharded] = task("measure", best[True], True, name=sharded)
+    has_events = "events" in inspect.signature(simulate_batch).parameters and "events" in rj.IVP.__dataclass_fields__
+    ev = f"sweep buffered, event-located contact (IVP events=True), shard=True over {n_dev} host devices"
+    if has_events and best[True] is not None:
+        variants[ev] = task("measure", best[True], True, events=True, name=ev)
+    variants = {k: v for k, v in variants.items() if v is not None}
+
+    # scipy LSODA's tolerance at rotorjax's (rtol 1e-7, smoothed) error, from its ladder
+    target = runs["rotorjax_smooth_dopri8_rtol1e-07"]["error_after_5_revolutions"]
+    sweep_tol = max([t for t in LADDERS["LSODA"] if runs[f"scipy_LSODA_rtol{t:g}"]["error_after_5_revolutions"]
+                     <= target] or [min(LADDERS["LSODA"])])
+    pick = np.unique(np.round(np.linspace(0, len(eps) - 1, args.scipy_sweep)).astype(int))
+    watch = CpuWatch()
+    each = []
+    for e in eps[pick]:
+        m = NumpyModel004(eqx.tree_at(lambda s: s.eps, scene, jnp.float64(e)))
+        t0 = time.perf_counter()
+        solve_ivp(m, (0.0, T), np.asarray(y0), method="LSODA", rtol=sweep_tol, atol=sweep_tol, t_eval=ts)
+        each.append(time.perf_counter() - t0)
+    t_scipy_each = float(np.mean(each))
+    print(f"  scipy LSODA rtol {sweep_tol:g}: {t_scipy_each:.2f} s/point (eps {eps[pick].tolist()})", flush=True)
+    scipy = {"rtol": sweep_tol, "s_per_point": t_scipy_each, "subset_eps": eps[pick].tolist(),
+             "s_each": each, "other_cores_busy": watch.report()["other_cores_busy"],
+             "matched_to": "the loosest LSODA rung whose error after 5 revolutions (part a) is <= rotorjax "
+                           f"smoothed Dopri8 rtol 1e-7's ({target:.2e}); it is also at least as accurate as the "
+                           "event-located run's error (part a)"}
+    for name, row in variants.items():
+        row["ratio_vs_LSODA"] = t_scipy_each / row["s_per_point"]
+        print(f"  {name}: {row['ratio_vs_LSODA']:.1f}x the LSODA loop", flush=True)
+    base = variants[prev]["mean_Lambda"]
+    for name, row in variants.items():
+        row["Lambda_sign_agrees_with_previous_path"] = int(np.sum(np.sign(row["mean_Lambda"]) == np.sign(base)))
+    best_name = max(variants, key=lambda k: variants[k]["ratio_vs_LSODA"])
+    smooth_best = max((k for k in variants if "event" not in k), key=lambda k: variants[k]["ratio_vs_LSODA"])
+    lams = variants[smooth_best]["mean_Lambda"]
+    switch = [float(0.5 * (eps[i] + eps[i + 1])) for i in range(len(eps) - 1)
+              if np.sign(lams[i]) != np.sign(lams[i + 1])]
+    return {"n": args.n_sweep, "revolutions": args.revolutions, "saved_states": n_save, "rtol": 1e-7,
+            "eps": eps.tolist(), "variants": variants, "scipy_LSODA": scipy,
+            "tuning": {"note": "one timed call per setting after a compiling one; lanes in all", "rows": tuning},
+            "events_variant": ("timed (sharded, the best sharded lanes)" if ev in variants else
+                               "skipped: simulate_batch has no events parameter in this version"
+                               if not has_events else "failed: see sharded_aborts"),
+            "sharded_runs": ("each sharded task in a fresh process, retried on abort" if args.isolate_shard
+                             else "in this process"),
+            "sharded_aborts": aborts,
+            "sharded_aborts_note": "rotorjax bug, reported: the sharded buffered sweep with saved states (here "
+                                   "64 x 12 000) sometimes aborts: XLA's CPU all-reduce rendezvous times out "
+                                   "(40 s) in the jit(gather) that puts the pmapped outputs back in order "
+                                   "(solve/_batch.py _over_devices).",
+            "Lambda_sign_switch_eps": switch, "Lambda_from": smooth_best,
+            "target": {"target": ">= 50x the scipy LSODA loop at matched accuracy", "variant": best_name,
+                       "ratio": variants[best_name]["ratio_vs_LSODA"],
+                       "met": variants[best_name]["ratio_vs_LSODA"] >= 50.0,
+                       "smoothed_contact_best": {"variant": smooth_best,
+                                                 "ratio": variants[smooth_best]["ratio_vs_LSODA"],
+                                                 "met": variants[smooth_best]["ratio_vs_LSODA"] >= 50.0}}}
 
 if __name__ == "__main__":
     main()

@@ -6,7 +6,10 @@ adaptive solves costs `max(steps)` per lane instead of `mean(steps)` (model 001:
 number of lanes is advanced instead, each by its own adaptive steps, through
 diffrax's public step API (`solver.init/step`, `PIDController.init/adapt_step_size`,
 `solver.interpolation_cls` for the saved times): the same solver, controller and
-dense output that `simulate` uses, so each point's trajectory is `simulate`'s. A round
+dense output that `simulate` uses, so each point's trajectory is `simulate`'s to the
+tolerance (the first step differs: `diffeqsolve` starts at 0.01 whenever `dt0` is
+None, as it wraps its terms before the controller's initial-step rule looks at
+them; the buffer applies that rule). A round
 makes `steps_per_round` steps on every lane, then the lanes whose point is done are
 retired (their results written at the point's index) and refilled from the queue of
 pending points. Everything, rounds included, is one compiled `lax.while_loop`: a
@@ -40,10 +43,9 @@ class IVP(eqx.Module):
     `scene`, `y0` and `t_span` may vary over the grid (a span per point: a number
     of revolutions at each speed); the output times (None or a count of states
     over each span), solver and tolerances (static fields) are the same for every
-    point. `sweep` integrates the
-    whole grid in one buffered batch (`simulate_batch`) and returns the batched
-    `SimulationResult`. `events=True`: event-located contact switching, as
-    `simulate_events` (for scenes with contacts).
+    point. `sweep` integrates the whole grid in one buffered batch
+    (`simulate_batch`) and returns the batched `SimulationResult`. `events=True`:
+    event-located contact switching, as `simulate_events` (scenes with contacts).
     """
 
     scene: eqx.Module
