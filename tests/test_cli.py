@@ -168,9 +168,9 @@ def test_contact_simulate_and_bifurcation(tmp_path, capsys):
     assert len(out["points"]) == 2 and all(p["code"] == 0 for p in out["points"])
     assert out["batch"]["method"] == "buffered" and out["batch"]["steps_max"] >= out["batch"]["steps_mean"] > 0
     assert (tmp_path / "bifurcation_cantilever-limiters_eps.png").exists()
-    # the speed swept, with event-located contact: a span (20 revolutions) per point
+    # the speed swept, with event-located contact: a span (10 revolutions) per point
     assert main(["bifurcation", "cantilever-limiters", "--param", "N", "14", "16", "2", "--set",
-                 "revolutions=20", "--set", "events=1", "--set", "perturbation=0.05", "--out", str(tmp_path),
+                 "revolutions=10", "--set", "events=1", "--set", "perturbation=0.05", "--out", str(tmp_path),
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert all(p["code"] == 0 for p in out["points"]) and sum(out["batch"]["events"]) > 0

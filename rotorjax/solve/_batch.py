@@ -291,7 +291,7 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
             y_hit = evaluate(t_a, t_b, dense, y_b, hit)
             return hit, y_hit, active ^ (signed(scene_arrays, active, hit, y_hit) > 0)
 
-        t_hit, y_hit, active = jax.lax.cond(
+        t_hit, y_hit, active = jax.lax.cond(  # located only when some lane crossed
             jnp.any(crossed), lambda: jax.vmap(locate)(lanes_.scene, lanes_.active, t_a, t_b, dense, y_b),
             lambda: (lanes_.t, lanes_.y, lanes_.active))
         c1 = crossed[:, None]
