@@ -15,6 +15,7 @@ strongest scipy peer), scipy_loop (solve_ivp per speed, either right-hand side),
 numba_rk4 (fixed-step classical RK4, prange over speeds, structured 2x2 solve),
 numba_rhs_ns (ns per RHS evaluation).
 """
+import cmath
 import math
 import time
 
@@ -56,17 +57,18 @@ def rhs_numpy(t, y, p):
 
 
 # --------------------------------------------------------------------------- pure Python
-def make_rhs_python(p):
+def make_rhs_python(p, complex_step=False):
     """`rhs(t, y)` for the parameters `p` (with `p["n"]`): closed form in scalar Python
     (`math.sin/cos`, the weights' accelerations eliminated by hand so that only the
-    2x2 system for xi'', eta'' is solved, as in the numba kernel). Returns a list."""
+    2x2 system for xi'', eta'' is solved, as in the numba kernel). Returns a list.
+    `complex_step=True`: `cmath.sin/cos`, for complex states (complex-step Jacobians)."""
     n = float(p["n"])
     n_eta2 = float(p["n_eta"]) ** 2
     two_mu_xi, two_mu_eta = 2.0 * float(p["mu_xi"]), 2.0 * float(p["mu_eta"])
     sigma, eps, mu_w = float(p["sigma"]), float(p["eps"]), float(p["mu_w"])
     cn2 = float(p["c"]) * n * n
     se = sigma * eps
-    sin, cos = math.sin, math.cos
+    sin, cos = (cmath.sin, cmath.cos) if complex_step else (math.sin, math.cos)
 
     def rhs(t, y):
         y = y.tolist()
@@ -309,7 +311,8 @@ def _checks():
             q = dict(p, n=rng.uniform(0.5, 10), eps=rng.uniform(0, 0.3))
             t = rng.uniform(0, 50)
             a = rhs_numpy(t, yy, q)
-            for b in (numba_rhs(t, yy, q), rhs_python(t, yy, q)):
+            for b in (numba_rhs(t, yy, q), rhs_python(t, yy, q),
+                      np.real(make_rhs_python(q, complex_step=True)(t, yy.astype(complex)))):
                 md = max(md, np.abs(a - b).max() / max(1.0, np.abs(a).max()))
     return mm, md
 

@@ -209,7 +209,7 @@ def main():
     print("reference on the subset: rotorjax Dopri8 rtol 1e-13 and scipy DOP853 rtol 1e-13", flush=True)
     ref_res, _ = rotorjax_sweep(speeds[sub], y0, 1e-13, lanes=min(args.subset, 64))
     ref_sub = ref_res["y"]
-    ref_scipy, _, _ = peers_001.scipy_loop(speeds[sub], y0, T_END, p, "DOP853", 1e-13, 1e-16)
+    ref_scipy, _, _ = peers_001.scipy_loop(speeds[sub], y0, T_END, p, "DOP853", 1e-13, 1e-15)
     cond = np.max(np.abs(ref_sub - ref_scipy), axis=1) < 1e-9
     print(f"  well-conditioned: {cond.sum()} of {cond.size} subset speeds", flush=True)
 
