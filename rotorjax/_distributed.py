@@ -14,6 +14,8 @@ versions need `jax.config.update("jax_cpu_collectives_implementation", "gloo")`)
 With a single process (`jax.distributed` not initialized, or initialized with
 `num_processes=1`) the slice is the whole grid and `gather` returns its input: a
 distributed sweep is then exactly the ordinary one.
+
+`on_each_device` runs one part of a batch on each of this process's devices.
 """
 
 import os
@@ -116,3 +118,19 @@ def check_initialized() -> None:
                 "jax.distributed.initialize() first (with no arguments under SLURM or Open MPI), "
                 "before any JAX computation; on CPU set "
                 'jax.config.update("jax_cpu_collectives_implementation", "gloo") before it.')
+
+
+def on_each_device(fn, parts) -> list:
+    """`fn(part)` for each of `parts` on its own local device (part `i` on device
+    `i`), dispatched together so that the devices run at once. Each call is its own
+    single-device program: no collective joins them (a batch split by `jax.sharding`
+    or `pmap` all-reduces its while loops' stopping tests, or spans the processes of
+    a distributed run; on host CPU devices that rendezvous can hang). -> the outputs,
+    as numpy arrays, in the order of `parts`."""
+    devices = jax.local_devices()
+    if len(parts) > len(devices):
+        raise ValueError(f"{len(parts)} parts for {len(devices)} local devices")
+    put = lambda tree, d: jax.tree_util.tree_map(  # noqa: E731
+        lambda a: jax.device_put(a, d) if isinstance(a, (jax.Array, np.ndarray)) else a, tree)
+    outs = [fn(*put(p, d)) for p, d in zip(parts, devices)]
+    return [jax.tree_util.tree_map(np.asarray, o) for o in outs]

@@ -10,7 +10,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._distributed import check_initialized, gather, local_range
+from ._distributed import check_initialized, gather, local_range, on_each_device
 from .models._validate import InputError, as_count, check_choice, show
 from .solve._batch import IVP, simulate_batch
 
@@ -95,8 +95,9 @@ def sweep(
       of adaptive solvers under vmap. The last chunk is padded, so one compilation.
     - `progress`: show a tqdm bar (default: when there is more than one chunk, on
       process 0 only).
-    - `shard`: split each chunk over all local devices (`jax.sharding`); the chunk
-      is padded to a multiple of the device count.
+    - `shard`: split each chunk over all local devices, each running its share as
+      its own program, all at once; the chunk is padded to a multiple of the
+      device count.
     - `distributed`: split the grid over the processes of a `jax.distributed` run
       (call `jax.distributed.initialize()` first in every process; on CPU with
       `jax_cpu_collectives_implementation="gloo"`). Each process evaluates one
@@ -126,13 +127,8 @@ def sweep(
     start, stop = local_range(total) if distributed else (0, total)  # this process's points
     # every process uses the chunk shape of the largest slice: one compilation
     chunk = min(chunk_size, -(-total // jax.process_count()) if distributed else total)
-    sharding = None
-    if shard:
-        devices = jax.local_devices()
-        nd = len(devices)
-        chunk = int(math.ceil(chunk / nd) * nd)
-        mesh = jax.sharding.Mesh(np.array(devices), ("points",))
-        sharding = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("points"))
+    nd = len(jax.local_devices()) if shard else 1
+    chunk = int(math.ceil(chunk / nd) * nd)
     n_chunks = max(int(math.ceil((stop - start) / chunk)), 1)  # an empty slice still yields shapes
     check_choice("batch", batch, ("buffered", "pallas", "vmap"))
     if batch != "vmap" and isinstance(eqx.filter_eval_shape(fn, {k: v[0] for k, v in flat.items()}), IVP):
@@ -154,9 +150,14 @@ def sweep(
     for s in starts:
         idx = np.minimum(np.arange(start + s, start + s + chunk), stop - 1)  # pad: repeat the last point
         part = {k: v[idx] for k, v in flat.items()}
-        if sharding is not None:
-            part = jax.device_put(part, sharding)
-        outs.append(jax.tree_util.tree_map(np.asarray, batched(part)))
+        if shard:  # each device its own share of the chunk
+            per = chunk // nd
+            shares = on_each_device(batched, [({k: v[i * per:(i + 1) * per] for k, v in part.items()},)
+                                              for i in range(nd)])
+            out = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0), *shares)
+        else:
+            out = jax.tree_util.tree_map(np.asarray, batched(part))
+        outs.append(out)
     values = jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, axis=0)[:stop - start], *outs)
     if distributed:
         values = gather(values, total)

@@ -25,6 +25,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._distributed import on_each_device
 from ..models._contract import require
 from ..models._validate import InputError, as_count, check_choice
 from ._results import SimulationResult
@@ -163,17 +164,19 @@ def _spans(t_span, n):
 
 
 def _over_devices(scenes, y0s, t0s, t1s, rest, lanes, static, devices):
-    """`run` on each local device with its own buffer (`jax.pmap`): point `i` goes to
-    device `i mod D` (neighbouring points cost alike, so the devices share the work
-    evenly); padded with the last point, results put back in order."""
+    """`run` on each local device with its own buffer, as its own program (see
+    `on_each_device`): point `i` goes to device `i mod D` (neighbouring points cost
+    alike, so the devices share the work evenly); padded with the last point, results
+    put back in order."""
     n, d = y0s.shape[0], min(len(devices), y0s.shape[0])
     per = -(-n // d)
     order = np.minimum(np.arange(per * d).reshape(per, d).T.reshape(-1), n - 1)
-    split = lambda a: a[order].reshape((d, per) + a.shape[1:]) if eqx.is_array(a) else a  # noqa: E731
-    out = _buffered_pmap(jax.tree_util.tree_map(split, scenes), split(y0s), split(t0s), split(t1s), *rest,
-                         min(-(-lanes // d), per), *static)
+    share = lambda a, i: a[order[i * per:(i + 1) * per]] if eqx.is_array(a) else a  # noqa: E731
+    parts = [(jax.tree_util.tree_map(lambda a: share(a, i), scenes), share(y0s, i), share(t0s, i),
+              share(t1s, i), *rest, min(-(-lanes // d), per), *static) for i in range(d)]
+    outs = on_each_device(_buffered, parts)
     back = np.argsort(order, kind="stable")[:n]  # the first copy of each point
-    return jax.tree_util.tree_map(lambda a: a.reshape((d * per,) + a.shape[2:])[back], out)
+    return jax.tree_util.tree_map(lambda *xs: jnp.asarray(np.concatenate(xs, axis=0)[back]), *outs)
 
 
 def _batch_states(scenes, y0s):
@@ -295,10 +298,13 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
             jnp.any(crossed), lambda: jax.vmap(locate)(lanes_.scene, lanes_.active, t_a, t_b, dense, y_b),
             lambda: (lanes_.t, lanes_.y, lanes_.active))
         c1 = crossed[:, None]
+        # the next step's size: the controller's proposal, or (when the crossed step
+        # ended at t1, where the proposal is clipped to nothing) the crossed step's size
+        dt = jnp.where(lanes_.tnext > lanes_.t, lanes_.tnext - lanes_.t, t_b - t_a)
         return dataclasses.replace(
             lanes_, t=jnp.where(crossed, t_hit, lanes_.t), y=jnp.where(c1, y_hit, lanes_.y),
             active=jnp.where(c1, active, lanes_.active), made_jump=lanes_.made_jump | crossed,
-            tnext=jnp.where(crossed, jnp.minimum(t_hit + (lanes_.tnext - lanes_.t), lanes_.t1), lanes_.tnext),
+            tnext=jnp.where(crossed, jnp.minimum(t_hit + dt, lanes_.t1), lanes_.tnext),
             events=lanes_.events + jnp.where(crossed, 1, 0))
 
     def time(lanes_, k):
@@ -418,4 +424,3 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
 
 
 _buffered = eqx.filter_jit(_buffered_impl)
-_buffered_pmap = eqx.filter_pmap(_buffered_impl, in_axes=(0, 0, 0, 0) + (None,) * 10)

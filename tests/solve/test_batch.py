@@ -129,6 +129,28 @@ def test_event_located_contact_in_the_buffer():
     np.testing.assert_array_equal(r.ys[0], r.ys[1])
 
 
+def test_a_switch_in_the_last_step_does_not_stall_the_lane():
+    """Spans that end just after a contact switch: the step that reaches `t1`
+    crosses it, is cut there, and the lane must go on to `t1` (it used to restart
+    with a zero step, clipped to `t1`, and stall until `max_steps`)."""
+    from rotorjax.presets import cantilever_limiters as cl
+
+    p = dict(cl.PRESET.defaults, perturbation=0.02)
+    sc = cl.build_scene(p)
+    y0 = cl.initial_state(sc, p)
+    rev = 2 * np.pi / p["N"]
+    t1s = np.linspace(0.3, 2.0, 24) * rev
+    scenes = jax.tree_util.tree_map(lambda a: jnp.stack([a] * len(t1s)) if eqx.is_array(a) else a, sc)
+    r = simulate_batch(scenes, jnp.tile(y0, (len(t1s), 1)), (0.0, t1s), solver="dopri8", rtol=1e-6,
+                       atol=1e-6, lanes=8, events=True, max_steps=20_000)
+    np.testing.assert_array_equal(r.code, 0)
+    assert np.all(np.asarray(r.stats["num_steps"]) < 2_000)
+    assert int(np.max(r.stats["num_events"])) >= 2
+    for i in (0, len(t1s) // 2, len(t1s) - 1):  # the same end state as simulate_events
+        ref = simulate_events(sc, y0, (0.0, t1s[i]), saveat=2, rtol=1e-6, atol=1e-6)
+        np.testing.assert_allclose(r.ys[i, 0], ref.ys[-1], rtol=0, atol=1e-3 * float(np.max(np.abs(ref.ys))))
+
+
 def test_sweep_of_initial_value_problems_keeps_grid_order(buffered):
     def one(p):
         return rj.IVP(scene(p["n"]), Y0 * p["k"], (0.0, T), saveat=5, solver="dopri8", **TOLS)
