@@ -42,7 +42,7 @@ import sys
 import time
 
 # Two host devices, so that the sharded sweep can use both cores (must precede jax).
-os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
+os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
 
 import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp
@@ -73,6 +73,8 @@ def main():
                     help="step budget per point of the event-located sweep (a stuck lane fails at it)")
     ap.add_argument("--isolate-shard", type=int, default=1,
                     help="1: run each sharded sweep task in a fresh process, retried if it aborts")
+    ap.add_argument("--child-timeout", type=float, default=600.0,
+                    help="seconds before a sharded child run counts as hung (--isolate-shard 1)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     ap.add_argument("--child-out", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -301,9 +303,9 @@ def _run_task(tools, task):
 
 
 def _task_in_child(args, task, attempts=5):
-    """`_run_task` in a fresh process, retried when it aborts: the sharded sweep with
-    saved states sometimes deadlocks in XLA's CPU all-reduce rendezvous (the process
-    aborts after 40 s; see the JSON's note). -> (row or None, return codes of aborts)."""
+    """`_run_task` in a fresh process, retried when it aborts (`--isolate-shard 1`; kept
+    for checking that the sharded sweep no longer aborts, see the JSON's
+    `sharded_aborts_note`). -> (row or None, return codes of aborts)."""
     import subprocess
     import tempfile
 
@@ -314,12 +316,15 @@ def _task_in_child(args, task, attempts=5):
             cmd = [sys.executable, os.path.abspath(__file__), "--child", json.dumps(task), "--child-out", out,
                    "--revolutions", str(args.revolutions), "--n-sweep", str(args.n_sweep),
                    "--repeats", str(args.repeats), "--events-max-steps", str(args.events_max_steps)]
-            rc = subprocess.run(cmd, stderr=subprocess.DEVNULL).returncode
+            try:
+                rc = subprocess.run(cmd, stderr=subprocess.DEVNULL, timeout=args.child_timeout).returncode
+            except subprocess.TimeoutExpired:
+                rc = "hung"  # XLA's CPU runtime can stop with both devices' programs waiting
             if rc == 0:
                 with open(out) as f:
                     return json.load(f), aborts
             aborts.append(rc)
-            print(f"  (child aborted with code {rc}: XLA CPU rendezvous deadlock; retrying)", flush=True)
+            print(f"  (child failed: {rc}; retrying)", flush=True)
     return None, aborts
 
 
@@ -409,17 +414,15 @@ def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
                                "skipped: simulate_batch has no events parameter in this version"
                                if not has_events else "failed: see sharded_aborts"),
             "events_max_steps": args.events_max_steps,
-            "events_note": "rotorjax bug, reported: in the buffered event-located path a lane can stop advancing "
-                           "near the end of the span (eps = 0, 300 revolutions: t stays at 299.9 revolutions while "
-                           "accepted steps count up to max_steps; simulate_events: 1 725 steps, 28 events), so this "
-                           "variant runs with a step budget and its failed points are counted",
+            "events_note": "the event-located variant runs with a step budget of events_max_steps per point and "
+                           "counts its failed points (a lane whose last step crossed a switch used to restart "
+                           "with a zero step and stall until the budget; fixed, tests/solve/test_batch.py)",
             "sharded_runs": ("each sharded task in a fresh process, retried on abort" if args.isolate_shard
                              else "in this process"),
             "sharded_aborts": aborts,
-            "sharded_aborts_note": "rotorjax bug, reported: the sharded buffered sweep with saved states (here "
-                                   "64 x 12 000) sometimes aborts: XLA's CPU all-reduce rendezvous times out "
-                                   "(40 s) in the jit(gather) that puts the pmapped outputs back in order "
-                                   "(solve/_batch.py _over_devices).",
+            "sharded_aborts_note": "sharded runs that aborted or hung (--child-timeout), each then retried in a "
+                                   "fresh process: XLA's CPU runtime can stop, every thread waiting, while both "
+                                   "host devices run their programs at once",
             "Lambda_sign_switch_eps": switch, "Lambda_from": smooth_best,
             "target": {"target": ">= 50x the scipy LSODA loop at matched accuracy", "variant": best_name,
                        "ratio": variants[best_name]["ratio_vs_LSODA"],

@@ -2,6 +2,7 @@
 returns an initial-value problem (`rotorjax.IVP`), integrated in one buffered batch."""
 
 import dataclasses
+import functools
 import math
 from typing import Callable
 
@@ -137,7 +138,7 @@ def sweep(
             values = gather(values, total)
         values = jax.tree_util.tree_map(lambda x: x.reshape(shape + x.shape[1:]), values)
         return SweepResult(axes=axes, points=points, values=values, shape=shape)
-    batched = eqx.filter_jit(eqx.filter_vmap(_simulated(fn)))
+    batched = _vmapped(fn, simulated=True)
 
     starts = range(0, n_chunks * chunk, chunk)
     if progress is None:
@@ -165,6 +166,20 @@ def sweep(
     return SweepResult(axes=axes, points=points, values=values, shape=shape)
 
 
+def _vmapped(fn, simulated):
+    """`fn` vmapped and jitted, the same object for the same `fn`, so that sweeping
+    one function again does not compile it again."""
+    try:
+        return _vmapped_cached(fn, simulated)
+    except TypeError:  # an unhashable callable (e.g. a module holding arrays)
+        return _vmapped_cached.__wrapped__(fn, simulated)
+
+
+@functools.lru_cache(maxsize=32)
+def _vmapped_cached(fn, simulated):
+    return eqx.filter_jit(eqx.filter_vmap(_simulated(fn) if simulated else fn))
+
+
 def _simulated(fn):
     """`fn`, with an `IVP` it returns integrated by `simulate` (the lock-step path)."""
     def one(point):
@@ -187,7 +202,7 @@ def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
     """The points `[start, stop)` of `fn`'s initial-value problems, integrated in one batch
     (an empty slice integrates the last point once, for the shapes)."""
     idx = np.arange(start, stop) if stop > start else np.array([stop - 1])
-    problems = eqx.filter_jit(eqx.filter_vmap(fn))({k: v[idx] for k, v in flat.items()})
+    problems = _vmapped(fn, simulated=False)({k: v[idx] for k, v in flat.items()})
     res = simulate_batch(problems.scene, problems.y0, problems.t_span, saveat=problems.saveat,
                          solver=problems.solver, rtol=problems.rtol, atol=problems.atol,
                          max_steps=problems.max_steps, lanes=lanes, steps_per_round=steps_per_round,

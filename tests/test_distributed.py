@@ -25,6 +25,18 @@ def f(p):
     return {"s": jnp.sin(a) * b + a ** 2, "v": jnp.stack([a, b, a * b]), "i": jnp.int32(3) * (b > 0)}
 
 
+IVP_GRID = {"a": np.linspace(0.0, 1.0, 5)}  # 5 simulations: 3 + 2, each process's share over its 2 devices
+
+
+def ivp(p):
+    from rotorjax.presets import anisotropic_abb as ab
+
+    P = dict(ab.PRESET.defaults)
+    scene = ab.scene_from_groups(**{k: P[k] for k in ab.GROUPS}, n=1.0 + 4.0 * p["a"], K=P["K"])
+    return rj.IVP(scene, jnp.asarray(ab.PRESET.build(P).y0), (0.0, 5.0), saveat=3, solver="dopri8",
+                  rtol=1e-8, atol=1e-11)
+
+
 #: each process: initialize, sweep (plain and sharded over its 2 local devices), save
 WORKER = textwrap.dedent("""
     import sys
@@ -42,6 +54,9 @@ WORKER = textwrap.dedent("""
         fn = (lambda p: {"x": p["a"] * 2.0}) if name == "tiny" else f
         res = rj.sweep(fn, grid, chunk_size=3, distributed=True, **kw)
         np.savez(f"{out}/{name}{pid}.npz", **res.values)
+    from test_distributed import IVP_GRID, ivp  # simulations: the buffered batch, each device its own program
+    res = rj.sweep(ivp, IVP_GRID, distributed=True, shard=True, lanes=2)
+    np.savez(f"{out}/ivp{pid}.npz", ys=res.values.ys, code=res.values.code)
 """)
 
 
@@ -53,7 +68,8 @@ def _free_port():
 
 def test_two_processes_equal_single_process(tmp_path):
     env = {k: v for k, v in os.environ.items() if not k.startswith(("SLURM_", "OMPI_", "PMI_"))}
-    env.update(JAX_PLATFORMS="cpu", XLA_FLAGS="--xla_force_host_platform_device_count=2")
+    env.update(JAX_PLATFORMS="cpu",  # two host devices; one thread each (see README: the Eigen pool can hang)
+               XLA_FLAGS="--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
     port = _free_port()
     procs = [subprocess.Popen([sys.executable, "-c", WORKER, str(port), str(i), str(tmp_path),
                                os.path.dirname(__file__)],
@@ -75,6 +91,11 @@ def test_two_processes_equal_single_process(tmp_path):
             for k in got.files:
                 assert got[k].dtype == ref[k].dtype and got[k].shape == ref[k].shape, (name, i, k)
                 np.testing.assert_array_equal(got[k], ref[k], err_msg=f"{name}, process {i}, {k}")
+    one = rj.sweep(ivp, IVP_GRID).values  # the same simulations in one process, on one device
+    for i in range(2):
+        got = np.load(tmp_path / f"ivp{i}.npz")
+        np.testing.assert_array_equal(got["code"], 0)
+        np.testing.assert_allclose(got["ys"], one.ys, rtol=0, atol=1e-10 * float(np.max(np.abs(one.ys))))
     # grid order: v holds the point itself
     got = np.load(tmp_path / "plain1.npz")
     np.testing.assert_array_equal(got["v"][..., 0], np.broadcast_to(GRID["a"][:, None], (5, 3)))

@@ -71,7 +71,21 @@ def test_sharded_over_four_host_devices():
         "assert np.allclose(r.values, np.arange(10.0) ** 2), r.values\n"
         "print('ok')\n"
     )
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu")
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4 --xla_cpu_multi_thread_eigen=false",
+               JAX_PLATFORMS="cpu")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                          timeout=300)
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr
+
+
+def test_sweeping_a_function_again_does_not_compile_it_again():
+    traced = []
+
+    def f(p):
+        traced.append(1)  # runs only while tracing: sweep's shape check, then compiling
+        return p["a"] * 2.0
+
+    np.testing.assert_array_equal(rj.sweep(f, {"a": np.arange(4.0)}).values, 2 * np.arange(4.0))
+    n = len(traced)
+    np.testing.assert_array_equal(rj.sweep(f, {"a": np.arange(4.0) + 1}).values, 2 * np.arange(4.0) + 2)
+    assert len(traced) == n + 1  # the shape check alone

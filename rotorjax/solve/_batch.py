@@ -76,7 +76,8 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     - `steps_per_round`: steps each lane makes between retirements and refills.
     - `shard`: with several local devices (GPUs, or host CPUs under
       `XLA_FLAGS=--xla_force_host_platform_device_count=K`), give each its own
-      buffer of `lanes / devices` lanes and every device-th point ("buffered" only).
+      buffer of `lanes / devices` lanes and every device-th point ("buffered" only);
+      each device runs its own program (see `rotorjax._distributed.on_each_device`).
     - `events`: locate contact switches (scenes with `contact_indicator` and
       `vector_field(t, y, active)`, such as model 004 with limiters): a step that
       crosses one is cut at the crossing (bisection on the dense output), the
