@@ -19,6 +19,7 @@ distributed sweep is then exactly the ordinary one.
 """
 
 import os
+from concurrent.futures import ThreadPoolExecutor
 
 import jax
 import numpy as np
@@ -121,8 +122,8 @@ def check_initialized() -> None:
 
 
 def on_each_device(fn, parts) -> list:
-    """`fn(part)` for each of `parts` on its own local device (part `i` on device
-    `i`), dispatched together so that the devices run at once. Each call is its own
+    """`fn(*part)` for each of `parts` on its own local device (part `i` on device
+    `i`), all at once. Each call is its own
     single-device program: no collective joins them (a batch split by `jax.sharding`
     or `pmap` all-reduces its while loops' stopping tests, or spans the processes of
     a distributed run; on host CPU devices that rendezvous can hang). -> the outputs,
@@ -130,7 +131,14 @@ def on_each_device(fn, parts) -> list:
     devices = jax.local_devices()
     if len(parts) > len(devices):
         raise ValueError(f"{len(parts)} parts for {len(devices)} local devices")
-    put = lambda tree, d: jax.tree_util.tree_map(  # noqa: E731
-        lambda a: jax.device_put(a, d) if isinstance(a, (jax.Array, np.ndarray)) else a, tree)
-    outs = [fn(*put(p, d)) for p, d in zip(parts, devices)]
-    return [jax.tree_util.tree_map(np.asarray, o) for o in outs]
+    def run(part, device):
+        moved = jax.tree_util.tree_map(
+            lambda a: jax.device_put(a, device) if isinstance(a, (jax.Array, np.ndarray)) else a, part)
+        return jax.tree_util.tree_map(np.asarray, fn(*moved))
+
+    if len(parts) == 1:
+        return [run(parts[0], devices[0])]
+    # a thread per device: a call may block until its result is ready (equinox's
+    # `filter_jit` does), and the devices must run at once
+    with ThreadPoolExecutor(max_workers=len(parts)) as pool:
+        return list(pool.map(run, parts, devices[:len(parts)]))
