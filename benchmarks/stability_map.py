@@ -211,10 +211,10 @@ def main():
         variants.update({f"sweep, shard=True over {n_dev} host devices": (rotorjax_map, True),
                          f"vmapped, compiled once, sharded over {n_dev} host devices": (compiled_map, True)})
     out["sharded_note"] = (
-        "the sharded variants (--shard) are off by default: on this 2-core machine they measured 825 points/s "
-        "against 813 on one device (rtol 1e-6; the map's lanes already fill a core each way), and two of four "
-        "runs hung: XLA's CPU runtime stopped with every thread waiting, the two devices' programs running at "
-        "once (no collective in them; seen with --xla_cpu_multi_thread_eigen on and off)")
+        "the sharded variants (--shard) are off by default: with both host devices running at once, XLA's CPU "
+        "runtime hangs (every thread waiting) on this program; reproduced with the monodromy integration followed "
+        "by eigvals, while each alone runs (with --xla_cpu_multi_thread_eigen on and off, OPENBLAS_NUM_THREADS=1 "
+        "too). One such run finished before the cause was found: 825 points/s against 813 on one device.")
     for rtol in (1e-6, 1e-8):
         runs, first_map = {}, None
         for name, (fn, shard) in variants.items():

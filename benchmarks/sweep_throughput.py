@@ -15,7 +15,7 @@ rtol 1e-6 (one timed call each, after a compiling one: `--tune-repeats`); the fa
 device count is then timed (median of repeats) and the fastest of the two runs the
 tolerance ladder rtol 1e-5 ... 1e-10 (atol = rtol * 1e-3). The previous path (`batch=
 "vmap"`: vmapped `simulate` in chunks of 50, lanes in lock-step) is timed for comparison,
-as `sweep` runs it (it compiles again at every call: ~1-2 s of each call) and as the same
+as `sweep` runs it and as the same
 vmapped `simulate` compiled once (`jax.jit`, chunk by chunk): the lock-step cost alone.
 
 Peers, compared at matched error (their cost interpolated in log-log at rotorjax's
@@ -100,7 +100,7 @@ _VMAPPED = {}
 
 
 def vmapped_chunks(speeds, y0, rtol, chunk_size):
-    """The previous path's lock-step cost without `sweep`'s per-call recompilation:
+    """The previous path's lock-step cost alone:
     `simulate` under `jax.jit(jax.vmap(...))`, compiled once, called chunk by chunk
     (the last chunk padded) -> ({"y", "code", "steps"}, seconds)."""
     if rtol not in _VMAPPED:
