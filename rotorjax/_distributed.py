@@ -123,14 +123,17 @@ def check_initialized() -> None:
 
 def on_each_device(fn, parts) -> list:
     """`fn(*part)` for each of `parts` on its own local device (part `i` on device
-    `i`), all at once. Each call is its own
-    single-device program: no collective joins them (a batch split by `jax.sharding`
-    or `pmap` all-reduces its while loops' stopping tests, or spans the processes of
-    a distributed run; on host CPU devices that rendezvous can hang). -> the outputs,
-    as numpy arrays, in the order of `parts`."""
+    `i`), all at once. Each call is its own single-device program, and no collective
+    joins them: a batch split by `jax.sharding` all-reduces its vmapped while loops'
+    stopping tests at every step (on host CPU devices that rendezvous can hang), and
+    `pmap` would span the processes of a distributed run. Known limit (XLA's CPU
+    runtime, see README): two host devices running at once a program with both an
+    adaptive integration and a LAPACK call can hang. -> the outputs, as numpy
+    arrays, in the order of `parts`."""
     devices = jax.local_devices()
     if len(parts) > len(devices):
         raise ValueError(f"{len(parts)} parts for {len(devices)} local devices")
+
     def run(part, device):
         moved = jax.tree_util.tree_map(
             lambda a: jax.device_put(a, device) if isinstance(a, (jax.Array, np.ndarray)) else a, part)
