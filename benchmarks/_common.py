@@ -1,6 +1,7 @@
 """What the benchmark scripts share: timing (compile first, median of repeats,
 JAX results waited for) and writing `benchmarks/results/<name>.json`."""
 
+import datetime
 import json
 import os
 import platform
@@ -41,8 +42,14 @@ def machine():
     return {"platform": platform.platform(), "cpu_count": os.cpu_count()}
 
 
+def today():
+    """The date a result was measured, for its JSON (`date`) and diagram captions."""
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+
+
 def write_results(name, out):
-    """Write `out` to `benchmarks/results/<name>.json` and say so."""
+    """Write `out` to `benchmarks/results/<name>.json`, dated (UTC), and say so."""
+    out = {**out, "date": today()}
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", f"{name}.json")
     with open(path, "w") as f:
         json.dump(out, f, indent=2)

@@ -42,7 +42,7 @@ from scipy.integrate import solve_ivp  # noqa: E402
 
 import rotorjax as rj  # noqa: E402
 import peers_001  # noqa: E402
-from _common import CpuWatch  # noqa: E402
+from _common import CpuWatch, today  # noqa: E402
 from rotorjax._distributed import on_each_device  # noqa: E402
 from rotorjax.analysis import critical_speeds  # noqa: E402
 from rotorjax.presets import anisotropic_abb as A  # noqa: E402
@@ -282,7 +282,7 @@ def main():
                              "other_cores_busy (per timing too) is their mean load in cores"}
     path = os.path.join(os.path.dirname(__file__), "results", "stability_map.json")
     with open(path, "w") as f:
-        json.dump(out, f, indent=2)
+        json.dump({**out, "date": today()}, f, indent=2)
     print(f"wrote {path}")
 
 

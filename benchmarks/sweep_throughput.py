@@ -56,7 +56,7 @@ import jax  # noqa: E402
 import rotorjax as rj  # noqa: E402
 from rotorjax.presets import anisotropic_abb  # noqa: E402
 import peers_001  # noqa: E402
-from _common import CpuWatch  # noqa: E402
+from _common import CpuWatch, today  # noqa: E402
 
 P = dict(anisotropic_abb.PRESET.defaults)
 GROUPS = {k: P[k] for k in anisotropic_abb.GROUPS}
@@ -361,7 +361,7 @@ def main():
     }
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
-        json.dump(out, f, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o))
+        json.dump({**out, "date": today()}, f, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o))
     print(f"wrote {args.out}")
 
 

@@ -1,0 +1,31 @@
+"""The results page and work-precision diagrams (`benchmarks/work_precision.py`) are
+generated from the benchmarks' JSON: every number on the page is the JSON's."""
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+NAMES = ("sweep_throughput", "limiters", "stability_map")
+
+
+def test_page_and_diagrams_from_the_json(tmp_path):
+    for name in NAMES:
+        shutil.copy(BENCH / "results" / f"{name}.json", tmp_path)
+    page = tmp_path / "README.md"
+    subprocess.run([sys.executable, str(BENCH / "work_precision.py"), "--results", str(tmp_path),
+                    "--page", str(page)], check=True, capture_output=True, text=True)
+    for name in NAMES:
+        png = tmp_path / f"{name}_wp.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = page.read_text()
+    sweep = json.loads((tmp_path / "sweep_throughput.json").read_text())
+    assert f"{sweep['targets']['a']['ratio']:.2f}x numba RK4 on 2 threads" in text
+    lim = json.loads((tmp_path / "limiters.json").read_text())["sweep"]["target"]
+    assert f"{lim['ratio']:.0f}x the LSODA loop" in text
+    stab = json.loads((tmp_path / "stability_map.json").read_text())["rows"][0]
+    assert f"{stab['rotorjax_points_per_s']:.0f} points/s, {stab['speedup']:.0f}x" in text
+    # the committed page is the generated one
+    assert (BENCH / "README.md").read_text() == text.replace(str(tmp_path), str(BENCH / "results"))
