@@ -1,11 +1,15 @@
 """Work-precision diagrams and the results page, from the benchmarks' JSON.
 
-Reads `benchmarks/results/{sweep_throughput,limiters,stability_map}.json` (what
-the benchmark scripts last measured) and writes, next to each, a PNG of log error
-against log time per trajectory (or per point): one curve per method and variant,
-markers labelled with the tolerance, the machine and the JSON's `date` (else the
-file's time) in the caption. Then writes `benchmarks/README.md`: each diagram with its reading, every
-number in it taken from the JSON. Measures nothing; run it after a benchmark.
+Reads `benchmarks/results/*.json` (what the benchmark scripts last measured) and
+writes, next to each, a PNG:
+- `sweep_throughput`, `limiters`, `stability_map`: log error against log time per
+  trajectory (or per point), one curve per method and variant, markers labelled
+  with the tolerance;
+- `ross_parity`, `identification` (no tolerance ladder): time per analysis against
+  the peer, the ratio above each pair, the agreement in the reading.
+Captions carry the machine and the JSON's `date` (else the file's time). Then writes
+`benchmarks/README.md`: each diagram with its reading, every number in it taken from
+the JSON. Measures nothing; run it after a benchmark.
 
 Run: python benchmarks/work_precision.py [--results DIR] [--page FILE]
 """
@@ -128,6 +132,67 @@ def stability_map(results):
             f"(the scipy curves use scipy's own critical-speed error).")
 
 
+def _bars(ax, labels, ours, theirs, peer):
+    """Time per analysis, rotorjax against `peer`, grouped by analysis (log axis)."""
+    x = range(len(labels))
+    ax.bar([i - 0.2 for i in x], ours, 0.4, label="rotorjax")
+    ax.bar([i + 0.2 for i in x], theirs, 0.4, label=peer)
+    ax.set_yscale("log")
+    ax.set_xticks(list(x))
+    ax.set_xticklabels(labels, fontsize=7, rotation=15)
+    for i, (a, b) in enumerate(zip(ours, theirs)):
+        ax.annotate(f"{b / a:.0f}x", (i, max(a, b)), ha="center", fontsize=7, xytext=(0, 3),
+                    textcoords="offset points")
+
+
+def ross_parity(results):
+    d, date = _load(results, "ross_parity")
+    r, ross, agree = d["rotorjax"], d["ross"], d["agreement"]
+    rows = [("damped modes", r["modes_s"], ross["modes_s"]),
+            ("Campbell, 50 speeds", r["campbell_s"], ross["campbell_s"]),
+            ("FRF, 200 freq.", r["frf_s"], ross["frf_s"]), ("static", r["static_s"], ross["static_s"])]
+    per_design = {"critical": "critical speeds / design", "ucs": "UCS map / design", "level1": "API level I / design"}
+    for key, label in per_design.items():  # rotorjax: 1000 designs in one vmapped call
+        rows.append((label, r[key]["s_per_design"], ross[f"{key}_s_per_design"]))
+    ratios = d["ratios_ross_over_rotorjax"]
+    lo, hi = min(ratios, key=ratios.get), max(ratios, key=ratios.get)
+    fig, ax = plt.subplots(figsize=(9.0, 4.4))
+    _bars(ax, [a for a, _, _ in rows], [b for _, b, _ in rows], [c for _, _, c in rows], f"ROSS {ross['version']}")
+    _caption(ax, d, date, "ROSS's rotor_example: linear analyses (ROSS time / rotorjax time above each pair)")
+    ax.set_ylabel("seconds")
+    ax.grid(True, which="both", axis="y", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(results, "ross_parity_bars.png"), dpi=130)
+    plt.close(fig)
+    return ("ross_parity_bars.png",
+            f"rotorjax against ROSS: from {ratios[lo]:.0f}x ({lo}) to {ratios[hi]:.0f}x ({hi}; 1000 designs in "
+            f"one vmapped call){'' if ratios[lo] > 1 else ' (below 1: ROSS faster)'}, agreeing with ROSS to "
+            f"{agree['frf_max_rel']:.0e} (FRF) and {agree['critical_max_rel']:.0e} (critical speeds), "
+            f"relative.")
+
+
+def identification(results):
+    d, date = _load(results, "identification")
+    sw, ru = d["sweep"], d["runup"]
+    fig, ax = plt.subplots(figsize=(9.0, 4.4))
+    _bars(ax, [f"{sw['n_speeds']}-speed sweep", f"run-up, {ru['samples']} samples"],
+          [sw["rotorjax_lm_s"], ru["rotorjax_track_and_lm_s"]],
+          [sw["scipy_lm_fd_s"], ru["scipy_lm_fd_s_plus_tracking"]], "scipy least_squares (LM, finite differences)")
+    _caption(ax, d, date, "model 002: supports' k1, k2, c1, c2 from 1x phasors (peer time / rotorjax time)")
+    ax.set_ylabel("seconds per fit")
+    ax.grid(True, which="both", axis="y", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(results, "identification_bars.png"), dpi=130)
+    plt.close(fig)
+    return ("identification_bars.png",
+            f"Levenberg-Marquardt with the autodiff Jacobian: {sw['scipy_lm_fd_s'] / sw['rotorjax_lm_s']:.0f}x "
+            f"scipy on the sweep and {ru['scipy_lm_fd_s_plus_tracking'] / ru['rotorjax_track_and_lm_s']:.0f}x on "
+            f"the run-up, the same estimates to {max(sw['estimates_agree_rel'], ru['estimates_agree_rel']):.0e} "
+            f"relative.")
+
+
 def page(entries, path):
     lines = ["# Benchmark results", "",
              "Generated by `python benchmarks/work_precision.py` from `benchmarks/results/*.json`, the last "
@@ -146,7 +211,9 @@ def main():
     args = ap.parse_args()
     entries = [("Model 001 speed sweep", sweep_throughput(args.results)),
                ("Model 004 with limiters", limiters(args.results)),
-               ("Floquet stability map", stability_map(args.results))]
+               ("Floquet stability map", stability_map(args.results)),
+               ("Linear analyses against ROSS", ross_parity(args.results)),
+               ("Identification of support stiffness and damping", identification(args.results))]
     page(entries, args.page)
     print(f"wrote {len(entries)} diagrams and {args.page}")
 

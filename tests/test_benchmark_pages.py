@@ -8,7 +8,8 @@ import sys
 from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
-NAMES = ("sweep_throughput", "limiters", "stability_map")
+NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification")
+PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars")
 
 
 def test_page_and_diagrams_from_the_json(tmp_path):
@@ -17,8 +18,8 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     page = tmp_path / "README.md"
     subprocess.run([sys.executable, str(BENCH / "work_precision.py"), "--results", str(tmp_path),
                     "--page", str(page)], check=True, capture_output=True, text=True)
-    for name in NAMES:
-        png = tmp_path / f"{name}_wp.png"
+    for name in PNGS:
+        png = tmp_path / f"{name}.png"
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = page.read_text()
     sweep = json.loads((tmp_path / "sweep_throughput.json").read_text())
@@ -27,5 +28,9 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     assert f"{lim['ratio']:.0f}x the LSODA loop" in text
     stab = json.loads((tmp_path / "stability_map.json").read_text())["rows"][0]
     assert f"{stab['rotorjax_points_per_s']:.0f} points/s, {stab['speedup']:.0f}x" in text
+    ross = json.loads((tmp_path / "ross_parity.json").read_text())["ratios_ross_over_rotorjax"]
+    assert f"from {min(ross.values()):.0f}x" in text and f"to {max(ross.values()):.0f}x" in text
+    ident = json.loads((tmp_path / "identification.json").read_text())["sweep"]
+    assert f"{ident['scipy_lm_fd_s'] / ident['rotorjax_lm_s']:.0f}x scipy on the sweep" in text
     # the committed page is the generated one
     assert (BENCH / "README.md").read_text() == text.replace(str(tmp_path), str(BENCH / "results"))
