@@ -132,8 +132,10 @@ def stability_map(results):
             f"(the scipy curves use scipy's own critical-speed error).")
 
 
-def _bars(ax, labels, ours, theirs, peer):
-    """Time per analysis, rotorjax against `peer`, grouped by analysis (log axis)."""
+def _bar_chart(path, data, date, what, ylabel, labels, ours, theirs, peer):
+    """Time per analysis, rotorjax against `peer`, grouped by analysis (log axis), the
+    ratio peer / rotorjax above each pair."""
+    fig, ax = plt.subplots(figsize=(9.0, 4.4))
     x = range(len(labels))
     ax.bar([i - 0.2 for i in x], ours, 0.4, label="rotorjax")
     ax.bar([i + 0.2 for i in x], theirs, 0.4, label=peer)
@@ -143,6 +145,13 @@ def _bars(ax, labels, ours, theirs, peer):
     for i, (a, b) in enumerate(zip(ours, theirs)):
         ax.annotate(f"{b / a:.0f}x", (i, max(a, b)), ha="center", fontsize=7, xytext=(0, 3),
                     textcoords="offset points")
+    _caption(ax, data, date, what)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", axis="y", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
 
 
 def ross_parity(results):
@@ -156,15 +165,9 @@ def ross_parity(results):
         rows.append((label, r[key]["s_per_design"], ross[f"{key}_s_per_design"]))
     ratios = d["ratios_ross_over_rotorjax"]
     lo, hi = min(ratios, key=ratios.get), max(ratios, key=ratios.get)
-    fig, ax = plt.subplots(figsize=(9.0, 4.4))
-    _bars(ax, [a for a, _, _ in rows], [b for _, b, _ in rows], [c for _, _, c in rows], f"ROSS {ross['version']}")
-    _caption(ax, d, date, "ROSS's rotor_example: linear analyses (ROSS time / rotorjax time above each pair)")
-    ax.set_ylabel("seconds")
-    ax.grid(True, which="both", axis="y", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(results, "ross_parity_bars.png"), dpi=130)
-    plt.close(fig)
+    _bar_chart(os.path.join(results, "ross_parity_bars.png"), d, date,
+               "ROSS's rotor_example: linear analyses (ROSS time / rotorjax time above each pair)", "seconds",
+               *zip(*rows), f"ROSS {ross['version']}")
     return ("ross_parity_bars.png",
             f"rotorjax against ROSS: from {ratios[lo]:.0f}x ({lo}) to {ratios[hi]:.0f}x ({hi}; 1000 designs in "
             f"one vmapped call){'' if ratios[lo] > 1 else ' (below 1: ROSS faster)'}, agreeing with ROSS to "
@@ -175,17 +178,11 @@ def ross_parity(results):
 def identification(results):
     d, date = _load(results, "identification")
     sw, ru = d["sweep"], d["runup"]
-    fig, ax = plt.subplots(figsize=(9.0, 4.4))
-    _bars(ax, [f"{sw['n_speeds']}-speed sweep", f"run-up, {ru['samples']} samples"],
-          [sw["rotorjax_lm_s"], ru["rotorjax_track_and_lm_s"]],
-          [sw["scipy_lm_fd_s"], ru["scipy_lm_fd_s_plus_tracking"]], "scipy least_squares (LM, finite differences)")
-    _caption(ax, d, date, "model 002: supports' k1, k2, c1, c2 from 1x phasors (peer time / rotorjax time)")
-    ax.set_ylabel("seconds per fit")
-    ax.grid(True, which="both", axis="y", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(results, "identification_bars.png"), dpi=130)
-    plt.close(fig)
+    _bar_chart(os.path.join(results, "identification_bars.png"), d, date,
+               "model 002: supports' k1, k2, c1, c2 from 1x phasors (peer time / rotorjax time)", "seconds per fit",
+               [f"{sw['n_speeds']}-speed sweep", f"run-up, {ru['samples']} samples"],
+               [sw["rotorjax_lm_s"], ru["rotorjax_track_and_lm_s"]],
+               [sw["scipy_lm_fd_s"], ru["scipy_lm_fd_s_plus_tracking"]], "scipy least_squares (LM, finite differences)")
     return ("identification_bars.png",
             f"Levenberg-Marquardt with the autodiff Jacobian: {sw['scipy_lm_fd_s'] / sw['rotorjax_lm_s']:.0f}x "
             f"scipy on the sweep and {ru['scipy_lm_fd_s_plus_tracking'] / ru['rotorjax_track_and_lm_s']:.0f}x on "
