@@ -10,8 +10,9 @@ Hermitian eigenproblem per design) and, for comparison, the fixed point on the
 damped frequencies. ROSS runs in its own interpreter (`--ross-python`, default
 $ROTORJAX_ROSS_PYTHON), in the same benchmark run; it is not a rotorjax dependency.
 
-Run: python benchmarks/flexible.py [--ross-python PATH]; writes
-benchmarks/results/flexible.json.
+Run: python benchmarks/flexible.py [--ross-python PATH] [--smoke]; writes
+benchmarks/results/flexible.json (`--smoke`: 5 speeds, 50 frequencies, 8 designs (2
+for ROSS), one repeat; prints, writes nothing).
 """
 
 import argparse
@@ -29,7 +30,7 @@ import numpy as np, ross as rs
 cfg = json.loads(sys.argv[1])
 out = {"version": rs.__version__}
 rotor = rs.rotor_example()
-def timed(fn, repeats=3):
+def timed(fn, repeats=cfg.get("repeats", 3)):
     fn()
     ts = []
     for _ in range(repeats):
@@ -74,7 +75,12 @@ def main():
     ap.add_argument("--n-designs", type=int, default=10_000)
     ap.add_argument("--ross-designs", type=int, default=20)
     ap.add_argument("--reduced-modes", type=int, default=20)
+    ap.add_argument("--smoke", action="store_true",
+                    help="5 speeds, 50 frequencies, 8 designs, one repeat; print, write nothing")
     args = ap.parse_args()
+    if args.smoke:
+        args.n_designs, args.ross_designs = 8, 2
+    n_campbell, n_response, R = (5, 50, 1) if args.smoke else (100, 2000, 3)
 
     import jax
     import jax.numpy as jnp
@@ -97,17 +103,17 @@ def main():
                              disks=((2,) + disk, (4,) + disk),
                              bearings=((0, kb, 0.8 * kb, 0.0, 0.0), (6, kb, 0.8 * kb, 0.0, 0.0)))
 
-    speeds = np.linspace(0, 1000, 100)
+    speeds = np.linspace(0, 1000, n_campbell)
     camp_fn = jax.jit(lambda s: campbell(rotor, s, 8).frequencies)
-    t_camp, c_camp, camp = timed_first(lambda: camp_fn(speeds))
-    freq = np.linspace(10, 1200, 2000)
+    t_camp, c_camp, camp = timed_first(lambda: camp_fn(speeds), repeats=R)
+    freq = np.linspace(10, 1200, n_response)
     resp_fn = jax.jit(lambda w: unbalance_response(rotor, 2, 1e-3, 0.0, w, probe_nodes=[2])[0])
-    t_resp, c_resp, resp = timed_first(lambda: resp_fn(freq))
+    t_resp, c_resp, resp = timed_first(lambda: resp_fn(freq), repeats=R)
     red = rotor.reduce(args.reduced_modes)
     camp_red_fn = jax.jit(lambda s: campbell(red, s, 8).frequencies)
-    t_camp_red, _, camp_red = timed_first(lambda: camp_red_fn(speeds))
+    t_camp_red, _, camp_red = timed_first(lambda: camp_red_fn(speeds), repeats=R)
     resp_red_fn = jax.jit(lambda w: unbalance_response(red, 2, 1e-3, 0.0, w, probe_nodes=[2])[0])
-    t_resp_red, _, resp_red = timed_first(lambda: resp_red_fn(freq))
+    t_resp_red, _, resp_red = timed_first(lambda: resp_red_fn(freq), repeats=R)
     full_amp, red_amp = np.abs(np.asarray(resp[:, 0])), np.abs(np.asarray(resp_red[:, 0]))
     reduction = {"modes": args.reduced_modes, "campbell_s": t_camp_red, "response_s": t_resp_red,
                  "campbell_max_rel_vs_full": float(np.max(np.abs(np.asarray(camp_red) / np.asarray(camp) - 1))),
@@ -117,7 +123,7 @@ def main():
                  "response_peak_freqs_rel_vs_full": float(np.max(np.abs(
                      _peaks(freq, red_amp) / _peaks(freq, full_amp) - 1)))}
     crit_fn = jax.jit(jax.vmap(lambda d: synchronous_critical_speeds(design_rotor(d[0], d[1], d[2]), 1)[0]))
-    t_crit, c_crit, crit = timed_first(lambda: crit_fn(jnp.asarray(designs)), repeats=3)
+    t_crit, c_crit, crit = timed_first(lambda: crit_fn(jnp.asarray(designs)), repeats=R)
     fp_fn = jax.jit(jax.vmap(lambda d: critical_speed(design_rotor(d[0], d[1], d[2]), 0, 90.0)))
     t_fp, _, (crit_fp, crit_residual) = timed_first(lambda: fp_fn(jnp.asarray(designs)), repeats=1)
     out = {"benchmark": "flexible (ross-compare)",
@@ -133,9 +139,11 @@ def main():
                             np.asarray(crit_fp) / np.asarray(crit) - 1))),
                         "reduced": reduction}}
     if args.ross_python:
-        cfg = {"n_campbell": 100, "n_response": 2000, "designs": designs[:args.ross_designs].tolist()}
+        cfg = {"n_campbell": n_campbell, "n_response": n_response, "designs": designs[:args.ross_designs].tolist()}
+        if args.smoke:
+            cfg["repeats"] = R
         proc = subprocess.run([args.ross_python, "-c", ROSS_WORKER, json.dumps(cfg)],
-                              capture_output=True, text=True, timeout=3000)
+                              capture_output=True, text=True, timeout=300 if args.smoke else 3000)
         if proc.returncode != 0:
             raise SystemExit(proc.stderr[-3000:])
         ross = json.loads(proc.stdout.strip().splitlines()[-1])
@@ -163,7 +171,10 @@ def main():
                                 _peaks(freq, full_amp) / _peaks(freq, ross_amp) - 1))),
                             "critical_speed_max_rel": crit_err}
     print(json.dumps({k: v for k, v in out.items() if k != "machine"}, indent=2))
-    write_results("flexible", out)
+    if args.smoke:
+        print("smoke run: nothing written")
+    else:
+        write_results("flexible", out)
 
 
 if __name__ == "__main__":

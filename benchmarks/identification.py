@@ -10,9 +10,11 @@ finite-difference Jacobians on the same model, at equal accuracy.
     medians of repeats after compilation; the rotorjax time includes the
     covariance and intervals.
 
-Run: python benchmarks/identification.py; writes benchmarks/results/identification.json.
+Run: python benchmarks/identification.py [--smoke]; writes benchmarks/results/identification.json
+(`--smoke`: 40 speeds, 50 Adam steps, one repeat; prints, writes nothing).
 """
 
+import argparse
 import json
 import os
 import sys
@@ -21,7 +23,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from _common import timed, write_results  # noqa: E402
+from _common import machine as machine_info, timed, write_results  # noqa: E402
 
 
 def numpy_response(p, w, planes, U, m, I, l):
@@ -53,6 +55,10 @@ def scipy_fit(w, X, planes, U, P, start, sigma, fit_unbalance=False):
 
 
 def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--smoke", action="store_true", help="40 speeds, 50 Adam steps, one repeat; write nothing")
+    args = ap.parse_args()
+    reps = (lambda n: 1) if args.smoke else (lambda n: n)
     import jax
 
     import rotorjax  # noqa: F401
@@ -67,19 +73,19 @@ def main():
     names = ("k1", "k2", "c1", "c2")
 
     # (a) 400-speed sweep
-    w = np.linspace(30.0, 400.0, 400)
+    w = np.linspace(30.0, 400.0, 40 if args.smoke else 400)
     Xs = np.asarray(jax.vmap(lambda ww: machine.response(ww, planes, U))(w))
     sigma = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(0)
     X = Xs + sigma * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
-    t_rj, res = timed(lambda: idf.identify(base, w, X, planes, unbalances=U, sigma=sigma), repeats=5)
+    t_rj, res = timed(lambda: idf.identify(base, w, X, planes, unbalances=U, sigma=sigma), repeats=reps(5))
     est_rj = np.array([res.estimates[k] for k in names])
-    t_sp, (est_sp, nfev) = timed(lambda: scipy_fit(w, X, planes, U, P, start, sigma), repeats=3)
+    t_sp, (est_sp, nfev) = timed(lambda: scipy_fit(w, X, planes, U, P, start, sigma), repeats=reps(3))
     r_ad = idf.residual_fn(base, names, w, planes, X, sigma, U)
-    t_ad, (th, info) = timed(lambda: idf.optax_fit(r_ad, np.log(start), steps=3000, learning_rate=2e-2),
+    t_ad, (th, info) = timed(lambda: idf.optax_fit(r_ad, np.log(start), steps=50 if args.smoke else 3000, learning_rate=2e-2),
                              repeats=1)
     est_ad = np.exp(np.asarray(th))
-    sweep = {"n_speeds": 400, "noise": "1 % of the peak",
+    sweep = {"n_speeds": int(w.size), "noise": "1 % of the peak",
              "rotorjax_lm_s": t_rj, "rotorjax_lm_iterations": res.iterations,
              "rotorjax_estimates": dict(zip(names, est_rj.tolist())), "rotorjax_intervals_95": res.intervals,
              "scipy_lm_fd_s": t_sp, "scipy_nfev": int(nfev), "scipy_estimates": dict(zip(names, est_sp.tolist())),
@@ -97,8 +103,8 @@ def main():
         speeds, Xr = idf.order_track(cols["time"], x, tacho=cols["tacho"])
         return speeds, Xr, idf.identify(base, speeds, Xr, planes, unbalances=None)
 
-    t_rj2, (speeds, Xr, res2) = timed(track_and_fit, repeats=3)
-    t_track, _ = timed(lambda: idf.order_track(cols["time"], x, tacho=cols["tacho"]), repeats=3)
+    t_rj2, (speeds, Xr, res2) = timed(track_and_fit, repeats=reps(3))
+    t_track, _ = timed(lambda: idf.order_track(cols["time"], x, tacho=cols["tacho"]), repeats=reps(3))
     est2 = np.array([res2.estimates[k] for k in names])
     t_sp2, (est_sp2, nfev2) = timed(lambda: scipy_fit(speeds, Xr, planes, U, P, start, 1.0, fit_unbalance=True),
                                     repeats=1)
@@ -114,9 +120,12 @@ def main():
              "note": "the run-up's transient (20 rad/s^2 through the resonances) biases a steady-state fit by ~1 %"}
     print(json.dumps(runup, indent=1), flush=True)
     out = {"benchmark": "identification (model 002)",
-           "machine": machine(),
+           "machine": machine_info(),
            "versions": {"jax": jax.__version__}, "truth": dict(zip(names, truth.tolist())),
            "start": dict(zip(names, start.tolist())), "sweep": sweep, "runup": runup}
+    if args.smoke:
+        print("smoke run: nothing written")
+        return
     write_results("identification", out)
 
 

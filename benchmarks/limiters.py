@@ -32,7 +32,10 @@ Steps per point (mean and max) show the lock-step waste; the target (issue 17) i
 (c) The full FE model (all 32 dofs) against the 6-mode reduction, 50 revolutions:
 the stiffness ratio, the solver "auto" picks, Dopri8 and Kvaerno5 on each.
 
-Run: python benchmarks/limiters.py; writes benchmarks/results/limiters.json.
+Run: python benchmarks/limiters.py [--smoke]; writes benchmarks/results/limiters.json
+(`--smoke`: 2 revolutions (accuracy after 1, full FE model over 1), a sweep of 4
+eccentricities (scipy on 2) in buffers of 2 lanes, one repeat, every variant on one
+host device in this process (no sharding, no child processes); prints, writes nothing).
 """
 
 import argparse
@@ -41,8 +44,9 @@ import os
 import sys
 import time
 
-# Two host devices, so that the sharded sweep can use both cores (must precede jax).
-os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
+# Two host devices, so that the sharded sweep can use both cores (must precede jax); --smoke: one.
+os.environ.setdefault("XLA_FLAGS", ("" if "--smoke" in sys.argv else "--xla_force_host_platform_device_count=2 ")
+                      + "--xla_cpu_multi_thread_eigen=false")
 
 import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp
@@ -77,7 +81,14 @@ def main():
                     help="seconds before a sharded child run counts as hung (--isolate-shard 1)")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     ap.add_argument("--child-out", help=argparse.SUPPRESS)
+    ap.add_argument("--smoke", action="store_true",
+                    help="tiny sizes, one repeat, one device, no child processes; print, write nothing")
     args = ap.parse_args()
+    if args.smoke:
+        if args.only != "all" or args.child:
+            ap.error("--smoke runs every part in this process: leave out --only and --child")
+        args.revolutions, args.n_sweep, args.scipy_sweep, args.repeats = 2, 4, 2, 1
+        args.lanes, args.isolate_shard = [2], 0
 
     import jax
 
@@ -96,7 +107,7 @@ def main():
     T = 2 * np.pi / N * args.revolutions
     n_save = 40 * args.revolutions
     ts = np.linspace(0, T, n_save)
-    t20 = 2 * np.pi / N * 5
+    t20 = 2 * np.pi / N * (1 if args.smoke else 5)
     if args.child:  # one sharded sweep task (see _task_in_child)
         row = _run_task(_sweep_tools(args, scene, y0, T, n_save, ts, N), json.loads(args.child))
         with open(args.child_out, "w") as f:
@@ -113,9 +124,11 @@ def main():
         print(json.dumps({k: v for k, v in out["sweep"].items() if k not in ("eps",)}, indent=1)[:4000])
         write_results("limiters", out)
         return
-    ref20 = rj.simulate(scene, y0, (0.0, t20), saveat=None, solver="dopri8", rtol=1e-12, atol=1e-15,
+    # --smoke: every run of a solver on this scene saves n_save states, so that it compiles once
+    short_save = n_save if args.smoke else None
+    ref20 = rj.simulate(scene, y0, (0.0, t20), saveat=short_save, solver="dopri8", rtol=1e-12, atol=1e-15,
                         max_steps=10**7)
-    ref13 = rj.simulate(scene, y0, (0.0, t20), saveat=None, solver="dopri8", rtol=1e-13, atol=1e-16,
+    ref13 = rj.simulate(scene, y0, (0.0, t20), saveat=short_save, solver="dopri8", rtol=1e-13, atol=1e-16,
                         max_steps=10**7)
     disk = np.asarray(scene.disk[:2])
     pos_ref = disk @ np.asarray(ref20.ys[-1])[: scene.n_coords]
@@ -137,15 +150,15 @@ def main():
     for tol in (1e-7, 1e-9):
         for name, make in (
             ("rotorjax_smooth_dopri8", lambda tt, tol=tol: rj.simulate(
-                scene, y0, (0.0, tt), saveat=n_save if tt == T else None, solver="dopri8", rtol=tol,
+                scene, y0, (0.0, tt), saveat=n_save if tt == T else short_save, solver="dopri8", rtol=tol,
                 atol=tol, max_steps=10**7)),
             ("rotorjax_smooth_kvaerno5", lambda tt, tol=tol: rj.simulate(
-                scene, y0, (0.0, tt), saveat=n_save if tt == T else None, solver="kvaerno5", rtol=tol,
+                scene, y0, (0.0, tt), saveat=n_save if tt == T else short_save, solver="kvaerno5", rtol=tol,
                 atol=tol, max_steps=10**7)),
             ("rotorjax_events_dopri8", lambda tt, tol=tol: simulate_events(
-                scene, y0, (0.0, tt), saveat=n_save if tt == T else 2, rtol=tol, atol=tol)),
+                scene, y0, (0.0, tt), saveat=n_save if tt == T or args.smoke else 2, rtol=tol, atol=tol)),
         ):
-            t_run, res = timed(lambda: make(T), repeats=1 if "kvaerno" in name else 3)
+            t_run, res = timed(lambda: make(T), repeats=1 if "kvaerno" in name or args.smoke else 3)
             short = make(t20)
             runs[f"{name}_rtol{tol:g}"] = {
                 "seconds": t_run, "success": bool(res.success), "steps": int(res.stats["num_steps"]),
@@ -186,14 +199,15 @@ def main():
     full_p = dict(p, n_modes=0)
     full = cl.build_scene(full_p)
     yf = cl.initial_state(full, full_p)
-    t50 = 2 * np.pi / N * 50
+    revs_c = 1 if args.smoke else 50
+    t50 = 2 * np.pi / N * revs_c
     full_runs = {"stiffness_ratio_full": stiffness_ratio(full, yf), "auto_full": type(choose_solver(full, yf)).__name__,
                  "stiffness_ratio_reduced": stiffness_ratio(scene, y0),
-                 "auto_reduced": type(choose_solver(scene, y0)).__name__, "revolutions": 50}
+                 "auto_reduced": type(choose_solver(scene, y0)).__name__, "revolutions": revs_c}
     for label, sc, yy in (("reduced_6_modes", scene, y0), ("full_fe", full, yf)):
         for solver in ("dopri8", "kvaerno5"):
-            t_run, res = timed(lambda: rj.simulate(sc, yy, (0.0, t50), saveat=2000, solver=solver, rtol=1e-7,
-                                                    atol=1e-7, max_steps=10**7), repeats=1)
+            t_run, res = timed(lambda: rj.simulate(sc, yy, (0.0, t50), saveat=n_save if args.smoke else 2000,
+                                                    solver=solver, rtol=1e-7, atol=1e-7, max_steps=10**7), repeats=1)
             full_runs[f"{label}_{solver}"] = {"seconds": t_run, "steps": int(res.stats["num_steps"]),
                                               "success": bool(res.success)}
     print(full_runs, flush=True)
@@ -227,7 +241,10 @@ def main():
         "sweep": sweep,
     }
     print(json.dumps({k: v for k, v in out.items() if k not in ("machine",)}, indent=1)[:4000])
-    write_results("limiters", out)
+    if args.smoke:
+        print("smoke run: nothing written")
+    else:
+        write_results("limiters", out)
 
 
 def _sweep_tools(args, scene, y0, T, n_save, ts, N):
@@ -358,7 +375,7 @@ def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
     variants = {prev: tools["measure"]("vmap16", tools["vmapped"])}
     # brief tuning of the buffer size (steps_per_round 8), one timed call each
     tuning = []
-    for shard in (False, True):
+    for shard in (False,) if args.smoke else (False, True):
         for lanes in args.lanes:
             r = task("tune", lanes, shard)
             if r is None:
@@ -372,9 +389,11 @@ def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
     if best[True] is not None:
         variants[sharded] = task("measure", best[True], True, name=sharded)
     has_events = "events" in inspect.signature(simulate_batch).parameters and "events" in rj.IVP.__dataclass_fields__
-    ev = f"sweep buffered, event-located contact (IVP events=True), shard=True over {n_dev} host devices"
-    if has_events and best[True] is not None:
-        variants[ev] = task("measure", best[True], True, events=True, name=ev)
+    ev_shard = not args.smoke  # --smoke: on one device
+    ev = ("sweep buffered, event-located contact (IVP events=True), "
+          + (f"shard=True over {n_dev} host devices" if ev_shard else "1 device"))
+    if has_events and best[ev_shard] is not None:
+        variants[ev] = task("measure", best[ev_shard], ev_shard, events=True, name=ev)
     variants = {k: v for k, v in variants.items() if v is not None}
 
     # scipy LSODA's tolerance at rotorjax's (rtol 1e-7, smoothed) error, from its ladder

@@ -24,7 +24,9 @@ difference, lateral modes). ROSS runs in its own interpreter (`--ross-python`,
 default $ROTORJAX_ROSS_PYTHON, else this interpreter when `import ross` works).
 
 Run: python benchmarks/ross_parity.py [--ross-python PATH] [--designs 1000]
-[--ross-designs 10] [--repeats 5]; writes benchmarks/results/ross_parity.json.
+[--ross-designs 10] [--repeats 5] [--smoke]; writes benchmarks/results/ross_parity.json
+(`--smoke`: 5 speeds, 10 frequencies, 4 designs (2 for ROSS), 4 UCS stiffnesses, 3
+cross-couplings, one repeat; prints, writes nothing).
 """
 
 import argparse
@@ -112,7 +114,13 @@ def main():
     ap.add_argument("--designs", type=int, default=1000)
     ap.add_argument("--ross-designs", type=int, default=10)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--smoke", action="store_true", help="tiny sizes, one repeat; print, write nothing")
     args = ap.parse_args()
+    if args.smoke:
+        args.designs, args.ross_designs, args.repeats = 4, 2, 1
+    n_campbell, n_frf = (5, 10) if args.smoke else (N_CAMPBELL, N_FRF)
+    ucs_k = (UCS_K[0], UCS_K[1], 4) if args.smoke else UCS_K
+    level1 = dict(LEVEL1, num=3) if args.smoke else LEVEL1
 
     import jax
     import jax.numpy as jnp
@@ -126,16 +134,16 @@ def main():
     R = args.repeats
     out = {"benchmark": "ross parity (rotor_example; 1000 designs)", "machine": machine(),
            "versions": {"jax": jax.__version__, "rotorjax": getattr(rotorjax, "__version__", "")},
-           "rotorjax": {}, "sizes": {"n_campbell": N_CAMPBELL, "n_frf": N_FRF, "designs": args.designs}}
+           "rotorjax": {}, "sizes": {"n_campbell": n_campbell, "n_frf": n_frf, "designs": args.designs}}
     rj = out["rotorjax"]
 
     # --- (1) one rotor ---
     modes_fn = jax.jit(lambda s: fx.modes(scene, s, 16).frequencies)
     rj["modes_s"], rj["modes_first_call_s"], _ = timed_first(lambda: modes_fn(500.0), R)
     camp_fn = jax.jit(lambda s: fx.campbell(scene, s, 8).frequencies)
-    speeds = jnp.linspace(0.0, 1000.0, N_CAMPBELL)
+    speeds = jnp.linspace(0.0, 1000.0, n_campbell)
     rj["campbell_s"], rj["campbell_first_call_s"], _ = timed_first(lambda: camp_fn(speeds), R)
-    freqs = jnp.linspace(10.0, 1200.0, N_FRF)
+    freqs = jnp.linspace(10.0, 1200.0, n_frf)
     frf_fn = jax.jit(lambda w: fx.frf(scene, (2, "x"), (2, "x"), w).values)
     rj["frf_s"], rj["frf_first_call_s"], h = timed_first(lambda: frf_fn(freqs), R)
     rj["frf_note"] = "one input/output pair; ROSS's run_freq_response computes every pair per frequency"
@@ -158,21 +166,22 @@ def main():
     crit_fn = jax.jit(jax.vmap(lambda p: fx.synchronous_critical_speeds(design_rotor(*p), 4)))
     t, first, crit = timed_first(lambda: crit_fn(D), R)
     rj["critical"] = {"s": t, "first_call_s": first, "s_per_design": t / args.designs}
-    k_grid = jnp.logspace(UCS_K[0], UCS_K[1], UCS_K[2])
+    k_grid = jnp.logspace(*ucs_k)
     ucs_fn = jax.jit(jax.vmap(lambda p: fx.ucs_frequencies(design_rotor(*p), k_grid, n_modes=4)))
     t, first, ucs = timed_first(lambda: ucs_fn(D), R)
     rj["ucs"] = {"s": t, "first_call_s": first, "s_per_design": t / args.designs}
-    q = jnp.linspace(0.0, LEVEL1["q_max"], LEVEL1["num"])
+    q = jnp.linspace(0.0, level1["q_max"], level1["num"])
     lev_fn = jax.jit(jax.vmap(lambda p: jax.vmap(lambda qq: fx.level1_log_dec(
-        design_rotor(*p, c=LEVEL1["c"]), qq, LEVEL1["speed"], node=LEVEL1["node"]))(q)))
+        design_rotor(*p, c=level1["c"]), qq, level1["speed"], node=level1["node"]))(q)))
     t, first, lev = timed_first(lambda: lev_fn(D), R)
     rj["level1"] = {"s": t, "first_call_s": first, "s_per_design": t / args.designs}
     ross_py = _ross_python(args.ross_python)
     if ross_py:
         n = args.ross_designs
-        cfg = {"repeats": R, "n_campbell": N_CAMPBELL, "n_frf": N_FRF, "designs": designs[:n].tolist(),
-               "ucs": list(UCS_K), "level1": LEVEL1}
-        proc = subprocess.run([ross_py, "-c", ROSS_WORKER, json.dumps(cfg)], capture_output=True, text=True)
+        cfg = {"repeats": R, "n_campbell": n_campbell, "n_frf": n_frf, "designs": designs[:n].tolist(),
+               "ucs": list(ucs_k), "level1": level1}
+        proc = subprocess.run([ross_py, "-c", ROSS_WORKER, json.dumps(cfg)], capture_output=True, text=True,
+                              timeout=300 if args.smoke else None)
         if proc.returncode != 0:
             raise SystemExit(f"ROSS worker failed:\n{proc.stderr[-3000:]}")
         ross = json.loads(proc.stdout.strip().splitlines()[-1])
@@ -207,7 +216,10 @@ def main():
         print("ROSS not available: pass --ross-python (ROSS timed in its own interpreter)")
     print(json.dumps({k: out[k] for k in ("rotorjax", "ross", "ratios_ross_over_rotorjax", "agreement")
                       if k in out}, indent=1))
-    write_results("ross_parity", out)
+    if args.smoke:
+        print("smoke run: nothing written")
+    else:
+        write_results("ross_parity", out)
 
 
 if __name__ == "__main__":

@@ -41,9 +41,11 @@ at matched error (the peer's time at rotorjax's error, log-log interpolated on t
 peer's ladder). Times are medians of `--repeats` runs after a first, compiling
 call; rotorjax is timed through its public `simulate` (Python checks included).
 
-Run: python benchmarks/rotor_scene.py [--quick] [--repeats 3] [--batch 64]
+Run: python benchmarks/rotor_scene.py [--quick | --smoke] [--repeats 3] [--batch 64]
 Writes benchmarks/results/rotor_scene.json (`--quick`: two tolerances, one
-repeat, a batch of 8; prints, writes nothing).
+repeat, a batch of 8; prints, writes nothing; `--smoke`: as `--quick`, but 0.02 s
+of motion, one tolerance (1e-6), and the right-hand-side costs (over 4 states) and
+a batch of 2 (grouped calls whatever the lock-step waste) on the reduced scene only).
 """
 
 import argparse
@@ -57,8 +59,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _common import machine, write_results  # noqa: E402
+from rotorjax.bench._matching import interpolate_cost  # noqa: E402
 
 T_END = 0.5
+SMOKE_T_END = 0.02     # --smoke: the span (replaces T_END)
 SPEED = 150.0
 RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
 ATOL_PER_RTOL = 1e-4
@@ -315,19 +319,6 @@ def timed(fn, repeats, warm=True):
     return float(np.median(ts)), first, r, ts
 
 
-def interpolate_cost(errors, costs, target):
-    """Cost at `target` error by log-log interpolation over a ladder."""
-    e, c = np.log(np.asarray(errors)), np.log(np.asarray(costs))
-    order = np.argsort(e)
-    e, c = e[order], c[order]
-    t = np.log(target)
-    if t < e[0]:
-        return float(np.exp(c[0])), "clamped: peer never reached this error"
-    if t > e[-1]:
-        return float(np.exp(c[-1])), "clamped at the peer's loosest rtol"
-    return float(np.exp(np.interp(t, e, c))), "interpolated"
-
-
 # ------------------------------------------------------------------------------- (1)
 def work_precision(label, scene, rtols, repeats, nb):
     import jax.numpy as jnp
@@ -578,15 +569,22 @@ def print_table(out):
 
 
 def main():
+    global T_END
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="two tolerances, one repeat, batch of 8; write nothing")
+    ap.add_argument("--smoke", action="store_true",
+                    help=f"as --quick, t_end {SMOKE_T_END}, one tolerance, batch of 2; write nothing")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--batch", type=int, default=64)
     ap.add_argument("--reduced-modes", type=int, default=8)
     args = ap.parse_args()
-    rtols = (RTOLS[0], RTOLS[2]) if args.quick else RTOLS
+    args.quick = args.quick or args.smoke
+    rtols = (RTOLS[1],) if args.smoke else (RTOLS[0], RTOLS[2]) if args.quick else RTOLS
     repeats = 1 if args.quick else args.repeats
-    n_batch = 8 if args.quick else args.batch
+    n_batch = 2 if args.smoke else 8 if args.quick else args.batch
+    rhs_batch = 4 if args.smoke else 64
+    if args.smoke:
+        T_END = SMOKE_T_END
 
     import diffrax
     import equinox
@@ -609,20 +607,24 @@ def main():
                      "initial_state": "rest", "atol": f"rtol * {ATOL_PER_RTOL}", "repeats": repeats,
                      "max_steps": MAX_STEPS},
            "work_precision": {}, "batch": {}}
+    # --smoke: the right-hand-side costs and the batch on the reduced scene only (the same code as the full one)
+    batch_scenes = dict(list(scenes.items())[1:]) if args.smoke else scenes
     for label, scene in scenes.items():
         print(f"work-precision: {label}")
         out["work_precision"][label] = work_precision(label, scene, rtols, repeats, nb)
-        out["work_precision"][label]["rhs_us_per_eval"] = rhs_cost(scene, nb)
-        print(f"  [{label}] us per RHS evaluation: {out['work_precision'][label]['rhs_us_per_eval']}")
+        if label in batch_scenes:
+            out["work_precision"][label]["rhs_us_per_eval"] = rhs_cost(scene, nb, rhs_batch)
+            print(f"  [{label}] us per RHS evaluation: {out['work_precision'][label]['rhs_us_per_eval']}")
     full, red = (out["work_precision"][k] for k in scenes)
     out["reduction_error"] = {
         "reduced_vs_full_reference": float(np.max(np.abs(np.asarray(red["reference_final_nodes_xy"])
                                                          - np.asarray(full["reference_final_nodes_xy"])))
                                            / full["orbit_amplitude_m"]),
         "note": "final node displacements, reduced reference vs full reference, / full orbit amplitude"}
-    for label, scene in scenes.items():
+    for label, scene in batch_scenes.items():
         print(f"batch: {label}")
-        out["batch"][label] = batch(label, scene, n_batch, repeats, nb)
+        # --smoke: grouped calls whatever the lock-step waste (to run that path too)
+        out["batch"][label] = batch(label, scene, n_batch, repeats, nb, group_if_waste=1.0 if args.smoke else 1.1)
     out["total_wall_s"] = time.perf_counter() - t_start
     print_table(out)
     print("\nbatch (s; ratio = peer / best rotorjax):")
@@ -635,7 +637,9 @@ def main():
     print(f"\nreduction error (8 modes vs full, final node displacements / orbit): "
           f"{out['reduction_error']['reduced_vs_full_reference']:.2e}")
     print(f"total {out['total_wall_s']:.0f} s")
-    if not args.quick:
+    if args.smoke:
+        print("smoke run: nothing written")
+    elif not args.quick:
         write_results("rotor_scene", out)
 
 

@@ -1,9 +1,11 @@
 """Explicit vs implicit on model 000 as the balls' drag delta_b grows: where does
 Kvaerno5 start to pay? Sets rotorjax.solve.STIFFNESS_THRESHOLD.
 
-Run: python benchmarks/solver_choice.py; writes benchmarks/results/solver_choice.json.
+Run: python benchmarks/solver_choice.py [--smoke]; writes benchmarks/results/solver_choice.json
+(`--smoke`: the mildest and stiffest drag, t = 10, 20 000 steps at most, one repeat; prints, writes nothing).
 """
 
+import argparse
 import json
 import os
 import platform
@@ -19,26 +21,32 @@ T_END = 300.0
 
 
 def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--smoke", action="store_true", help="two drags, t = 10, one repeat; print, write nothing")
+    args = ap.parse_args()
+    t_end = 10.0 if args.smoke else T_END
+    max_steps = 20_000 if args.smoke else 200_000
+    repeats = 1 if args.smoke else 3
     preset = presets.get("elliptic-abb")
     rows = []
-    for delta_b in (40.0, 400.0, 4000.0, 40000.0):
+    for delta_b in (40.0, 40000.0) if args.smoke else (40.0, 400.0, 4000.0, 40000.0):
         p = preset.params({"rho1": 1.0, "rho2": 1.0, "eps": 0.03, "psi1": 1.0,
                            "psi_spacing": 2.5, "delta_b": delta_b})
         setup = preset.build(p)
         scene, y0 = setup.scene, setup.y0
         ratio = rj.solve.stiffness_ratio(scene, y0)
-        ref = rj.simulate(scene, y0, (0.0, T_END), solver="kvaerno5", rtol=1e-11, atol=1e-13,
+        ref = rj.simulate(scene, y0, (0.0, t_end), solver="kvaerno5", rtol=1e-11, atol=1e-13,
                           max_steps=2_000_000)
         for solver in ("dopri8", "kvaerno5"):
-            for rtol in (1e-6, 1e-8):
-                run = lambda: rj.simulate(scene, y0, (0.0, T_END), solver=solver, rtol=rtol,  # noqa
-                                          atol=rtol * 1e-2, max_steps=200_000)
+            for rtol in (1e-6,) if args.smoke else (1e-6, 1e-8):
+                run = lambda: rj.simulate(scene, y0, (0.0, t_end), solver=solver, rtol=rtol,  # noqa
+                                          atol=rtol * 1e-2, max_steps=max_steps)
                 t0 = time.perf_counter()
                 r = run()
                 r.ys.block_until_ready()
                 first = time.perf_counter() - t0
                 times = []
-                for _ in range(3):
+                for _ in range(repeats):
                     t0 = time.perf_counter()
                     r = run()
                     r.ys.block_until_ready()
@@ -56,6 +64,9 @@ def main():
            "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count()},
            "versions": {"jax": jax.__version__}, "threshold": rj.solve.STIFFNESS_THRESHOLD,
            "rows": rows}
+    if args.smoke:
+        print("smoke run: nothing written")
+        return
     path = os.path.join(os.path.dirname(__file__), "results", "solver_choice.json")
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:

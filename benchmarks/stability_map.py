@@ -21,8 +21,9 @@ reported as points per second. Target (issue 17): >= 100x the scipy loop on the 
 Accuracy: the critical speeds at mu_w = 0.25 located by each method (scan of the
 200 speeds + bisection to 1e-9) against a tight reference (rotorjax, rtol 1e-12).
 
-Run: python benchmarks/stability_map.py [--subset 60] [--repeats 3];
-writes benchmarks/results/stability_map.json.
+Run: python benchmarks/stability_map.py [--subset 60] [--repeats 3] [--smoke];
+writes benchmarks/results/stability_map.json (`--smoke`: 8 speeds x 2 mu_w, rtol 1e-6 only,
+one repeat; prints, writes nothing).
 """
 
 import json
@@ -41,7 +42,7 @@ import jax  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 import rotorjax as rj  # noqa: E402
-import peers_001  # noqa: E402
+from rotorjax.bench import _peers001  # noqa: E402
 from _common import CpuWatch, today  # noqa: E402
 from rotorjax._distributed import on_each_device  # noqa: E402
 from rotorjax.analysis import critical_speeds  # noqa: E402
@@ -120,34 +121,21 @@ def rhs_complex(t, y, p):
 
 def scipy_margin(n, mu_w, rtol, rhs="python"):
     """The largest Floquet exponent by a scipy DOP853 solve of the augmented system;
-    `rhs`: "python" (closed-form pure-Python right-hand side in `cmath`) or "numpy"."""
+    `rhs`: "python" (closed-form pure-Python right-hand side in `cmath`: the package's
+    peer, `rotorjax.bench._peers001.scipy_margin`) or "numpy"."""
     p = dict(BASE, mu_w=mu_w, n=n)
+    if rhs == "python":
+        return _peers001.scipy_margin(p, n, Y_MAIN, rtol)
     m = len(Y_MAIN)
     h = 1e-30
-    if rhs == "python":
-        f_c = peers_001.make_rhs_python(p, complex_step=True)
-        f_r = peers_001.make_rhs_python(p)
-        steps = [[1j * h if i == k else 0.0 for i in range(m)] for k in range(m)]
 
-        def jac(t, y):
-            yl = y.tolist()
-            cols = [f_c(t, np.array([a + b for a, b in zip(yl, e)])) for e in steps]
-            return np.imag(np.array(cols)).T / h
-
-        def f(t, y):
-            return f_r(t, y)
-    else:
-        def jac(t, y):
-            return np.stack([np.imag(rhs_complex(t, y + 1j * h * e, p)) / h
-                             for e in np.eye(m)], axis=1)
-
-        def f(t, y):
-            return rhs_complex(t, y, p)
+    def jac(t, y):
+        return np.stack([np.imag(rhs_complex(t, y + 1j * h * e, p)) / h for e in np.eye(m)], axis=1)
 
     def aug(t, s):
         y, phi = s[:m], s[m:m + m * m].reshape(m, m)
         j = jac(t, y)
-        return np.concatenate([f(t, y), (j @ phi).ravel(), [np.trace(j)]])
+        return np.concatenate([rhs_complex(t, y, p), (j @ phi).ravel(), [np.trace(j)]])
 
     period = 2 * np.pi / n
     s0 = np.concatenate([Y_MAIN, np.eye(m).ravel(), [0.0]])
@@ -185,7 +173,12 @@ def main():
     ap.add_argument("--subset", type=int, default=60)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--shard", action="store_true", help="also time the variants split over the host devices")
+    ap.add_argument("--smoke", action="store_true", help="a tiny grid, one rtol, one repeat; write nothing")
     args = ap.parse_args()
+    global SPEEDS, MU_W
+    if args.smoke:
+        SPEEDS, MU_W = np.linspace(0.5, 10.0, 8), np.linspace(0.05, 1.0, 2)
+        args.subset, args.repeats = 3, 1
     rng = np.random.default_rng(0)
     whole = CpuWatch()
     n_dev = len(jax.local_devices())
@@ -215,7 +208,7 @@ def main():
         "runtime hangs (every thread waiting) on this program; reproduced with the monodromy integration followed "
         "by eigvals, while each alone runs (with --xla_cpu_multi_thread_eigen on and off, OPENBLAS_NUM_THREADS=1 "
         "too). One such run finished before the cause was found: 825 points/s against 813 on one device.")
-    for rtol in (1e-6, 1e-8):
+    for rtol in (1e-6,) if args.smoke else (1e-6, 1e-8):
         runs, first_map = {}, None
         for name, (fn, shard) in variants.items():
             watch = CpuWatch()
@@ -280,6 +273,9 @@ def main():
               f"rotorjax {row['rotorjax_critical_error']:.1e}, scipy {row['scipy_critical_error']:.1e}", flush=True)
     out["cpu_contention"] = {**whole.report(), "note": "other processes shared this 2-core machine; "
                              "other_cores_busy (per timing too) is their mean load in cores"}
+    if args.smoke:
+        print("smoke run: nothing written")
+        return
     path = os.path.join(os.path.dirname(__file__), "results", "stability_map.json")
     with open(path, "w") as f:
         json.dump({**out, "date": today()}, f, indent=2)

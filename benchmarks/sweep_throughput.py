@@ -34,8 +34,9 @@ results waited for (`jax.block_until_ready`). The machine is shared: the load of
 processes during each timing is recorded (`other_cores_busy`, from /proc/stat). No GPU
 was available to this task.
 
-Run: python benchmarks/sweep_throughput.py [--n-speeds 1000] [--subset 40] [--repeats 3]
-Writes benchmarks/results/sweep_throughput.json.
+Run: python benchmarks/sweep_throughput.py [--n-speeds 1000] [--subset 40] [--repeats 3] [--smoke]
+Writes benchmarks/results/sweep_throughput.json (`--smoke`: 8 speeds, tau in [0, 20], one
+setting, two rungs per method, one repeat; prints, writes nothing).
 """
 
 import argparse
@@ -57,6 +58,7 @@ import rotorjax as rj  # noqa: E402
 from rotorjax.presets import anisotropic_abb  # noqa: E402
 import peers_001  # noqa: E402
 from _common import CpuWatch, today  # noqa: E402
+from rotorjax.bench._matching import interpolate_cost  # noqa: E402
 
 P = dict(anisotropic_abb.PRESET.defaults)
 GROUPS = {k: P[k] for k in anisotropic_abb.GROUPS}
@@ -132,21 +134,6 @@ def error(final, ref, mask):
     return float(np.max(np.abs(final[mask] - ref[mask])))
 
 
-def interpolate_cost(errors, costs, target):
-    """Cost at `target` error by log-log interpolation over a ladder (monotone part)."""
-    errors, costs = np.asarray(errors), np.asarray(costs)
-    ok = np.isfinite(errors) & (errors > 0)  # a rung that blew up (coarse RK4) has no error to match
-    e, c = np.log(errors[ok]), np.log(costs[ok])
-    order = np.argsort(e)
-    e, c = e[order], c[order]
-    t = np.log(target)
-    if t < e[0]:
-        return float(np.exp(c[0])), "extrapolated: peer never reached this error (its finest rung's cost)"
-    if t > e[-1]:
-        return float(np.exp(c[-1])), "extrapolated: clamped at the peer's loosest rung"
-    return float(np.exp(np.interp(t, e, c))), "interpolated"
-
-
 def numba_rung(speeds, sub, y0, p, n_steps, threads, repeats, full_max):
     """One numba RK4 rung: error on the subset, cost per speed (median of repeats)."""
     watch = CpuWatch()
@@ -160,10 +147,11 @@ def numba_rung(speeds, sub, y0, p, n_steps, threads, repeats, full_max):
                  "other_cores_busy": watch.report()["other_cores_busy"]}
 
 
-def numba_ladder(speeds, sub, y0, p, ref, cond, threads, repeats, full_max, lo_err, hi_err):
+def numba_ladder(speeds, sub, y0, p, ref, cond, threads, repeats, full_max, lo_err, hi_err, rungs=None):
     """RK4 rungs from 20 000 steps, widened (coarser by 1.5x, finer by 1.5-2x) until the
-    errors bracket [lo_err, hi_err] (rotorjax's errors), or a limit is hit."""
-    rungs = {}
+    errors bracket [lo_err, hi_err] (rotorjax's errors), or a limit is hit; `rungs`:
+    these step counts only (the smoke run)."""
+    fixed, rungs = rungs, {}
 
     def run(ns):
         if ns not in rungs:
@@ -174,6 +162,8 @@ def numba_ladder(speeds, sub, y0, p, ref, cond, threads, repeats, full_max, lo_e
                   f"{row['s_per_speed'] * 1e3:.3f} ms/speed (timed on {row['timed_on_speeds']})", flush=True)
         return rungs[ns]
 
+    if fixed:
+        return [run(ns) for ns in fixed]
     for ns in (20_000, 40_000, 80_000):
         run(ns)
     ns = 20_000
@@ -196,7 +186,12 @@ def main():
                     help="numba rungs with more steps are timed on every 5th speed")
     ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "results",
                                                   "sweep_throughput.json"))
+    ap.add_argument("--smoke", action="store_true", help="tiny sizes, one repeat; print, write nothing")
     args = ap.parse_args()
+    global T_END, LADDER, SCIPY_LADDER, TUNE_LANES, TUNE_SPR
+    if args.smoke:  # every path once, at tiny size
+        T_END, LADDER, SCIPY_LADDER, TUNE_LANES, TUNE_SPR = 20.0, (1e-6, 1e-8), (1e-5, 1e-7), (8,), (4,)
+        args.n_speeds, args.subset, args.repeats, args.tune_repeats, args.chunk = 8, 4, 1, 1, 4
 
     n_dev = len(jax.local_devices())
     whole = CpuWatch()
@@ -267,7 +262,8 @@ def main():
     # the previous path: as `sweep(batch="vmap")` runs it (which compiles again at every
     # call), and the same lock-step integration compiled once
     vm = [record(vmapped, 1e-6, dict(batch="vmap", chunk_size=args.chunk))]
-    vm += [record(vmapped_once, rtol, dict(chunk_size=args.chunk), vmapped_chunks) for rtol in (1e-6, 1e-9)]
+    vm += [record(vmapped_once, rtol, dict(chunk_size=args.chunk), vmapped_chunks)
+           for rtol in ((1e-6,) if args.smoke else (1e-6, 1e-9))]
     rj_errors = [r["error"] for r in ladder_rows + [r1, r2] + vm]
 
     # ---------------------------------------------------------------- scipy (subset)
@@ -295,7 +291,7 @@ def main():
     for threads in (1, 2):
         results["numba"][f"{threads}_threads"] = numba_ladder(
             speeds, sub, y0, p, ref_sub, cond, threads, args.repeats, args.numba_full_max,
-            min(rj_errors), max(rj_errors))
+            min(rj_errors), max(rj_errors), rungs=(1_000, 2_000) if args.smoke else None)
 
     # ---------------------------------------------------------------- table
     peers = [("numba RK4 2 threads", results["numba"]["2_threads"]),
@@ -359,6 +355,9 @@ def main():
         "table": table,
         "targets": targets,
     }
+    if args.smoke:
+        print("smoke run: nothing written")
+        return
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
         json.dump({**out, "date": today()}, f, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o))

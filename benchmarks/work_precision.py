@@ -6,7 +6,9 @@ writes, next to each, a PNG:
   trajectory (or per point), one curve per method and variant, markers labelled
   with the tolerance;
 - `ross_parity`, `identification` (no tolerance ladder): time per analysis against
-  the peer, the ratio above each pair, the agreement in the reading.
+  the peer, the ratio above each pair, the agreement in the reading;
+- `bench_quick` (the report of `rotorjax bench --quick`): its three panels
+  (`rotorjax.plot.plot_bench`).
 Captions carry the machine and the JSON's `date` (else the file's time). Then writes
 `benchmarks/README.md`: each diagram with its reading, every number in it taken from
 the JSON. Measures nothing; run it after a benchmark.
@@ -23,6 +25,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from rotorjax.plot import work_precision_curve  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -43,16 +47,6 @@ def _caption(ax, data, date, what):
                  f"{m.get('platform', '')[:40]}, measured {date}", fontsize=8)
 
 
-def _curve(ax, points, label, style):
-    """`points`: (error, seconds, tolerance label); zero errors cannot be drawn on a log axis."""
-    pts = sorted((e, s, t) for e, s, t in points if e > 0)
-    if not pts:
-        return
-    ax.loglog([p[1] for p in pts], [p[0] for p in pts], style, label=label, markersize=4)
-    for e, s, t in pts:
-        ax.annotate(t, (s, e), fontsize=5, xytext=(2, 2), textcoords="offset points")
-
-
 def _save(fig, ax, path, xlabel, ylabel):
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -71,12 +65,14 @@ def sweep_throughput(results):
     for row in rj.values():
         ladder.setdefault(row["variant"], []).append((row["error"], row["s_per_speed"], f"{row['rtol']:.0e}"))
     for i, (name, pts) in enumerate(ladder.items()):
-        _curve(ax, pts, f"rotorjax: {name}", "o-" if len(pts) > 1 else ["s", "^", "v", "<"][i % 4])
+        work_precision_curve(ax, pts, f"rotorjax: {name}",
+                             "o-" if len(pts) > 1 else ["s", "^", "v", "<"][i % 4])
     for threads, rows in d["results"]["numba"].items():
-        _curve(ax, [(r["error"], r["s_per_speed"], f"h={r['h']:g}") for r in rows], f"numba RK4, {threads}", "x--")
+        work_precision_curve(ax, [(r["error"], r["s_per_speed"], f"h={r['h']:g}") for r in rows],
+                             f"numba RK4, {threads}", "x--")
     for method, rows in d["results"]["scipy"].items():
         if isinstance(rows, list):
-            _curve(ax, [(r["error"], r["s_per_speed"], f"{r['rtol']:.0e}") for r in rows],
+            work_precision_curve(ax, [(r["error"], r["s_per_speed"], f"{r['rtol']:.0e}") for r in rows],
                    f"scipy {method}, pure-Python rhs", "d:")
     _caption(ax, d, date, "model 001: 1000 speeds, tau in [0, 200]")
     _save(fig, ax, os.path.join(results, "sweep_throughput_wp.png"), "seconds per speed", "max error")
@@ -97,7 +93,7 @@ def limiters(results):
         name, tol = key.rsplit("_rtol", 1)
         groups.setdefault(name, []).append((row["error_after_5_revolutions"], row["seconds"], tol))
     for name, pts in groups.items():
-        _curve(ax, pts, name.replace("_", " "), "o-" if name.startswith("rotorjax") else "d:")
+        work_precision_curve(ax, pts, name.replace("_", " "), "o-" if name.startswith("rotorjax") else "d:")
     _caption(ax, d, date, "model 004 with limiters: one run of 300 revolutions")
     _save(fig, ax, os.path.join(results, "limiters_wp.png"), "seconds per run",
           "disk-position error after 5 revolutions")
@@ -116,10 +112,10 @@ def stability_map(results):
     rows = d["rows"]
     names = list(rows[0]["variants"])
     for name in names:
-        _curve(ax, [(r["rotorjax_critical_error"], 1.0 / r["variants"][name]["points_per_s"], f"{r['rtol']:.0e}")
+        work_precision_curve(ax, [(r["rotorjax_critical_error"], 1.0 / r["variants"][name]["points_per_s"], f"{r['rtol']:.0e}")
                     for r in rows], f"rotorjax: {name}", "o-")
     for peer in rows[0]["scipy"]:
-        _curve(ax, [(r["scipy_critical_error"], 1.0 / r["scipy"][peer]["points_per_s"], f"{r['rtol']:.0e}")
+        work_precision_curve(ax, [(r["scipy_critical_error"], 1.0 / r["scipy"][peer]["points_per_s"], f"{r['rtol']:.0e}")
                     for r in rows], f"scipy DOP853 loop, {peer} rhs", "d:")
     _caption(ax, d, date, "model 001 Floquet map, 200 x 50 points")
     _save(fig, ax, os.path.join(results, "stability_map_wp.png"), "seconds per point",
@@ -190,6 +186,26 @@ def identification(results):
             f"relative.")
 
 
+def bench_quick(results):
+    """`rotorjax bench --quick` on this machine (its report copied to bench_quick.json)."""
+    from rotorjax.plot import plot_bench
+
+    d, _ = _load(results, "bench_quick")
+    plot_bench(d, os.path.join(results, "bench_quick.png"))
+    best = {}
+    for r in d["table"]:
+        if r["match"] == "interpolated" or r["match"].startswith("same"):
+            key = (r["comparison"], r["peer"])
+            best[key] = max(best.get(key, 0.0), r["ratio"])
+    said = "; ".join(f"{c} vs {p}: up to {v:.3g}x" for (c, p), v in best.items())
+    skipped = [f"{s['peer']} ({c['name']})" for c in d["comparisons"] for s in c["skipped"]]
+    return ("bench_quick.png",
+            f"`rotorjax bench --quick` ({d['machine']['device']}, {d['machine']['date']}), rotorjax on one device, "
+            f"ratios at matched error where the peer's ladder brackets rotorjax's error: {said}."
+            + (f" Skipped: {', '.join(skipped)}." if skipped else "")
+            + " Smaller sizes than the studies above: the ratios are the command's, not the benchmarks'.")
+
+
 def page(entries, path):
     lines = ["# Benchmark results", "",
              "Generated by `python benchmarks/work_precision.py` from `benchmarks/results/*.json`, the last "
@@ -210,7 +226,8 @@ def main():
                ("Model 004 with limiters", limiters(args.results)),
                ("Floquet stability map", stability_map(args.results)),
                ("Linear analyses against ROSS", ross_parity(args.results)),
-               ("Identification of support stiffness and damping", identification(args.results))]
+               ("Identification of support stiffness and damping", identification(args.results)),
+               ("`rotorjax bench --quick`", bench_quick(args.results))]
     page(entries, args.page)
     print(f"wrote {len(entries)} diagrams and {args.page}")
 

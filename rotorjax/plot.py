@@ -790,3 +790,55 @@ def plot_fe_balance(path, result, title):
     corr = ", ".join(f"node {n}: {m:.3g} kg m at {np.degrees(p) % 360:.0f} deg" for n, m, p in result.corrections)
     ax.set_title(f"{title}\ncorrections ({result.method}): {corr}", fontsize=9)
     return _save(fig, path, [ax])
+
+
+def work_precision_curve(ax, points, label, style):
+    """One method's curve on a work-precision diagram (log cost across, log error up),
+    each marker labelled with its tolerance. `points`: `(error, cost, tolerance label)`;
+    a zero or non-finite error cannot be drawn on a log axis and is left out."""
+    pts = sorted((e, c, t) for e, c, t in points if np.isfinite(e) and e > 0 and np.isfinite(c) and c > 0)
+    if not pts:
+        return
+    ax.loglog([p[1] for p in pts], [p[0] for p in pts], style, label=label, markersize=4)
+    for e, c, t in pts:
+        ax.annotate(t, (c, e), fontsize=5, xytext=(2, 2), textcoords="offset points")
+
+
+def plot_bench(report, path):
+    """`rotorjax bench`'s figure: one panel per comparison; a work-precision diagram
+    where the methods have ladders, else the time per analysis as bars with the
+    agreement in the title. The machine and date in the caption."""
+    plt = _plt()
+    comps = report["comparisons"]
+    fig, axes = plt.subplots(1, len(comps), figsize=(5.2 * len(comps), 4.6))
+    for ax, c in zip(np.atleast_1d(axes), comps):
+        ladders = any(len(pts) > 1 for pts in c["curves"].values())
+        if ladders:
+            for name, pts in c["curves"].items():
+                style = "o-" if name == c["rotorjax"] else ("x--" if "numba" in name else "d:")
+                work_precision_curve(ax, [(p["error"], p["cost"], p["tol"]) for p in pts], name, style)
+            ax.set_xlabel(c["cost_unit"].replace("s per", "seconds per"))
+            ax.set_ylabel(c["error_label"])
+            ax.grid(True, which="both", alpha=0.3)
+        else:
+            names = list(c["curves"])
+            costs = [c["curves"][n][0]["cost"] for n in names]
+            ax.bar(range(len(names)), costs, color=["C0"] + ["C1"] * (len(names) - 1))
+            ax.set_xticks(range(len(names)), [n.replace(" run_", "\nrun_") for n in names], fontsize=7)
+            ax.set_yscale("log")
+            ax.set_ylabel(c["cost_unit"].replace("s per", "seconds per"))
+            if "agreement_max_rel" in c["checks"]:
+                ax.text(0.5, 0.95, f"agreement {c['checks']['agreement_max_rel']:.1e} (relative)",
+                        transform=ax.transAxes, ha="center", va="top", fontsize=7)
+            ax.grid(True, axis="y", which="both", alpha=0.3)
+        skipped = "; ".join(s["peer"] + " skipped" for s in c["skipped"])
+        ax.set_title(f"{c['name']}: {c['what']}" + (f"\n({skipped})" if skipped else ""), fontsize=7)
+        if ladders:
+            ax.legend(fontsize=6)
+    m = report["machine"]
+    fig.suptitle(f"rotorjax bench: {m['device']}, {m['cpu_count']} CPU cores, {m['platform'][:48]}, jax "
+                 f"{m['jax']}, {m['date']}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -52,6 +52,14 @@ CASES = [
     (["simulate", *C, "--set", "smoothing=0"], 2, r"--set smoothing=0"),
     (["simulate", *R], 2, r"`simulate` does not apply to 'ross-compare'"),
     (["simulate", *B], 2, r"`simulate` does not apply to 'balancing-machine'.*use `balance`, `identify`"),
+    # --- bench ---
+    (["bench", "--device", "tpu"], 2, r"argument --device: invalid choice: 'tpu'"),
+    (["bench", "--device", "gpu"], 2, r"--device gpu: JAX sees no gpu device here \(it sees: cpu\)"),
+    (["bench", "--ross-python", "{d}/no-python"], 2, r"--ross-python .*no-python: no executable file there"),
+    (["bench", "--ross-python", "/bin/sh"], 2, r"--ross-python /bin/sh: that interpreter cannot `import ross`"),
+    (["bench", "--quick", "--out", "{d}/twotrial.csv"], 2, r"--out .*twotrial.csv: exists and is not a folder"),
+    (["bench", "--quick", "fast"], 2, r"unrecognized arguments: fast"),
+    (["bench", "--repeats", "3"], 2, r"unrecognized arguments: --repeats 3"),
     # --- simulate: options ---
     ([*S, "--t-end", "-3"], 2, r"argument --t-end: must be > 0"),
     ([*S, "--t-end", "nan"], 2, r"argument --t-end: must be finite"),

@@ -25,6 +25,7 @@ RANK = {
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
     "plot": 3.5,
     "presets": 4,
+    "bench": 4.5,  # the headline comparisons (`rotorjax bench`): presets against their peers
     "demo": 5, "cli": 5,
     "rotorjax": 6,  # the facade, rotorjax/__init__.py
 }

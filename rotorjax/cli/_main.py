@@ -7,6 +7,7 @@ import sys
 from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
+from ._bench import cmd_bench
 from ._common import InputError, NumericalError, at_least, finite, nonnegative, positive, tolerance
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
@@ -347,6 +348,24 @@ def build_parser():
     data.add_argument("name", nargs="?", default=None, help="dataset name (for `path`)")
     _debug_flag(data)
     data.set_defaults(fn=cmd_data)
+    bench = sub.add_parser(
+        "bench", help="the headline speed comparisons on this machine", formatter_class=_Formatter,
+        description="Runs the headline comparisons on this machine: the model-001 speed sweep against numba RK4 and "
+                    "scipy DOP853 loops, the model-001 Floquet map against a scipy loop, the Campbell diagram of "
+                    "ROSS's example rotor against ROSS; prints the ratios at matched error (a peer's cost at "
+                    "rotorjax's error, read off its own tolerance ladder) and writes the work-precision diagram "
+                    "(bench.png) and bench.json to --out. Peers that are not installed (numba, ROSS) are skipped "
+                    "with a note. Without --quick it runs the sizes of benchmarks/ (many minutes)."
+                    "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
+    bench.add_argument("--quick", action="store_true", help="small sizes: under 2 minutes on a laptop")
+    bench.add_argument("--smoke", action="store_true", help=argparse.SUPPRESS)  # tiny sizes, for the tests
+    bench.add_argument("--device", choices=("cpu", "gpu"), default="cpu",
+                       help="the JAX device rotorjax runs on (the peers run on the CPU)")
+    bench.add_argument("--ross-python", default=None, metavar="PYTHON",
+                       help="a Python interpreter that has ROSS (default: $ROTORJAX_ROSS_PYTHON, else this one "
+                            "when ross is installed, else ROSS is skipped)")
+    _common_flags(bench, json_help="print the report as JSON on stdout")
+    bench.set_defaults(fn=cmd_bench)
     demo = sub.add_parser("demo", help="a short representative study with plots", formatter_class=_Formatter)
     demo.add_argument("--out", default="rotorjax-out", metavar="DIR", help="folder for the plots and summary")
     _debug_flag(demo)
