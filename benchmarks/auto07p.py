@@ -11,7 +11,8 @@ distance of an AUTO point from rotorjax's curve (rotorjax's corrector from AUTO'
 point, and a spline through rotorjax's points), the special points, the curves' ends.
 
 AUTO-07p comes from `.ci/install-auto07p` (Debian's `auto-07p` and gfortran); without it
-only rotorjax is timed. `--smoke`: one repeat, prints the results, writes no file.
+only rotorjax is timed. `--smoke`: one repeat, AUTO in (a) only, prints the results,
+writes no file.
 Otherwise writes benchmarks/results/auto07p.json.
 """
 
@@ -92,7 +93,7 @@ def main():
     t_rj, t_rj_first, rj = timed_first(ex.rotorjax_jeffcott, repeats)
     b = {"rotorjax": {"first_call_s": t_rj_first, "median_s": t_rj, "hopf_curve_points": int(rj[1].x.shape[0]),
                       "branch_points": int(rj[0].p.size), "stopped": rj[1].stopped}}
-    if inst is not None:
+    if inst is not None and not args.smoke:  # --smoke: AUTO in (a) only (the same glue)
         b["auto"], res = time_auto(ex.auto_jeffcott, inst, repeats, "hopf")
         t0 = time.perf_counter()
         b["deviation"] = ex.jeffcott_deviation(res, rj)

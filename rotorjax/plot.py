@@ -808,6 +808,10 @@ def plot_bench(report, path):
     """`rotorjax bench`'s figure: one panel per comparison; a work-precision diagram
     where the methods have ladders, else the time per analysis as bars with the
     agreement in the title. The machine and date in the caption."""
+    import textwrap
+
+    from matplotlib.ticker import NullFormatter
+
     plt = _plt()
     comps = report["comparisons"]
     fig, axes = plt.subplots(1, len(comps), figsize=(5.2 * len(comps), 4.6))
@@ -832,7 +836,9 @@ def plot_bench(report, path):
                         transform=ax.transAxes, ha="center", va="top", fontsize=7)
             ax.grid(True, axis="y", which="both", alpha=0.3)
         skipped = "; ".join(s["peer"] + " skipped" for s in c["skipped"])
-        ax.set_title(f"{c['name']}: {c['what']}" + (f"\n({skipped})" if skipped else ""), fontsize=7)
+        ax.set_title(textwrap.fill(f"{c['name']}: {c['what']}", 70) + (f"\n({skipped})" if skipped else ""),
+                     fontsize=7)
+        ax.xaxis.set_minor_formatter(NullFormatter())
         if ladders:
             ax.legend(fontsize=6)
     m = report["machine"]

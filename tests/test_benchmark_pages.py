@@ -8,8 +8,10 @@ import sys
 from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
-NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification")
-PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars")
+NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification", "fe_identification",
+         "bench_quick")
+PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars",
+        "fe_identification_bars", "bench_quick")
 
 
 def test_page_and_diagrams_from_the_json(tmp_path):
@@ -32,5 +34,11 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     assert f"from {min(ross.values()):.0f}x" in text and f"to {max(ross.values()):.0f}x" in text
     ident = json.loads((tmp_path / "identification.json").read_text())["sweep"]
     assert f"{ident['scipy_lm_fd_s'] / ident['rotorjax_lm_s']:.0f}x scipy on the sweep" in text
+    fe = json.loads((tmp_path / "fe_identification.json").read_text())
+    assert f"{fe['scipy']['lm_32_starts']['s'] / fe['rotorjax_fit_only']['n_starts_32']['s']:.0f}x from 32" in text
+    quick = json.loads((tmp_path / "bench_quick.json").read_text())
+    for row in quick["table"]:  # every bracketed ratio is quoted with its error
+        if row["match"] == "interpolated":
+            assert f"{row['ratio']:.3g}x at {row['error']:.1e}" in text
     # the committed page is the generated one
     assert (BENCH / "README.md").read_text() == text.replace(str(tmp_path), str(BENCH / "results"))

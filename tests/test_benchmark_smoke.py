@@ -1,8 +1,11 @@
 """Every benchmark script runs: `python benchmarks/NAME.py --smoke` (tiny sizes, one
 repeat, every method's code path once, nothing written, no timing asserted), so that a
-change that breaks a benchmark fails here and not at the next measurement. A new
-script in `benchmarks/` must join the list (or the list of helpers)."""
+change that breaks a benchmark fails here and not at the next measurement. The
+scripts run one after another in one fresh interpreter (`benchmark_smoke_runner.py`:
+the imports and shared compilations paid once), each reported by its own test. A new
+script in `benchmarks/` must join the list (or the helpers')."""
 
+import json
 import os
 import subprocess
 import sys
@@ -10,13 +13,11 @@ from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
-#: the scripts and the extra arguments of their smoke runs
-SCRIPTS = {
-    "auto07p": (), "continuation": (), "fe_identification": (), "flexible": (), "identification": (),
-    "identification_coverage": (), "limiters": (), "peers_001": (), "ross_parity": (), "rotor_scene": (),
-    "solver_choice": (), "stability_map": (), "sweep_throughput": (),
-}
+HERE = Path(__file__).resolve().parent
+BENCH = HERE.parent / "benchmarks"
+SCRIPTS = ("auto07p", "continuation", "fe_identification", "flexible", "identification", "identification_coverage",
+           "limiters", "peers_001", "ross_parity", "rotor_scene", "solver_choice", "stability_map",
+           "sweep_throughput")
 #: modules that are not benchmarks: shared helpers, and the results page (tests/test_benchmark_pages.py)
 HELPERS = {"_common", "work_precision"}
 
@@ -28,14 +29,24 @@ def test_every_script_has_a_smoke_run():
         assert "--smoke" in (BENCH / f"{name}.py").read_text(), name
 
 
-@pytest.mark.parametrize("name", sorted(SCRIPTS))
-def test_benchmark_smoke_run(name, tmp_path):
+@pytest.fixture(scope="module")
+def smoke_runs(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("smoke")
     env = dict(os.environ, MPLBACKEND="Agg")
     env.pop("ROTORJAX_ROSS_PYTHON", None)  # the ROSS parts are skipped, as on a machine without ROSS
     results = BENCH / "results"
     before = {p.name: p.stat().st_mtime for p in results.iterdir()}
-    proc = subprocess.run([sys.executable, str(BENCH / f"{name}.py"), "--smoke", *SCRIPTS[name]], cwd=tmp_path,
-                          env=env, capture_output=True, text=True, timeout=900)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
-    assert "smoke run: nothing written" in proc.stdout, proc.stdout[-2000:]
-    assert {p.name: p.stat().st_mtime for p in results.iterdir()} == before  # nothing written
+    report = tmp / "smoke.json"
+    proc = subprocess.run([sys.executable, str(HERE / "benchmark_smoke_runner.py"), str(report), *SCRIPTS],
+                          cwd=tmp, env=env, capture_output=True, text=True, timeout=1500)
+    runs = json.loads(report.read_text()) if report.exists() else {}
+    after = {p.name: p.stat().st_mtime for p in results.iterdir()}
+    return runs, proc, before == after
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_benchmark_smoke_run(name, smoke_runs):
+    runs, proc, untouched = smoke_runs
+    assert name in runs, f"the runner stopped before {name}: {proc.stdout[-1500:]}{proc.stderr[-1500:]}"
+    assert runs[name]["ok"], runs[name]["tail"]
+    assert untouched, "a smoke run wrote into benchmarks/results/"

@@ -4,8 +4,8 @@ from the code.
 
 Quick settings: grids, scans and run lengths are capped (`QUICK`) so that the whole
 file runs in a few minutes; the commands are otherwise run as written (in-process,
-with `--out` in a temporary folder; `bench` at its smoke sizes). `rotorjax demo` runs in
-`test_cli.py`."""
+with `--out` in a temporary folder). `rotorjax demo` runs in `test_cli.py`, `rotorjax
+bench` (at its smoke sizes) in `test_bench.py`."""
 
 import os
 import re
@@ -25,7 +25,7 @@ QUICK_SETS = {"revolutions": 20, "nu_end": 2.0}
 #: options added when absent, per command
 QUICK_DEFAULTS = {"critical-speeds": ["--n-scan", "12"], "hopf": ["--n-scan", "12"],
                   "continue": ["--max-points", "4"], "campbell": ["--n-speeds", "10"],
-                  "simulate": ["--n-save", "400"], "bench": ["--smoke"]}
+                  "simulate": ["--n-save", "400"]}
 
 
 def _blocks(kind):
@@ -38,7 +38,7 @@ def commands():
     for block in _blocks("bash"):
         for line in block.splitlines():
             line = line.split("  #")[0].strip()
-            if line.startswith("rotorjax ") and not line.startswith("rotorjax demo"):
+            if line.startswith("rotorjax ") and not line.startswith(("rotorjax demo", "rotorjax bench")):
                 out.append(line)
     return out
 

@@ -157,12 +157,12 @@ def floquet_margin_fn(rtol):
     return one
 
 
-def _margins(fn, grid):
+def _margins(fn, grid, chunk):
     import jax
 
     from rotorjax.sweep import sweep
 
-    res = sweep(fn, grid, chunk_size=250, progress=False)
+    res = sweep(fn, grid, chunk_size=chunk, progress=False)
     m = np.asarray(jax.block_until_ready(res.values))
     if not np.all(np.isfinite(m)):
         raise FloatingPointError(f"Floquet map: {int(np.sum(~np.isfinite(m)))} point(s) without a finite "
@@ -195,7 +195,7 @@ def floquet_comparison(sizes, progress, repeats):
     label = "rotorjax sweep (vmapped variational equations)"
     for rtol in sizes.floquet_rtols:
         fn = floquet_margin_fn(rtol)
-        first, run_s, m = timed(lambda: _margins(fn, {"n": speeds, "mu_w": mu_w}), repeats)
+        first, run_s, m = timed(lambda: _margins(fn, {"n": speeds, "mu_w": mu_w}, sizes.floquet_chunk), repeats)
         e = float(np.max(np.abs(m.reshape(-1)[idx] - ref)))
         comp.add(label, Point(f"{rtol:.0e}", e, run_s / n_points, first_call_s=first))
     comp.rotorjax = label

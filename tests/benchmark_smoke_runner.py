@@ -1,0 +1,54 @@
+"""Runs benchmark scripts' smoke modes one after another in this one interpreter
+(`python tests/benchmark_smoke_runner.py OUT.json NAME...`): each as `__main__`
+with `--smoke`, its output captured, its exit recorded; the imports (jax, rotorjax,
+scipy, numba, matplotlib) and the compilations the scripts share are paid once.
+Writes `{name: {"ok", "seconds", "tail"}}` to OUT.json. Used by
+tests/test_benchmark_smoke.py."""
+
+import contextlib
+import io
+import json
+import os
+import runpy
+import sys
+import time
+import traceback
+
+# as the scripts that split work over host devices set it (before jax is imported)
+os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
+BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks")
+
+
+def run(name):
+    path = os.path.join(BENCH, f"{name}.py")
+    buf = io.StringIO()
+    argv, sys.argv = sys.argv, [path, "--smoke"]
+    t0 = time.perf_counter()
+    ok = True
+    with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(buf):
+        try:
+            runpy.run_path(path, run_name="__main__")
+        except SystemExit as e:
+            ok = e.code in (0, None)
+            print(f"SystemExit({e.code!r})")
+        except BaseException:  # noqa: BLE001 - recorded, then the next script runs
+            ok = False
+            traceback.print_exc()
+    sys.argv = argv
+    text = buf.getvalue()
+    return {"ok": ok and "smoke run: nothing written" in text, "seconds": time.perf_counter() - t0,
+            "tail": text[-4000:]}
+
+
+def main():
+    out, names = sys.argv[1], sys.argv[2:]
+    report = {}
+    for name in names:
+        report[name] = run(name)
+        print(f"{name}: {'ok' if report[name]['ok'] else 'FAILED'} {report[name]['seconds']:.1f} s", flush=True)
+        with open(out, "w") as f:
+            json.dump(report, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
