@@ -129,7 +129,9 @@ def sweep_comparison(sizes, progress, repeats):
     import numba
 
     threads = sorted({1, min(os.cpu_count() or 1, numba.config.NUMBA_NUM_THREADS)})
-    timing = speeds[np.linspace(0, speeds.size - 1, min(speeds.size, sizes.numba_timing_speeds)).astype(int)]
+    # at least 4 speeds per thread, so that every core has work
+    n_timing = min(speeds.size, max(sizes.numba_timing_speeds, 4 * threads[-1]))
+    timing = speeds[np.linspace(0, speeds.size - 1, n_timing).astype(int)]
     for th in threads:
         name = f"numba RK4, {th} thread{'s' if th > 1 else ''}"
         for n_steps in sizes.numba_steps:
