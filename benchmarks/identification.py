@@ -82,8 +82,8 @@ def main():
     est_rj = np.array([res.estimates[k] for k in names])
     t_sp, (est_sp, nfev) = timed(lambda: scipy_fit(w, X, planes, U, P, start, sigma), repeats=reps(3))
     r_ad = idf.residual_fn(base, names, w, planes, X, sigma, U)
-    t_ad, (th, info) = timed(lambda: idf.optax_fit(r_ad, np.log(start), steps=50 if args.smoke else 3000, learning_rate=2e-2),
-                             repeats=1)
+    steps = 50 if args.smoke else 3000
+    t_ad, (th, info) = timed(lambda: idf.optax_fit(r_ad, np.log(start), steps=steps, learning_rate=2e-2), repeats=1)
     est_ad = np.exp(np.asarray(th))
     sweep = {"n_speeds": int(w.size), "noise": "1 % of the peak",
              "rotorjax_lm_s": t_rj, "rotorjax_lm_iterations": res.iterations,

@@ -38,6 +38,8 @@ import sys
 import numpy as np
 from _common import machine, timed_first, write_results
 
+from rotorjax.bench import ross_python
+
 N_CAMPBELL, N_FRF = 50, 200
 UCS_K = (5.0, 10.0, 20)          # log10 range and count
 LEVEL1 = {"speed": 500.0, "node": 3, "q_max": 4e5, "num": 9, "c": 1500.0}
@@ -96,16 +98,6 @@ out["level1_s_per_design"] = (time.perf_counter() - t0) / len(designs)
 out["level1"] = lev
 print(json.dumps(out))
 '''
-
-
-def _ross_python(arg):
-    if arg:
-        return arg
-    try:
-        import ross  # noqa: F401
-        return sys.executable
-    except Exception:
-        return None
 
 
 def main():
@@ -175,7 +167,7 @@ def main():
         design_rotor(*p, c=level1["c"]), qq, level1["speed"], node=level1["node"]))(q)))
     t, first, lev = timed_first(lambda: lev_fn(D), R)
     rj["level1"] = {"s": t, "first_call_s": first, "s_per_design": t / args.designs}
-    ross_py = _ross_python(args.ross_python)
+    ross_py = ross_python(args.ross_python)
     if ross_py:
         n = args.ross_designs
         cfg = {"repeats": R, "n_campbell": n_campbell, "n_frf": n_frf, "designs": designs[:n].tolist(),

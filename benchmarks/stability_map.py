@@ -43,28 +43,16 @@ from scipy.integrate import solve_ivp  # noqa: E402
 
 import rotorjax as rj  # noqa: E402
 from rotorjax.bench import _peers001  # noqa: E402
+from rotorjax.bench._model001 import FLOQUET_BASE, Y_MAIN as Y_MAIN_001, floquet_margin_fn  # noqa: E402
 from _common import CpuWatch, today  # noqa: E402
 from rotorjax._distributed import on_each_device  # noqa: E402
 from rotorjax.analysis import critical_speeds  # noqa: E402
 from rotorjax.presets import anisotropic_abb as A  # noqa: E402
 
-BASE = dict(n_eta=7.0, mu_xi=0.25, mu_eta=0.5, sigma=0.5, c=0.5, eps=0.001, mu_w=0.25)
+BASE, Y_MAIN = FLOQUET_BASE, Y_MAIN_001  # model 001's Floquet study, as `rotorjax bench` runs it
 SPEEDS = np.linspace(0.5, 10.0, 200)
 MU_W = np.linspace(0.05, 1.0, 50)
-Y_MAIN = np.concatenate([[0, 0], 2 * np.pi / 3 * np.array([1, 2]), np.zeros(4)])
-
-
-_POINT = {}
-
-
-def margin_fn(rtol):
-    """`point -> margin` at `rtol` (one function object per rtol)."""
-    if rtol not in _POINT:
-        def one(p):
-            g = dict(BASE, mu_w=p["mu_w"])
-            return A.main_motion_floquet(g, p["n"], rtol=rtol, atol=rtol * 1e-2).margin
-        _POINT[rtol] = one
-    return _POINT[rtol]
+margin_fn = floquet_margin_fn  # `point -> margin` at `rtol` (one function object per rtol)
 
 
 def rotorjax_map(rtol, chunk=250, shard=False):

@@ -59,6 +59,7 @@ from rotorjax.presets import anisotropic_abb  # noqa: E402
 import peers_001  # noqa: E402
 from _common import CpuWatch, today  # noqa: E402
 from rotorjax.bench._matching import interpolate_cost  # noqa: E402
+from rotorjax.bench._model001 import _sweep_problem  # noqa: E402
 
 P = dict(anisotropic_abb.PRESET.defaults)
 GROUPS = {k: P[k] for k in anisotropic_abb.GROUPS}
@@ -73,19 +74,13 @@ def initial_state():
     return np.asarray(anisotropic_abb.PRESET.build(P).y0)
 
 
-_PROBLEMS = {}
-
-
 def problem(y0, rtol):
-    """`point -> rj.IVP` at `rtol` (one function object per rtol, so repeats reuse the
+    """`point -> rj.IVP` at `rtol` over [0, T_END] from the preset's `y0` (the package's,
+    `rotorjax.bench._model001`: one function object per rtol, so repeats reuse the
     compiled sweep)."""
-    if rtol not in _PROBLEMS:
-        def one(point):
-            scene = anisotropic_abb.scene_from_groups(**GROUPS, n=point["n"], K=P["K"])
-            return rj.IVP(scene, y0, (0.0, T_END), solver="dopri8", rtol=rtol, atol=rtol * 1e-3,
-                          max_steps=1_000_000)
-        _PROBLEMS[rtol] = one
-    return _PROBLEMS[rtol]
+    fn, _, y0_preset = _sweep_problem(rtol, T_END)
+    assert np.array_equal(y0, y0_preset)
+    return fn
 
 
 def rotorjax_sweep(speeds, y0, rtol, **kw):

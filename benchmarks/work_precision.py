@@ -112,11 +112,13 @@ def stability_map(results):
     rows = d["rows"]
     names = list(rows[0]["variants"])
     for name in names:
-        work_precision_curve(ax, [(r["rotorjax_critical_error"], 1.0 / r["variants"][name]["points_per_s"], f"{r['rtol']:.0e}")
-                    for r in rows], f"rotorjax: {name}", "o-")
+        work_precision_curve(ax, [(r["rotorjax_critical_error"], 1.0 / r["variants"][name]["points_per_s"],
+                                   f"{r['rtol']:.0e}")
+                                  for r in rows], f"rotorjax: {name}", "o-")
     for peer in rows[0]["scipy"]:
-        work_precision_curve(ax, [(r["scipy_critical_error"], 1.0 / r["scipy"][peer]["points_per_s"], f"{r['rtol']:.0e}")
-                    for r in rows], f"scipy DOP853 loop, {peer} rhs", "d:")
+        work_precision_curve(ax, [(r["scipy_critical_error"], 1.0 / r["scipy"][peer]["points_per_s"],
+                                   f"{r['rtol']:.0e}")
+                                  for r in rows], f"scipy DOP853 loop, {peer} rhs", "d:")
     _caption(ax, d, date, "model 001 Floquet map, 200 x 50 points")
     _save(fig, ax, os.path.join(results, "stability_map_wp.png"), "seconds per point",
           "critical-speed error (mu_w = 0.25)")
@@ -220,7 +222,8 @@ def bench_quick(results):
     skipped = [f"{s['peer']} ({c['name']})" for c in d["comparisons"] for s in c["skipped"]]
     return ("bench_quick.png",
             f"`rotorjax bench --quick` ({d['machine']['device']}, {d['machine']['date']}), rotorjax on one device, "
-            f"ratios at matched error (where the peer's ladder brackets rotorjax's error; below 1: the peer is faster), "
+            f"ratios at matched error (where the peer's ladder brackets rotorjax's error; below 1: the peer is "
+            f"faster), "
             f"at rotorjax's error (Campbell: agreement with ROSS): {said}."
             + (f" Skipped: {', '.join(skipped)}." if skipped else "")
             + " Smaller sizes than the studies above: the ratios are the command's, not the benchmarks'.")

@@ -90,17 +90,17 @@ def campbell_comparison(sizes, progress, repeats, ross_py=None):
     first, run_s, wd = timed(lambda: np.asarray(jax.block_until_ready(fn(speeds))), repeats)
     comp.rotorjax = "rotorjax campbell"
     progress("Campbell: ROSS")
-    python = ross_python(ross_py)
+    python, ross = ross_python(ross_py), None
     if python is None:
-        comp.add(comp.rotorjax, Point("-", float("nan"), run_s, first_call_s=first))
         comp.skipped.append(("ROSS", "ROSS is not installed (pip install ross-rotordynamics, or set "
                                      "ROTORJAX_ROSS_PYTHON to a Python that has it)"))
-        return comp
-    try:
-        ross = run_ross(python, speeds, k + 6, max(1, min(repeats, 3)))
-    except RuntimeError as e:
+    else:
+        try:
+            ross = run_ross(python, speeds, k + 6, max(1, min(repeats, 3)))
+        except RuntimeError as e:
+            comp.skipped.append(("ROSS", str(e)))
+    if ross is None:
         comp.add(comp.rotorjax, Point("-", float("nan"), run_s, first_call_s=first))
-        comp.skipped.append(("ROSS", str(e)))
         return comp
     agreement = nearest_relative_difference(wd, ross["wd"])
     comp.checks["agreement_max_rel"] = agreement
