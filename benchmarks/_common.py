@@ -20,7 +20,8 @@ def _ready(r):
 
 
 def timed_first(fn, repeats=3):
-    """`(median seconds, first-call seconds, result)`: the first call compiles."""
+    """`(median seconds, first-call seconds, result)`: the first call compiles.
+    `repeats=0` (smoke runs): the first call only, its time in both places."""
     t0 = time.perf_counter()
     r = _ready(fn())
     first = time.perf_counter() - t0
@@ -29,7 +30,7 @@ def timed_first(fn, repeats=3):
         t0 = time.perf_counter()
         r = _ready(fn())
         ts.append(time.perf_counter() - t0)
-    return float(np.median(ts)), first, r
+    return float(np.median(ts)) if ts else first, first, r
 
 
 def timed(fn, repeats=3):

@@ -11,7 +11,7 @@ distance of an AUTO point from rotorjax's curve (rotorjax's corrector from AUTO'
 point, and a spline through rotorjax's points), the special points, the curves' ends.
 
 AUTO-07p comes from `.ci/install-auto07p` (Debian's `auto-07p` and gfortran); without it
-only rotorjax is timed. `--smoke`: one repeat, AUTO in (a) only, prints the results,
+only rotorjax is timed. `--smoke`: one call each, AUTO in (a) only, prints the results,
 writes no file.
 Otherwise writes benchmarks/results/auto07p.json.
 """
@@ -42,7 +42,7 @@ def time_auto(run_example, inst, repeats, curve):
     """Median compile seconds and run seconds (wall, and AUTO's own) over `repeats`
     fresh directories, and the last result (`curve`: its two-parameter runs' key)."""
     comp, wall, own, res = [], [], [], None
-    for _ in range(repeats):
+    for _ in range(max(1, repeats)):
         with tempfile.TemporaryDirectory() as d:
             res = run_example(d, inst)
         runs = [res["branch"], *res[curve]]
@@ -56,10 +56,10 @@ def time_auto(run_example, inst, repeats, curve):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--smoke", action="store_true", help="one repeat; print, write nothing")
+    ap.add_argument("--smoke", action="store_true", help="one call each, AUTO in (a) only; print, write nothing")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args()
-    repeats = 1 if args.smoke else args.repeats
+    repeats = 0 if args.smoke else args.repeats  # --smoke: the first call only
 
     import jax
 

@@ -44,7 +44,7 @@ starts; res+jac over repeats) after compilation.
 
 Run: python benchmarks/fe_identification.py [--starts 3] [--smoke];
 writes benchmarks/results/fe_identification.json (`--smoke`: one start, the
-local fits only, prints and writes nothing).
+local fits only, one call per timing, prints and writes nothing).
 """
 
 import argparse
@@ -271,7 +271,8 @@ def main():
     for n_starts in ((1,) if args.smoke else (32, 1)):
         rj[f"n_starts_{n_starts}"] = rj_run(n_starts)
         print(f"rotorjax n_starts={n_starts}:", json.dumps(rj[f"n_starts_{n_starts}"]), flush=True)
-    rj["rotor_model_s"], _ = timed(lambda: rotor_model(path, starts[0]), 3)    # reading the file, eagerly
+    # reading the file, eagerly
+    rj["rotor_model_s"], _ = timed(lambda: rotor_model(path, starts[0]), 0 if args.smoke else 3)
     if not args.smoke:     # where the time of one call goes (start 0, 32 starts; after compilation)
         model0 = rotor_model(path, starts[0])
         t0 = time.perf_counter()
@@ -290,7 +291,7 @@ def main():
         print("rotorjax breakdown:", json.dumps(rj["breakdown_32_starts"]), flush=True)
 
     # --- rotorjax: the fit alone (lm_batch on a problem built outside the timing) ---
-    repeats_fit = 1 if args.smoke else 3
+    repeats_fit = 0 if args.smoke else 3
     built = []
     for s in starts:
         _, params_s, r_s, center_s = fi.problem(rotor_model(path, s), data, fit, FIT_UNBALANCE)
@@ -323,7 +324,7 @@ def main():
         runs = []
         for s in starts:
             logp0 = np.log([s[k] for k in fit])
-            t, (est, cost, nfev, ok) = timed(lambda: scipy_fit(nm, logp0, method), repeats=1 if args.smoke else 3)
+            t, (est, cost, nfev, ok) = timed(lambda: scipy_fit(nm, logp0, method), repeats=0 if args.smoke else 3)
             runs.append({"s": t, "max_rel_error": err(est), "converged_to_truth": err(est) < CONVERGED_REL,
                          "cost": cost, "residual_evaluations": nfev, "success": ok})
         sp[method] = {"s": float(np.median([r["s"] for r in runs])), "runs": runs}
@@ -344,7 +345,7 @@ def main():
         print("scipy lm, 32 starts:", json.dumps(sp["lm_32_starts"]), flush=True)
 
     # --- one residual + Jacobian evaluation ---
-    repeats = 3 if args.smoke else 20
+    repeats = 0 if args.smoke else 20
     _, _, r, center = fi.problem(rotor_model(path, starts[0]), DATASET, fit, FIT_UNBALANCE)
     th = jnp.asarray(center)
     t_rj, (res0, J0) = timed(lambda: _res_jac(r, th), repeats)

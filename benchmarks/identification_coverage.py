@@ -31,8 +31,8 @@ deviation of the relative error) and the mean reported standard deviation.
 Times: the median wall time per fit after the first (compiling) one.
 
 Run: python benchmarks/identification_coverage.py [--n 200] [--smoke] [--out DIR]
-writes benchmarks/results/identification_coverage.json and .png (`--smoke`: 5
-data sets; nothing written unless `--out` is given).
+writes benchmarks/results/identification_coverage.json and .png (`--smoke`: 2
+data sets, one call per timing; nothing written unless `--out` is given).
 """
 
 import argparse
@@ -85,10 +85,11 @@ def fit_all(d, start, planes, idf):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--n", type=int, default=200, help="data sets (default 200)")
-    ap.add_argument("--smoke", action="store_true", help="5 data sets (a quick check that it runs)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="2 data sets, one call per timing (a quick check that it runs)")
     ap.add_argument("--out", default=None, help="write the JSON and PNG here instead of benchmarks/results")
     args = ap.parse_args()
-    n = 5 if args.smoke else args.n
+    n = 2 if args.smoke else args.n
 
     import jax
 
@@ -109,7 +110,8 @@ def main():
     d0 = md.runup_dataset(0)
     fit_times = {}
     for name in METHODS:
-        med, first, _ = timed_first(lambda name=name: fit(d0, name, start, planes, idf).estimates, repeats=3)
+        med, first, _ = timed_first(lambda name=name: fit(d0, name, start, planes, idf).estimates,
+                                    repeats=0 if args.smoke else 3)
         fit_times[name] = {"first_call_s": first, "median_s": med}
 
     est = {m: np.empty((n, 4)) for m in METHODS}

@@ -44,8 +44,9 @@ call; rotorjax is timed through its public `simulate` (Python checks included).
 Run: python benchmarks/rotor_scene.py [--quick | --smoke] [--repeats 3] [--batch 64]
 Writes benchmarks/results/rotor_scene.json (`--quick`: two tolerances, one
 repeat, a batch of 8; prints, writes nothing; `--smoke`: as `--quick`, but 0.02 s
-of motion, one tolerance (1e-6), and the right-hand-side costs (over 4 states) and
-a batch of 2 (grouped calls whatever the lock-step waste) on the reduced scene only).
+of motion, one tolerance (1e-6), one call per timing, and everything (work-precision,
+the right-hand-side costs over 4 states, a batch of 2 with grouped calls whatever the
+lock-step waste) on the reduced scene only; the full one is built).
 """
 
 import argparse
@@ -303,7 +304,8 @@ def run_fortran(fun, y0, rtol, atol):
 # ------------------------------------------------------------------------------- timing
 def timed(fn, repeats, warm=True):
     """`(median s, first-call s, result, every repeat's s)`; `warm`: a first call,
-    outside the median (compiles)."""
+    outside the median (compiles); `repeats=0` (--smoke): the warm call only (or one
+    call, without `warm`), its time as the median."""
     import jax
 
     def once():
@@ -313,10 +315,10 @@ def timed(fn, repeats, warm=True):
 
     first, r = once() if warm else (None, None)
     ts = []
-    for _ in range(repeats):
+    for _ in range(repeats if warm else max(1, repeats)):
         dt, r = once()
         ts.append(dt)
-    return float(np.median(ts)), first, r, ts
+    return float(np.median(ts or [first])), first, r, ts
 
 
 # ------------------------------------------------------------------------------- (1)
@@ -573,14 +575,15 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="two tolerances, one repeat, batch of 8; write nothing")
     ap.add_argument("--smoke", action="store_true",
-                    help=f"as --quick, t_end {SMOKE_T_END}, one tolerance, batch of 2; write nothing")
+                    help=f"as --quick, t_end {SMOKE_T_END}, one tolerance, one call each, the reduced scene, "
+                         "batch of 2; write nothing")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--batch", type=int, default=64)
     ap.add_argument("--reduced-modes", type=int, default=8)
     args = ap.parse_args()
     args.quick = args.quick or args.smoke
     rtols = (RTOLS[1],) if args.smoke else (RTOLS[0], RTOLS[2]) if args.quick else RTOLS
-    repeats = 1 if args.quick else args.repeats
+    repeats = 0 if args.smoke else 1 if args.quick else args.repeats
     n_batch = 2 if args.smoke else 8 if args.quick else args.batch
     rhs_batch = 4 if args.smoke else 64
     if args.smoke:
@@ -607,21 +610,21 @@ def main():
                      "initial_state": "rest", "atol": f"rtol * {ATOL_PER_RTOL}", "repeats": repeats,
                      "max_steps": MAX_STEPS},
            "work_precision": {}, "batch": {}}
-    # --smoke: the right-hand-side costs and the batch on the reduced scene only (the same code as the full one)
-    batch_scenes = dict(list(scenes.items())[1:]) if args.smoke else scenes
-    for label, scene in scenes.items():
+    # --smoke: everything on the reduced scene only (the same code as the full one, which is built)
+    run_scenes = dict(list(scenes.items())[1:]) if args.smoke else scenes
+    for label, scene in run_scenes.items():
         print(f"work-precision: {label}")
         out["work_precision"][label] = work_precision(label, scene, rtols, repeats, nb)
-        if label in batch_scenes:
-            out["work_precision"][label]["rhs_us_per_eval"] = rhs_cost(scene, nb, rhs_batch)
-            print(f"  [{label}] us per RHS evaluation: {out['work_precision'][label]['rhs_us_per_eval']}")
-    full, red = (out["work_precision"][k] for k in scenes)
-    out["reduction_error"] = {
-        "reduced_vs_full_reference": float(np.max(np.abs(np.asarray(red["reference_final_nodes_xy"])
-                                                         - np.asarray(full["reference_final_nodes_xy"])))
-                                           / full["orbit_amplitude_m"]),
-        "note": "final node displacements, reduced reference vs full reference, / full orbit amplitude"}
-    for label, scene in batch_scenes.items():
+        out["work_precision"][label]["rhs_us_per_eval"] = rhs_cost(scene, nb, rhs_batch)
+        print(f"  [{label}] us per RHS evaluation: {out['work_precision'][label]['rhs_us_per_eval']}")
+    if len(run_scenes) == 2:
+        full, red = (out["work_precision"][k] for k in scenes)
+        out["reduction_error"] = {
+            "reduced_vs_full_reference": float(np.max(np.abs(np.asarray(red["reference_final_nodes_xy"])
+                                                             - np.asarray(full["reference_final_nodes_xy"])))
+                                               / full["orbit_amplitude_m"]),
+            "note": "final node displacements, reduced reference vs full reference, / full orbit amplitude"}
+    for label, scene in run_scenes.items():
         print(f"batch: {label}")
         # --smoke: grouped calls whatever the lock-step waste (to run that path too)
         out["batch"][label] = batch(label, scene, n_batch, repeats, nb, group_if_waste=1.0 if args.smoke else 1.1)
@@ -634,8 +637,9 @@ def main():
         print("    " + ", ".join(f"{k} {v:.2f}" for k, v in b["ratios"].items()))
         print(f"    lock-step max/mean steps {b['rotorjax_vmap_one_call']['lockstep_max_over_mean']:.3f}; "
               f"error rotorjax {b['rotorjax_error_max']:.1e}, numba {b['numba_error_max']:.1e}")
-    print(f"\nreduction error (8 modes vs full, final node displacements / orbit): "
-          f"{out['reduction_error']['reduced_vs_full_reference']:.2e}")
+    if "reduction_error" in out:
+        print(f"\nreduction error (8 modes vs full, final node displacements / orbit): "
+              f"{out['reduction_error']['reduced_vs_full_reference']:.2e}")
     print(f"total {out['total_wall_s']:.0f} s")
     if args.smoke:
         print("smoke run: nothing written")

@@ -36,7 +36,7 @@ was available to this task.
 
 Run: python benchmarks/sweep_throughput.py [--n-speeds 1000] [--subset 40] [--repeats 3] [--smoke]
 Writes benchmarks/results/sweep_throughput.json (`--smoke`: 8 speeds, tau in [0, 20], one
-setting, two rungs per method, one repeat; prints, writes nothing).
+setting, rotorjax at rtol 1e-6, two rungs per peer, one call each; prints, writes nothing).
 """
 
 import argparse
@@ -119,7 +119,7 @@ def vmapped_chunks(speeds, y0, rtol, chunk_size):
 
 def timed_rotorjax(speeds, y0, rtol, repeats, runner=rotorjax_sweep, **kw):
     first, t_first = runner(speeds, y0, rtol, **kw)
-    times = [runner(speeds, y0, rtol, **kw)[1] for _ in range(repeats)]
+    times = [runner(speeds, y0, rtol, **kw)[1] for _ in range(repeats)] or [t_first]  # repeats 0: --smoke
     run = float(np.median(times))
     return first, {"run_s": run, "first_call_s": t_first, "compile_s_estimate": t_first - run,
                    "repeats": times}
@@ -136,7 +136,7 @@ def numba_rung(speeds, sub, y0, p, n_steps, threads, repeats, full_max):
     timing = speeds if n_steps <= full_max else speeds[::5]
     peers_001.numba_rk4(timing[:8], y0, T_END, p, 10, threads=threads)  # pool warm
     walls = [peers_001.numba_rk4(timing, y0, T_END, p, n_steps, threads=threads)[1]
-             for _ in range(repeats)]
+             for _ in range(max(1, repeats))]
     return fin, {"n_steps": n_steps, "h": T_END / n_steps, "s_per_speed": float(np.median(walls)) / len(timing),
                  "timed_on_speeds": len(timing), "repeats": walls,
                  "other_cores_busy": watch.report()["other_cores_busy"]}
@@ -181,12 +181,12 @@ def main():
                     help="numba rungs with more steps are timed on every 5th speed")
     ap.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "results",
                                                   "sweep_throughput.json"))
-    ap.add_argument("--smoke", action="store_true", help="tiny sizes, one repeat; print, write nothing")
+    ap.add_argument("--smoke", action="store_true", help="tiny sizes, one call each; print, write nothing")
     args = ap.parse_args()
     global T_END, LADDER, SCIPY_LADDER, TUNE_LANES, TUNE_SPR
     if args.smoke:  # every path once, at tiny size
-        T_END, LADDER, SCIPY_LADDER, TUNE_LANES, TUNE_SPR = 20.0, (1e-6, 1e-8), (1e-5, 1e-7), (8,), (4,)
-        args.n_speeds, args.subset, args.repeats, args.tune_repeats, args.chunk = 8, 4, 1, 1, 4
+        T_END, LADDER, SCIPY_LADDER, TUNE_LANES, TUNE_SPR = 20.0, (1e-6,), (1e-5, 1e-7), (8,), (4,)
+        args.n_speeds, args.subset, args.repeats, args.tune_repeats, args.chunk = 8, 4, 0, 1, 4
 
     n_dev = len(jax.local_devices())
     whole = CpuWatch()

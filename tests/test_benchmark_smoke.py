@@ -1,5 +1,5 @@
 """Every benchmark script runs: `python benchmarks/NAME.py --smoke` (tiny sizes, one
-repeat, every method's code path once, nothing written, no timing asserted), so that a
+call per timing, every method's code path once, nothing written, no timing asserted), so that a
 change that breaks a benchmark fails here and not at the next measurement. The
 scripts run one after another in one fresh interpreter (`benchmark_smoke_runner.py`:
 the imports and shared compilations paid once), each reported by its own test. A new
