@@ -10,8 +10,11 @@ def tree_allclose(a, b, rtol=1e-10, atol=1e-12) -> bool:
 
 
 def central_difference(f, x, h):
-    """Central finite difference of scalar `f` at scalar `x` (error O(h^2))."""
-    return (f(x + h) - f(x - h)) / (2 * h)
+    """Central finite difference of scalar `f` at scalar `x` (error O(h^2)), as a
+    Python float (numpy, for array-valued `f`): never a JAX array, which
+    `pytest.approx` (9.2) cannot take as its expected value."""
+    d = np.asarray((f(x + h) - f(x - h)) / (2 * h), dtype=float)
+    return float(d) if d.ndim == 0 else d
 
 
 def set_csv_field(line_no, field, value):
