@@ -9,13 +9,16 @@ import argparse
 import json
 import os
 import platform
-import time
+import sys
 
 import jax
 import numpy as np
 
 import rotorjax as rj
 from rotorjax import presets
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _common import timed_first  # noqa: E402
 
 T_END = 300.0
 
@@ -42,22 +45,12 @@ def main():
             for rtol in (1e-6,) if args.smoke else (1e-6, 1e-8):
                 run = lambda: rj.simulate(scene, y0, (0.0, t_end), solver=solver, rtol=rtol,  # noqa
                                           atol=rtol * 1e-2, max_steps=max_steps)
-                t0 = time.perf_counter()
-                r = run()
-                r.ys.block_until_ready()
-                first = time.perf_counter() - t0
-                times = []
-                for _ in range(repeats):
-                    t0 = time.perf_counter()
-                    r = run()
-                    r.ys.block_until_ready()
-                    times.append(time.perf_counter() - t0)
-                times = times or [first]
+                run_s, first, r = timed_first(run, repeats)
                 err = float(np.max(np.abs(np.asarray(r.ys[-1]) - np.asarray(ref.ys[-1]))))
                 rows.append({"delta_b": delta_b, "stiffness_ratio": ratio, "solver": solver,
                              "rtol": rtol, "success": bool(r.success), "message": r.message,
                              "steps": int(r.stats["num_steps"]), "error": err,
-                             "run_s": float(np.median(times)), "first_call_s": first,
+                             "run_s": run_s, "first_call_s": first,
                              "auto_picks": rj.solve.choose_solver(scene, y0).__class__.__name__})
                 print(f"delta_b {delta_b:>7.0f} ratio {ratio:>8.1f} {solver:>8} rtol {rtol:.0e}: "
                       f"{r.message[:30]:30s} steps {rows[-1]['steps']:>7} err {err:.1e} "
