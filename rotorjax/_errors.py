@@ -18,3 +18,10 @@ class InputError(ValueError):
 
 class NumericalError(RuntimeError):
     """A valid input whose computation failed (non-convergence, step budget, NaN)."""
+
+
+class PlausibilityWarning(UserWarning):
+    """A valid but implausible input (a likely unit slip: `E = 205` Pa, `od = 60` m;
+    a bearing table used outside its speeds). Issued with `warnings.warn` where the
+    value is checked, outside `jit`; the CLI prints each on stderr and adds it to
+    its JSON output's `warnings`."""

@@ -1,5 +1,8 @@
 """Figures built from result objects (matplotlib is imported on first use)."""
 
+import re
+import textwrap
+
 import numpy as np
 
 
@@ -12,39 +15,133 @@ def _plt():
     return plt
 
 
+def _wrap_to_width(text, original, width, renderer):
+    """Wrap `original` (its own line breaks kept) at word boundaries into the `Text`
+    until it is at most `width` display units wide."""
+    lines = original.split("\n")
+    n = max(len(line) for line in lines)
+    while n > 12:
+        wide = text.get_window_extent(renderer).width
+        if wide <= width:
+            return
+        n = min(n - 1, int(n * width / wide))
+        text.set_text("\n".join(textwrap.fill(line, max(n, 12), break_on_hyphens=False) or line
+                                for line in lines))
+
+
+def _titles(fig):
+    """The figure's title and every axes' titles that have text, each with the width
+    of its slot: the figure's for `suptitle`, an axes' share of the subplots' width
+    (a colorbar's gridspec nests in it) for an axes title."""
+    width = fig.bbox.width
+    slots = [(fig._suptitle, 0.96 * width)] if fig._suptitle is not None else []
+    pars = fig.subplotpars
+    for ax in fig.axes:
+        spec = ax.get_subplotspec()
+        if spec is None:    # a colorbar or an inset: no title of its own
+            continue
+        share = min(1.0, spec.get_position(fig).width / (pars.right - pars.left))
+        slots += [(t, 0.92 * width * share) for t in (ax.title, ax._left_title, ax._right_title)]
+    return [(t, room) for t, room in slots if t.get_text()]
+
+
+def _fit_titles_and_layout(fig):
+    """Wrap the titles to their slots, lay the figure out (`tight_layout`), and wrap
+    again any title that still crosses the figure's edge (an axes title is centred
+    on its axes, which the tick labels push off the figure's centre): the CLI's
+    titles name the preset, the input, the output and the running condition, longer
+    than a narrow figure (a 6-inch polar plot) is wide."""
+    renderer = fig.canvas.get_renderer()
+    slots = [(t, t.get_text(), room) for t, room in _titles(fig)]
+    for text, original, room in slots:
+        _wrap_to_width(text, original, room, renderer)
+    fig.tight_layout()
+    edge, moved = 0.01 * fig.bbox.width, False
+    for text, original, _ in slots:
+        box = text.get_window_extent(renderer)
+        over = max(fig.bbox.x0 + edge - box.x0, box.x1 - (fig.bbox.x1 - edge))
+        if over > 0:
+            _wrap_to_width(text, original, box.width - 2 * over, renderer)
+            moved = True
+    if moved:
+        fig.tight_layout()
+
+
 def _save(fig, path, axes=(), legend=True):
-    """The common finish of every figure: grid, legend, layout, PNG, close."""
+    """The common finish of every figure: grid, legend, titles wrapped to fit,
+    layout, PNG, close."""
     for ax in axes:
         ax.grid(alpha=0.3)
         if legend:
             ax.legend(fontsize=8)
-    fig.tight_layout()
+    _fit_titles_and_layout(fig)
     fig.savefig(path, dpi=120)
     _plt().close(fig)
     return path
 
 
-def _amplitude_axis(ax, values):
-    ax.set_ylabel("whirl amplitude")
+def _amplitude_axis(ax, values, label="whirl amplitude"):
+    ax.set_ylabel(label)
     v = np.asarray(values)
     v = v[np.isfinite(v) & (v > 0)]
     if v.size and v.max() / max(v.min(), 1e-300) > 1e3:
         ax.set_yscale("log")
 
 
-def plot_simulation(result, path, title="", speed=None, x_label="time"):
+def _time_axis_label(x_label, time_unit=None):
+    """The x label of a run: `x_label` ("time" or "speed") with the unit made of
+    `time_unit` ("time (s)", "speed (rad/s)"; "time (1/Omega)" for a dimensionless
+    time). A label in the form "time (time unit s)" is read as the quantity and
+    its time unit, so the word is not said twice."""
+    old = re.fullmatch(r"\s*(\S+)\s*\(time unit (.+)\)\s*", x_label)
+    if old:
+        x_label, time_unit = old.group(1), time_unit or old.group(2)
+    if time_unit is None:
+        return x_label
+    if x_label == "speed":
+        return "speed (rad/s)" if time_unit == "s" else f"speed (rad per {time_unit})"
+    return f"{x_label} ({time_unit})"
+
+
+def plot_simulation(result, path, title="", speed=None, x_label="time", time_unit=None, node=None, unit=None,
+                    amplitude_label=None):
     """Whirl amplitude and weight angles against time (or against `speed`, for a
-    run-up: pass the speed at the saved times). Writes a PNG to `path`."""
+    run-up: pass the speed at the saved times). Writes a PNG to `path`.
+
+    **Arguments:**
+
+    - `x_label`: "time" or "speed" (an older "time (time unit s)" is understood).
+    - `time_unit`: the preset's time unit ("s", "1/Omega"): the x label becomes
+      "time (s)", "speed (rad/s)".
+    - `node`: plot the orbit radius `hypot(node_x, node_y)` of this node (a rotor
+      scene's outputs) instead of the `whirl_amplitude` output (the largest over
+      the nodes for a rotor scene).
+    - `unit`: the amplitude's unit (the preset's length unit); a rotor scene's
+      amplitudes are in m without it.
+    - `amplitude_label`: the amplitude axis's name, before the unit.
+
+    **Returns:** `path`.
+    """
     plt = _plt()
     out = result.outputs
     x = np.asarray(result.ts) if speed is None else np.asarray(speed)
     has_weights = "weight_angles" in out
+    nodes = "node_x" in out     # a rotor scene: every node's x, y in m
+    if node is not None:
+        if not nodes:
+            raise ValueError(f"node={node}: the result has no node_x, node_y outputs (only a rotor scene's has)")
+        amp = np.hypot(np.asarray(out["node_x"])[:, node], np.asarray(out["node_y"])[:, node])
+        name = f"whirl amplitude at node {node}"
+    else:
+        amp = np.asarray(out["whirl_amplitude"])
+        name = "whirl amplitude, largest over the nodes" if nodes else "whirl amplitude"
+    unit = "m" if unit is None and nodes else unit
+    label = (amplitude_label or name) + (f" ({unit})" if unit else "")
     fig, axes = plt.subplots(2 if has_weights else 1, 1, figsize=(8, 6 if has_weights else 3.5),
                              sharex=True, squeeze=False)
     ax = axes[0, 0]
-    amp = np.asarray(out["whirl_amplitude"])
     ax.plot(x, amp, lw=0.8)
-    _amplitude_axis(ax, amp)
+    _amplitude_axis(ax, amp, label)
     ax.set_title(title)
     ax.grid(alpha=0.3)
     if has_weights:
@@ -56,13 +153,10 @@ def plot_simulation(result, path, title="", speed=None, x_label="time"):
         ax2.set_ylim(-np.pi, np.pi)
         ax2.legend(loc="upper right", fontsize=8)
         ax2.grid(alpha=0.3)
-    axes[-1, 0].set_xlabel(x_label)
+    axes[-1, 0].set_xlabel(_time_axis_label(x_label, time_unit))
     if not bool(np.all(np.asarray(result.success))):
         fig.text(0.5, 0.5, f"FAILED: {result.message}", color="red", ha="center")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, shade=None):
@@ -98,10 +192,7 @@ def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_campbell(speeds, frequencies, forward, path, critical=(), title="", unit="rad/s"):
@@ -420,7 +511,7 @@ def plot_balance(path, before, after, corrections, title, unit="m", planes=None,
         ax.grid(alpha=0.3)
     fig.suptitle(title + "\nangles from the once-per-revolution mark, positive in the direction of "
                  "rotation (counter-clockwise here)", fontsize=10)
-    fig.tight_layout()
+    _fit_titles_and_layout(fig)
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path
@@ -591,15 +682,35 @@ def _major_axis(x, y):
     return np.sqrt(0.5 * (np.abs(x) ** 2 + np.abs(y) ** 2 + np.abs(x**2 + y**2)))
 
 
+def _minor_axis(x, y):
+    """Semi-minor axis of the orbits `(Re(x e^{it}), Re(y e^{it}))`, positive where
+    the orbit whirls forward (`y` lags `x`: `Im(conj(x) y) < 0`), negative backward."""
+    b = np.sqrt(np.maximum(0.5 * (np.abs(x) ** 2 + np.abs(y) ** 2 - np.abs(x**2 + y**2)), 0.0))
+    return np.where(np.imag(np.conj(x) * y) > 0, -b, b)
+
+
+def signed_major_axis(x, y):
+    """The orbits' semi-major axis along the shaft with a sign: negative where a
+    station moves against the station of the largest orbit (`Re(conj(x_r) x +
+    conj(y_r) y) < 0`: the two orbits half a period apart), so that the nodal points
+    of a bending mode show as sign changes, as in a planar mode shape."""
+    a = _major_axis(x, y)
+    r = int(np.argmax(a))
+    return np.where(np.real(np.conj(x[r]) * x + np.conj(y[r]) * y) < 0, -a, a)
+
+
 def _mode_label(modes, k):
     return (f"mode {k}: {float(modes.frequencies[k]):.1f} rad/s, {str(modes.whirl[k])}, "
             f"log dec {float(modes.log_dec[k]):.3g}")
 
 
 def plot_mode_shapes(modes, rotor, path, title=""):
-    """2-D mode shapes of a `Modes` (one speed): `x` and `y` (real parts, at the
-    phase where the largest component peaks) and the orbits' major axis along the
-    shaft, one panel per mode."""
+    """2-D mode shapes of a `Modes` (one speed), one panel per mode: the orbits'
+    semi-major axis along the shaft (signed: negative where a station moves against
+    the largest orbit, so nodal points show), as ROSS's 2-D mode shape draws it,
+    and the semi-minor axis (positive forward whirl, negative backward): equal to
+    the major one for a circular orbit, zero for a planar one. Normalised so that
+    the largest of `|x|`, `|y|` is 1."""
     plt = _plt()
     k_all = len(np.asarray(modes.frequencies))
     cols = min(k_all, 2)
@@ -609,12 +720,14 @@ def plot_mode_shapes(modes, rotor, path, title=""):
     for k in range(k_all):
         ax = axes.flat[k]
         z, x, y = mode_shape_lines(shapes[:, k], rotor)
-        ax.plot(z, x.real, "-", color="tab:blue", label="x")
-        ax.plot(z, y.real, "-", color="tab:orange", label="y")
-        ax.plot(z, _major_axis(x, y), "k--", lw=1, label="major axis")
+        ax.plot(z, signed_major_axis(x, y), "-", color="k", lw=1.8, label="major semi-axis")
+        ax.plot(z, _minor_axis(x, y), "-.", color="tab:purple", lw=1.1,
+                label="minor semi-axis (+ forward, - backward)")
+        ax.axhline(0.0, color="0.6", lw=0.6)
         ax.plot(np.asarray(rotor.node_positions), np.zeros(rotor.n_nodes), "k.", ms=3)
         ax.set_title(_mode_label(modes, k), fontsize=9)
         ax.set_xlabel("axial position (m)")
+        ax.set_ylabel("orbit semi-axes")
     for ax in list(axes.flat)[k_all:]:
         ax.set_visible(False)
     fig.suptitle(title)
@@ -652,38 +765,72 @@ def plot_mode_shapes_3d(modes, rotor, path, title="", n_orbit=60):
 
 def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path, critical=(), title="", unit="rad/s"):
     """Campbell diagram of tracked branches (`frequencies` speeds x branches):
-    forward whirl solid, backward dashed, mixed dotted; the points coloured by the
-    logarithmic decrement; the 1x line and its crossings."""
+    forward whirl solid red, backward dashed blue, mixed dotted grey, drawn over
+    dots coloured by the logarithmic decrement (a colorbar; at most about 40 dots
+    per branch, so the line styles show between them); the 1x line and its
+    crossings. The legend names the line styles with proxy lines (no marker) and
+    only the whirl directions present."""
+    from matplotlib.lines import Line2D
+
     plt = _plt()
     fig, ax = plt.subplots(figsize=(9, 5.5))
+    speeds = np.asarray(speeds, dtype=float)
     f, w, d = np.asarray(frequencies), np.asarray(whirl), np.asarray(log_dec, dtype=float)
     d = np.where(np.abs(d) < 1e-9, 0.0, d)   # an undamped rotor's round-off
     styles = {"forward": ("-", "tab:red"), "backward": ("--", "tab:blue"), "mixed": (":", "0.4")}
-    for k in range(f.shape[1]):
-        for label, (ls, colour) in styles.items():
-            ax.plot(speeds, np.where(w[:, k] == label, f[:, k], np.nan), ls, color=colour, lw=1.3,
-                    label=f"{label} whirl" if k == 0 else None)
+    handles, labels = [], []
+    for label, (ls, colour) in styles.items():
+        if not np.any(w == label):
+            continue
+        for k in range(f.shape[1]):
+            ax.plot(speeds, np.where(w[:, k] == label, f[:, k], np.nan), ls=ls, color=colour, lw=1.5, zorder=3)
+        handles.append(Line2D([], [], ls=ls, color=colour, lw=1.5, marker="None"))
+        labels.append(f"{label} whirl")
     finite = d[np.isfinite(d)]
     lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-    sc = ax.scatter(np.repeat(np.asarray(speeds)[:, None], f.shape[1], 1), f, c=d, s=5, cmap="viridis",
-                    vmin=lo, vmax=hi if hi > lo else lo + 1e-12, zorder=3)
-    fig.colorbar(sc, ax=ax, label="logarithmic decrement")
-    ax.plot(speeds, speeds, "k:", lw=1, label="1x")
-    for i, c in enumerate(critical):
-        ax.plot([c], [c], "rx", ms=7, mew=2, label="1x crossing" if i == 0 else None)
+    every = slice(None, None, max(1, -(-len(speeds) // 40)))
+    sc = ax.scatter(np.repeat(speeds[every, None], f.shape[1], 1), f[every], c=d[every], s=14, cmap="viridis",
+                    vmin=lo, vmax=hi if hi > lo else lo + 1e-12, zorder=2, edgecolors="none")
+    fig.colorbar(sc, ax=ax, label="logarithmic decrement (dots)")
+    ax.plot(speeds, speeds, "k:", lw=1, zorder=1)
+    handles.append(Line2D([], [], ls=":", color="k", lw=1))
+    labels.append("1x")
+    for c in critical:
+        ax.plot([c], [c], "rx", ms=7, mew=2, zorder=4)
+    if len(critical):
+        handles.append(Line2D([], [], ls="none", marker="x", color="r", ms=7, mew=2))
+        labels.append("1x crossing")
     ax.set_xlabel(f"speed ({unit})")
     ax.set_ylabel(f"damped natural frequency ({unit})")
     ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    ax.grid(alpha=0.3)
+    ax.legend(handles, labels, fontsize=8, handlelength=3)
+    return _save(fig, path)
+
+
+#: A bearing's colour on the UCS map (its kxx dashed, kyy dotted), apart from the modes' C0, C1, ...
+_BEARING_COLOURS = ("k", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "0.55")
+
+
+def _bearing_label(members):
+    """"bearing 0 kxx"; curves that coincide share one line: "bearing 0 kxx = kyy",
+    "bearings 0, 1 kxx = kyy" (or each one named where they do not form such a block)."""
+    bearings = list(dict.fromkeys(b for b, _ in members))
+    names = list(dict.fromkeys(n for _, n in members))
+    if len(members) == len(bearings) * len(names):
+        return (f"bearing{'s' if len(bearings) > 1 else ''} " + ", ".join(map(str, bearings)) + " "
+                + " = ".join(names))
+    return " = ".join(f"bearing {b} {n}" for b, n in members)
 
 
 def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, intersections=(), title="",
              synchronous=False):
     """Undamped critical speed map (log-log): critical speed against bearing
-    stiffness, one curve per mode, with each bearing's `kxx`, `kyy` against speed
-    (`bearing_k` (n_b, 2, n_s) at `bearing_speeds`) and their intersections
-    (`(k, speed)` pairs)."""
+    stiffness, one curve per mode, with each bearing's `kxx` (dashed) and `kyy`
+    (dotted) against speed in the bearing's own colour (`bearing_k` (n_b, 2, n_s)
+    at `bearing_speeds`; curves that coincide drawn once, their legend entry naming
+    them all) and their intersections (`(k, speed)` pairs)."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 5))
     k, f = np.asarray(stiffness), np.asarray(frequencies)
@@ -691,14 +838,17 @@ def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, 
         ax.loglog(k, np.where(np.isfinite(f[:, j]), f[:, j], np.nan), "-", lw=1.4, label=f"mode {j + 1}")
     if bearing_k is not None:
         s, kb = np.asarray(bearing_speeds), np.asarray(bearing_k)
-        drawn = []
+        curves = []     # [values, [(bearing, coefficient), ...], line style, colour]: equal curves drawn once
         for b in range(kb.shape[0]):
             for c, (name, ls) in enumerate((("kxx", "--"), ("kyy", ":"))):
-                if any(np.array_equal(kb[b, c], d) for d in drawn):  # the same curve as one drawn
-                    continue
-                drawn.append(kb[b, c])
-                ok = (kb[b, c] > 0) & (s > 0)
-                ax.loglog(kb[b, c][ok], s[ok], ls, color="k", lw=1.0, alpha=0.7, label=f"bearing {b} {name}")
+                same = next((cv for cv in curves if np.array_equal(cv[0], kb[b, c])), None)
+                if same is not None:
+                    same[1].append((b, name))
+                else:
+                    curves.append([kb[b, c], [(b, name)], ls, _BEARING_COLOURS[b % len(_BEARING_COLOURS)]])
+        for values, members, ls, colour in curves:
+            ok = (values > 0) & (s > 0)
+            ax.loglog(values[ok], s[ok], ls=ls, color=colour, lw=1.3, label=_bearing_label(members))
     for i, (ki, si) in enumerate(intersections):
         ax.plot([ki], [si], "o", color="tab:red", ms=5, label="critical speed on the bearings" if i == 0 else None)
     ax.set_xlim(k[0], k[-1])
@@ -712,13 +862,24 @@ def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, 
 
 
 def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
-    """A frequency-response function: Bode (magnitude, log; phase, degrees) and
-    polar (Nyquist: Im against Re, the frequency increasing along the curve)."""
+    """A frequency-response function: Bode (magnitude, log; phase, degrees, with a
+    gap where it wraps past +-180) and polar (Nyquist: Im against Re, the
+    frequency increasing along the curve). The frequencies may be spaced unevenly
+    (refined near the resonances, so that the polar curve is smooth) and in any
+    order: the points are joined in order of frequency. Long titles are wrapped to
+    the figure's width.
+
+    **Returns:** `path_polar`.
+    """
     plt = _plt()
-    w, h = np.asarray(frequencies), np.asarray(values)
+    w, h = np.asarray(frequencies, dtype=float).ravel(), np.asarray(values).ravel()
+    order = np.argsort(w, kind="stable")
+    w, h = w[order], h[order]
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
     a1.semilogy(w, np.abs(h), lw=1.2)
-    a2.plot(w, np.degrees(np.angle(h)), lw=1.2)
+    a2.plot(*_break_wraps(w, np.degrees(np.angle(h))), lw=1.2)
+    a2.set_ylim(-180, 180)
+    a2.set_yticks(np.arange(-180, 181, 90))
     a1.set_ylabel(f"magnitude ({unit})")
     a2.set_ylabel("phase (deg)")
     a2.set_xlabel("frequency (rad/s)")
@@ -731,7 +892,7 @@ def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
     ax.set_xlabel(f"real ({unit})")
     ax.set_ylabel(f"imaginary ({unit})")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_title(title + " (polar)")
+    ax.set_title(title + " (polar)" if title else "polar")
     return _save(fig, path_polar, [ax])
 
 
@@ -752,14 +913,38 @@ def plot_deflected_shape(positions, x, y, major, path, title=""):
 
 def plot_level1(q, log_dec, path, q0=None, title=""):
     """API 684 level I: the first forward mode's log decrement against the
-    cross-coupled stiffness, with the threshold `q0` where it crosses zero."""
+    cross-coupled stiffness, with the threshold `q0` where it crosses zero marked
+    and annotated ("Q0 = ... N/m"). `q` runs from 0 to about the bearings'
+    stiffness, and `Q0` is often a small part of it: where `Q0` is below 5 % of the
+    largest `Q` the axis is symmetric-logarithmic (linear from 0 to the power of ten
+    below `Q0`, logarithmic above), so that `Q0` stands clear of 0. The curve joins
+    the computed points and passes through `(Q0, 0)`."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 4))
-    ax.plot(np.asarray(q), np.asarray(log_dec), "-o", ms=3, lw=1.2, label="log decrement, first forward mode")
+    q, ld = np.asarray(q, dtype=float), np.asarray(log_dec, dtype=float)
+    order = np.argsort(q)
+    q, ld = q[order], ld[order]
+    crossed = q0 is not None and np.isfinite(q0)
+    line_q, line_ld = q, ld
+    if crossed:
+        k = int(np.searchsorted(q, q0))
+        line_q, line_ld = np.insert(q, k, q0), np.insert(ld, k, 0.0)   # the root is a point of the curve
+    ax.plot(line_q, line_ld, "-", color="tab:blue", lw=1.2)
+    ax.plot(q, ld, "o", color="tab:blue", ms=3, label="log decrement, first forward mode")
     ax.axhline(0.0, color="k", lw=0.8)
-    if q0 is not None:
-        ax.axvline(q0, color="tab:red", ls="--", lw=1.0, label=f"Q0 = {q0:.4g} N/m")
-    ax.set_xlabel("cross-coupled stiffness Q (N/m)")
+    x_label = "cross-coupled stiffness Q (N/m)"
+    if crossed:
+        text = f"Q0 = {q0:.4g} N/m"
+        ax.axvline(q0, color="tab:red", ls="--", lw=1.0)
+        ax.plot([q0], [0.0], "D", color="tab:red", ms=6, zorder=3, label=text)
+        ax.annotate(text, (q0, 0.0), textcoords="offset points", xytext=(10, 14), color="tab:red", fontsize=9,
+                    arrowprops=dict(arrowstyle="-", color="tab:red", lw=0.8))
+        if 0 < q0 < 0.05 * q.max():
+            linthresh = 10.0 ** np.floor(np.log10(q0))
+            ax.set_xscale("symlog", linthresh=linthresh)
+            x_label = f"cross-coupled stiffness Q (N/m; linear below {linthresh:.0e}, logarithmic above)"
+    ax.set_xlim(min(q.min(), 0.0), q.max())
+    ax.set_xlabel(x_label)
     ax.set_ylabel("log decrement")
     ax.set_title(title)
     return _save(fig, path, [ax])
@@ -808,8 +993,6 @@ def plot_bench(report, path):
     """`rotorjax bench`'s figure: one panel per comparison; a work-precision diagram
     where the methods have ladders, else the time per analysis as bars with the
     agreement in the title. The machine and date in the caption."""
-    import textwrap
-
     from matplotlib.ticker import NullFormatter
 
     plt = _plt()
@@ -844,7 +1027,4 @@ def plot_bench(report, path):
     m = report["machine"]
     fig.suptitle(f"rotorjax bench: {m['device']}, {m['cpu_count']} CPU cores, {m['platform'][:48]}, jax "
                  f"{m['jax']}, {m['date']}", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)

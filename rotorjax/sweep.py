@@ -208,3 +208,77 @@ def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
                          max_steps=problems.max_steps, lanes=lanes, steps_per_round=steps_per_round,
                          method=method, shard=shard, events=problems.events)
     return jax.tree_util.tree_map(lambda x: np.asarray(x)[:stop - start], res)
+
+
+#: points per compiled call of `map_chunked` (memory per call stays bounded)
+CHUNK = 2048
+
+
+def bucket_size(n: int, chunk: int = CHUNK) -> int:
+    """The padded length of a call over `n` points: the next power of two (at least 16),
+    at most `chunk`. Grids of any length then compile one of a few programs."""
+    n = max(int(n), 1)
+    return min(chunk, max(16, 1 << (n - 1).bit_length()))
+
+
+def available_memory() -> int:
+    """Bytes of memory available to this process now (`MemAvailable`; else the
+    physical memory; else 4 GiB)."""
+    import os
+
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 4 << 30
+
+
+def largest_grid(bytes_per_point: float, fraction: float = 0.25) -> int:
+    """The most points whose results (`bytes_per_point` each, as the caller keeps and
+    writes them) fit in `fraction` of the memory available now."""
+    return max(int(fraction * available_memory() // max(bytes_per_point, 1.0)), 1)
+
+
+def check_grid_size(what: str, n: int, bytes_per_point: float):
+    """Refuse, before any work, a grid of `n` points whose results would not fit in
+    memory (`largest_grid`): an `InputError` naming `what` (the option as the user
+    typed it) and the largest size this machine allows now."""
+    most = largest_grid(bytes_per_point)
+    if n > most:
+        gib = n * bytes_per_point / 2**30
+        raise InputError(f"{what} {n}: the results would need about {gib:.3g} GiB; this machine allows at most "
+                         f"{most} points now (compute the range in parts)")
+    return n
+
+
+@eqx.filter_jit
+def _call(fn, xs, args):
+    return fn(xs, *args)
+
+
+def map_chunked(fn: Callable, xs, *args, chunk: int = CHUNK, size: int | None = None):
+    """`fn(xs, *args)` for a batched `fn` (one that takes a 1-D array of points and
+    returns a pytree of arrays with the points in front, e.g. `campbell(rotor, speeds,
+    n)`), evaluated over fixed-size chunks of `xs`: memory stays bounded whatever the
+    length, and the chunks are padded to `bucket_size`, so any length compiles one of a
+    few programs. `args` are traced arguments (a rotor is an argument, not a constant:
+    one compilation per rotor layout). `size`: the call length (default
+    `bucket_size(len(xs), chunk)`), to share one program between calls of different
+    lengths. Returns numpy arrays."""
+    xs = np.asarray(xs, dtype=np.float64)
+    if xs.ndim != 1 or xs.size == 0:
+        raise InputError(f"xs must be a non-empty 1-D array of points, got shape {xs.shape}")
+    n = xs.shape[0]
+    size = bucket_size(n, chunk) if size is None else as_count("size", size, minimum=1)
+    outs = []
+    for start in range(0, n, size):
+        idx = np.minimum(np.arange(start, start + size), n - 1)  # pad: repeat the last point
+        out = _call(fn, jnp.asarray(xs[idx]), args)
+        outs.append(jax.tree_util.tree_map(lambda a: np.asarray(a)[: min(size, n - start)], out))
+    return jax.tree_util.tree_map(lambda *a: np.concatenate(a, axis=0), *outs)

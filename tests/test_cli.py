@@ -80,6 +80,7 @@ def test_steady_lists_all_regimes(capsys):
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
     amps = sorted(r["whirl_amplitude"] for r in out["regimes"])
+    # regression pin: produced by `rotorjax steady elliptic-abb --set delta_n=0.1 --speed 1.5 --json` (2026-11-25)
     assert any(abs(a - 0.039210) < 1e-6 for a in amps) and any(abs(a - 0.141525) < 1e-6 for a in amps)
     assert {"verdict", "weight_angles", "max_eigenvalue_real_part", "kind"} <= set(out["regimes"][0])
 
@@ -96,6 +97,8 @@ def test_critical_speeds_anisotropic_with_criterion(capsys):
     out = json.loads(capsys.readouterr().out)
     (c,) = out["critical_speeds"]
     assert 5.0 < c["speed"] < 5.05 and c["stable_side"] == "below"
+    # regression pin: produced by `rotorjax critical-speeds anisotropic-abb --set eps=0.001 --set mu_w=0.25
+    # --range 4.5 5.5 --n-scan 6 --json` (2026-11-25)
     assert out["criterion_roots"] == pytest.approx([5.040672901949166])
 
 
@@ -117,12 +120,14 @@ def test_flexible_commands(tmp_path, capsys):
     capsys.readouterr()
     assert main(["critical-speeds", "ross-compare", "--range", "10", "200", "--n-scan", "40", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
+    # external reference: ROSS 2.3.0's run_critical_speed (tests/flexible/data/ross_rotor_example.json)
     assert [round(c["speed"], 3) for c in out["critical_speeds"]] == [91.788, 96.296]
     assert [c["whirl"] for c in out["critical_speeds"]] == ["backward", "forward"]
     np.testing.assert_allclose(out["synchronous_determinant_roots"],
                                [c["speed"] for c in out["critical_speeds"]], rtol=1e-8)
     assert main(["campbell", "ross-compare", "--range", "0", "1000", "--n-speeds", "5", "--reduce", "20",
                  "--out", str(tmp_path), "--json"]) == 0
+    # external reference: ROSS 2.3.0's first damped frequency at speed 0, 91.79655 (ross_rotor_example.json)
     assert abs(json.loads(capsys.readouterr().out)["frequencies"][0][0] / 91.797 - 1) < 1e-4
     assert main(["campbell", "ross-compare", "--range", "0", "1000", "--reduce", "0",
                  "--out", str(tmp_path)]) == 2
@@ -138,6 +143,7 @@ def test_flexible_commands(tmp_path, capsys):
 def test_flexible_abb_critical_speeds(capsys):
     assert main(["critical-speeds", "flexible-abb", "--range", "0.1", "25", "--exact", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
+    # external reference: the published roots of eq. (17) (model 003's paper, to 6 decimals)
     assert out["critical_speeds"] == pytest.approx([0.705801, 7.276434, 21.484371], abs=1e-6)
     assert main(["critical-speeds", "flexible-abb", "--range", "0.1", "25", "--modes", "20", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -211,12 +217,15 @@ def test_continue_command(tmp_path, capsys):
     assert main(["continue", "anisotropic-abb", "--param", "n", "--to", "4", "6", "--max-points", "6",
                  "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
+    # regression pin: produced by `rotorjax continue anisotropic-abb --param n --to 4 6 --max-points 6 --json` (2026-11-25)
     assert len(out["crossings"]) == 1 and abs(out["crossings"][0]["p"] - 5.0499297) < 1e-6
     assert main(["continue", "cantilever-limiters", "--param", "N", "--param2", "eta_e", "--from", "13.9", "0.025",
                  "--box", "1", "40", "0", "0.03", "--ds", "0.002", "--max-points", "6", "--out", str(tmp_path),
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    # traced both ways from the corrected start (N = 13.904126 at eta_e = 0.025)
+    # traced both ways from the corrected start (N = 13.904126 at eta_e = 0.025; regression pin: produced by
+    # `rotorjax continue cantilever-limiters --param N --param2 eta_e --from 13.9 0.025 --box 1 40 0 0.03
+    # --ds 0.002 --max-points 6 --json`, 2026-11-25)
     start = out["stops"] and np.argmin(np.abs(np.asarray(out["eta_e"]) - 0.025))
     assert abs(out["N"][start] - 13.904126) < 1e-5 and max(out["residuals"]) < 1e-8
     assert min(out["eta_e"]) < 0.025 < max(out["eta_e"])
@@ -294,6 +303,7 @@ def test_rotor_files_take_the_place_of_presets(tmp_path, capsys):
     assert main(["critical-speeds", rotor, "--range", "10", "200", "--n-scan", "40", "--out", str(tmp_path),
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
+    # external reference: ROSS 2.3.0's run_critical_speed (tests/flexible/data/ross_rotor_example.json)
     assert [round(c["speed"], 3) for c in out["critical_speeds"]] == [91.788, 96.296]
     assert (tmp_path / "critical_speeds_ross_compare.png").stat().st_size > 0
     assert main(["critical-speeds", rotor, "--range", "10", "200", "--n-scan", "40", "--set", "bearing0.kxx=2e6",

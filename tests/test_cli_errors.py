@@ -217,7 +217,7 @@ CASES = [
     # --- level1 ---
     (["level1", *R, "--speed", "nan"], 2, r"argument --speed: must be finite"),
     (["level1", *R, "--speed", "-1"], 2, r"argument --speed: must be >= 0"),
-    (["level1", *R], 2, r"the following arguments are required: --speed"),
+    (["level1", *R], 2, r"level1: give --speed .*ross-compare has no operating speed"),
     (["level1", *R, "--speed", "500", "--node", "9"], 2, r"--node 9: the rotor has nodes 0..6"),
     (["level1", *R, "--speed", "500", "--q-max", "0"], 2, r"argument --q-max: must be > 0"),
     (["level1", *R, "--speed", "500", "--n", "1"], 2, r"argument --n: must be an integer >= 2"),
@@ -381,6 +381,33 @@ CASES = [
     (["balance", *FR, "--planes", "2,4", "--set", "bearing0.kzz=1"], 2, r"unknown parameter 'bearing0\.kzz'"),
     (["balance", *FR, "--planes", "2,4", "--service-speed", "0"], 2, r"argument --service-speed: must be > 0"),
     (["balance", "elliptic-abb", "--planes", "2,4"], 2, r"`balance` does not apply to 'elliptic-abb'"),
+    # --- issue 28, item 2: an unsupported rotor (rigid-body modes) is refused by every linear analysis ---
+    *[([cmd, *R, *extra, "--set", "kxx=0", "--set", "kyy=0"], 2,
+       r"ross-compare is not supported: it has 4 rigid-body modes .*add bearings")
+      for cmd, extra in (("modes", []), ("campbell", ["--range", "0", "100"]),
+                         ("critical-speeds", ["--range", "10", "100"]), ("response", ["--range", "10", "100"]),
+                         ("frf", ["--input", "2,x", "--output", "2,x", "--range", "10", "100"]),
+                         ("level1", ["--speed", "100"]))],
+    (["modes", "{rotors}/ross_compare.toml", "--set", "bearing0.kxx=0", "--set", "bearing0.kyy=0", "--set",
+      "bearing1.kxx=0", "--set", "bearing1.kyy=0"], 2, r"ross_compare.toml is not supported: it has 4 rigid-body"),
+    # --- issue 28, item 1: response's unbalance comes from the rotor, or is refused ---
+    (["response", "flexible_rig.toml", "--range", "10", "100"], 2,
+     r"flexible_rig.toml has no unbalance .*give --unbalance NODE,MAG,PHASE"),
+    (["response", *R, "--range", "10", "100", "--unbalance", "2,1e-3,0", "--node", "3"], 2,
+     r"--node and --phase apply to a bare --unbalance MAG"),
+    (["response", *R, "--range", "10", "100", "--unbalance", "-1e-3"], 2, r"argument --unbalance: must be > 0"),
+    (["response", *R, "--range", "10", "100", "--probe", "7"], 2, r"--probe 7: the rotor has nodes 0..6"),
+    # --- issue 28, item 7: grids larger than the machine's memory are refused up front ---
+    (["response", *R, "--range", "10", "100", "--n", "100000000000"], 2,
+     r"--n 100000000000: the results would need about .* GiB; this machine allows at most \d+ points"),
+    (["campbell", *R, "--range", "0", "100", "--n-speeds", "10000000000"], 2,
+     r"--n-speeds 10000000000: .*this machine allows at most \d+ points"),
+    (["ucs", *R, "--n", "100000000000"], 2, r"--n 100000000000: .*this machine allows at most \d+ points"),
+    (["frf", *R, "--input", "2,x", "--output", "2,x", "--range", "10", "100", "--n", "100000000000"], 2,
+     r"--n 100000000000: .*this machine allows at most \d+ points"),
+    # --- issue 28, item 9: negative numbers reach the option's own check ---
+    (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
+    (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
     # --- data, presets, the command line itself ---
     (["data", "path", "nosuch"], 2, r"nosuch"),
     (["data", "bogus"], 2, r"invalid choice: 'bogus'"),

@@ -217,3 +217,264 @@ def test_band_equals_monte_carlo(fitted):
     assert np.max(np.abs(lo - q_lo) / width) < 0.1
     assert np.max(np.abs(hi - q_hi) / width) < 0.1
     assert np.max(np.abs((hi - lo) / width - 1)) < 0.1
+
+
+# --- issue 28, item 10: the FE analyses' pictures ------------------------------------------
+
+def inside_figure(fig, text):
+    """`text`'s drawn box lies inside the figure's (after the layout)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    box = text.get_window_extent(FigureCanvasAgg(fig).get_renderer())   # a closed figure's canvas has none
+    return (box.x0 >= fig.bbox.x0 - 0.5 and box.x1 <= fig.bbox.x1 + 0.5
+            and box.y0 >= fig.bbox.y0 - 0.5 and box.y1 <= fig.bbox.y1 + 0.5)
+
+
+def test_campbell_tracked_legend_shows_line_styles(tmp_path, figures):
+    """Forward and backward whirl in the legend as clean line-style entries (proxy
+    lines without markers), apart from the log-decrement colours (a colorbar), the
+    lines drawn over the dots, and no entry for a whirl that does not occur."""
+    s = np.linspace(0.0, 400.0, 200)
+    f = np.stack([150 - 0.1 * s, 150 + 0.1 * s, 350 + 0.05 * s], axis=1)
+    whirl = np.array(["backward", "forward", "forward"])[None, :].repeat(200, 0)
+    d = np.stack([0.1 + 0 * s, 0.2 - 1e-4 * s, 0.05 + 0 * s], axis=1)
+    rplot.plot_campbell_tracked(s, f, whirl, d, tmp_path / "c.png", critical=[136.4, 166.7], title="ross-compare")
+    check_png(tmp_path / "c.png")
+    (fig,) = figures
+    ax, cbar = fig.axes
+    assert cbar.get_ylabel().startswith("logarithmic decrement")
+    legend = ax.get_legend()
+    entries = dict(zip((t.get_text() for t in legend.get_texts()), legend.legend_handles))
+    assert list(entries) == ["forward whirl", "backward whirl", "1x", "1x crossing"]
+    for name, ls in (("forward whirl", "-"), ("backward whirl", "--")):
+        h = entries[name]
+        assert h.get_linestyle() == ls and h.get_marker() in ("None", None, "")
+        assert h not in ax.get_lines()          # a proxy, not a curve with the dots behind it
+    (dots,) = ax.collections
+    assert len(dots.get_offsets()) <= 3 * 40    # sparse enough for the dashes to show between them
+    whirl_lines = [ln for ln in ax.get_lines() if ln.get_linestyle() in ("-", "--")]
+    assert len(whirl_lines) == 6 and all(ln.get_zorder() > dots.get_zorder() for ln in whirl_lines)
+
+
+CLI_TITLES = [
+    "ross_compare: displacement at 2x / force at 2x, synchronous (speed = frequency)",
+    "rotor-file-with-a-long-name: acceleration at 12y / force at 3x, at 1234.5 rad/s (a rotor read from "
+    "/some/where/deep/in/a/project/rotors/compressor_rotor_with_tilting_pads.toml)",
+]
+
+
+@pytest.mark.parametrize("title", CLI_TITLES)
+def test_frf_titles_fit_the_figures(tmp_path, figures, title):
+    w = np.linspace(10.0, 600.0, 300)
+    h = 1e-6 / (250.0**2 - w**2 + 2j * 0.05 * 250.0 * w)
+    rplot.plot_frf(w, h, tmp_path / "bode.png", tmp_path / "polar.png", title=title)
+    check_png(tmp_path / "bode.png")
+    check_png(tmp_path / "polar.png")
+    bode, polar = figures
+    assert inside_figure(bode, bode.axes[0].title)
+    assert inside_figure(polar, polar.axes[0].title)
+    # wrapped (a path too long for a line broken inside), nothing lost
+    assert "".join(polar.axes[0].title.get_text().split()) == "".join((title + " (polar)").split())
+
+
+@pytest.mark.parametrize("plot", ["ucs", "level1", "campbell", "modes", "stability_map", "simulation"])
+def test_long_titles_fit_every_figure(tmp_path, figures, plot):
+    """Every figure finishes in `_save`, which wraps the titles to the figure."""
+    title = CLI_TITLES[1]
+    if plot == "ucs":
+        rplot.plot_ucs(np.logspace(5, 9, 20), np.logspace(2, 3, 20)[:, None], tmp_path / "p.png", title=title)
+    elif plot == "level1":
+        rplot.plot_level1(np.linspace(0, 5e7, 41), 0.3 - 1e-8 * np.linspace(0, 5e7, 41), tmp_path / "p.png",
+                          q0=3e7, title=title)
+    elif plot == "campbell":
+        s = np.linspace(0, 100, 20)
+        rplot.plot_campbell_tracked(s, 50 + 0 * s[:, None], np.full((20, 1), "forward"), 0.1 + 0 * s[:, None],
+                                    tmp_path / "p.png", title=title)
+    elif plot == "modes":
+        rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, CIRCULAR), BEAM, tmp_path / "p.png", title=title)
+    elif plot == "stability_map":
+        g = np.linspace(0, 1, 5)
+        rplot.plot_stability_map(g, g, g[:, None] - g[None, :], tmp_path / "p.png", "a", "b", title=title)
+    else:
+        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "p.png", title=title)
+    (fig,) = figures
+    titles = [t for ax in fig.axes for t in (ax.title,) if t.get_text()]
+    titles += [fig._suptitle] if fig._suptitle is not None else []
+    assert titles and all(inside_figure(fig, t) for t in titles)
+
+
+def test_frf_takes_a_refined_uneven_frequency_array(tmp_path, figures):
+    """Points added near the resonance (uneven spacing, appended after the even
+    grid): the curves run in order of frequency and the polar plot's ends are the
+    lowest and highest frequency."""
+    w = np.linspace(10.0, 600.0, 60)
+    fine = 250.0 + np.linspace(-20.0, 20.0, 81)
+    w_all = np.concatenate([w, fine])
+    h = 1e-6 / (250.0**2 - w_all**2 + 2j * 0.02 * 250.0 * w_all)
+    rplot.plot_frf(w_all, h, tmp_path / "bode.png", tmp_path / "polar.png", title="refined")
+    bode, polar = figures
+    order = np.argsort(w_all)
+    (mag,) = bode.axes[0].get_lines()
+    np.testing.assert_array_equal(mag.get_xdata(), w_all[order])
+    np.testing.assert_array_equal(mag.get_ydata(), np.abs(h[order]))
+    curve = polar.axes[0].get_lines()[0]
+    np.testing.assert_array_equal(curve.get_xdata(), h.real[order])
+    np.testing.assert_array_equal(curve.get_ydata(), h.imag[order])
+    assert legend_labels(polar) == ["10 rad/s", "600 rad/s"]
+    (phase,) = bode.axes[1].get_lines()
+    deg = np.asarray(phase.get_ydata(), dtype=float)
+    assert np.all(np.abs(np.diff(deg[np.isfinite(deg)])) < 180)     # no vertical line at a wrap
+
+
+def test_level1_shows_q0(tmp_path, figures):
+    """Q0 = 1e5 N/m on a 0 .. 5e7 N/m scan: inside the visible x range, clear of the
+    axis's left end (not squeezed into the first 0.2 % of a linear axis), marked on
+    the curve and annotated."""
+    q = np.linspace(0.0, 5e7, 41)
+    ld = 0.02 - 0.02 * q / 1e5 * np.exp(-q / 1e6)
+    q0 = 1e5
+    rplot.plot_level1(q, ld, tmp_path / "l1.png", q0, title="ross-compare: API 684 level I")
+    check_png(tmp_path / "l1.png")
+    (fig,) = figures
+    ax = fig.axes[0]
+    lo, hi = ax.get_xlim()
+    assert lo <= q0 <= hi and lo <= 0.0 and hi >= 5e7
+    to_axes = ax.transAxes.inverted()
+    x_frac = to_axes.transform(ax.transData.transform((q0, 0.0)))[0]
+    assert 0.05 < x_frac < 0.95
+    assert ax.get_xscale() == "symlog"
+    notes = [t for t in ax.texts if t.get_text() == "Q0 = 1e+05 N/m"]
+    assert len(notes) == 1 and tuple(notes[0].xy) == (q0, 0.0)
+    # the curve passes through (Q0, 0)
+    curve = ax.get_lines()[0]
+    assert any(x == q0 and y == 0.0 for x, y in zip(curve.get_xdata(), curve.get_ydata()))
+
+
+def test_level1_without_q0_stays_linear(tmp_path, figures):
+    q = np.linspace(0.0, 5e7, 11)
+    rplot.plot_level1(q, 0.1 + 0 * q, tmp_path / "l1.png", None, title="no crossing")
+    (fig,) = figures
+    assert fig.axes[0].get_xscale() == "linear" and not fig.axes[0].texts
+
+
+class fake_run:
+    """The parts of a `Solution` that `plot_simulation` reads."""
+
+    def __init__(self, outputs, n=5):
+        self.ts = np.linspace(0.0, 1.0, n)
+        self.outputs = outputs
+        self.success = True
+        self.message = "ok"
+
+
+def test_simulation_labels(tmp_path, figures):
+    """The time axis says "time (s)" (not "time (time unit s)", as the CLI's label
+    used to read), a run-up's speed axis "speed (rad/s)"; the amplitude axis names
+    the node and the unit."""
+    t = np.linspace(0.0, 1.0, 5)
+    nx = np.outer(np.cos(t), [0.0, 1e-5, 3e-5, 1e-5])
+    ny = np.outer(np.sin(t), [0.0, 1e-5, 3e-5, 1e-5])
+    rotor_run = fake_run({"node_x": nx, "node_y": ny, "whirl_amplitude": np.hypot(nx, ny).max(1)})
+    rplot.plot_simulation(rotor_run, tmp_path / "a.png", title="rotor", x_label="time (time unit s)")
+    rplot.plot_simulation(rotor_run, tmp_path / "b.png", title="rotor", x_label="time", time_unit="s", node=2)
+    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "c.png", speed=t,
+                          x_label="speed", time_unit="1/Omega", unit="r = (r1+r2)/2")
+    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "d.png")
+    a, b, c, d = (fig.axes[0] for fig in figures)
+    assert a.get_xlabel() == "time (s)"
+    assert a.get_ylabel() == "whirl amplitude, largest over the nodes (m)"
+    assert b.get_xlabel() == "time (s)" and b.get_ylabel() == "whirl amplitude at node 2 (m)"
+    np.testing.assert_allclose(b.get_lines()[0].get_ydata(), 3e-5)
+    assert c.get_xlabel() == "speed (rad per 1/Omega)" and c.get_ylabel() == "whirl amplitude (r = (r1+r2)/2)"
+    assert d.get_xlabel() == "time" and d.get_ylabel() == "whirl amplitude"   # the old defaults
+    with pytest.raises(ValueError, match="node"):
+        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "e.png", node=1)
+
+
+def test_ucs_bearings_have_their_own_styles(tmp_path, figures):
+    k = np.logspace(5, 9, 30)
+    f = np.stack([30 * np.sqrt(k / 1e3), 90 * np.sqrt(k / 1e3)], axis=1)
+    s = np.linspace(10.0, 2000.0, 20)
+    kb = np.stack([np.stack([1e7 + 0 * s, 2e7 + 0 * s]), np.stack([3e7 + 0 * s, 4e7 + 1e3 * s])])
+    rplot.plot_ucs(k, f, tmp_path / "u.png", s, kb, [(1e7, 500.0)], title="two bearings")
+    same = np.stack([np.stack([5e7 + 0 * s, 5e7 + 0 * s])] * 2)
+    rplot.plot_ucs(k, f, tmp_path / "v.png", s, same, title="two equal isotropic bearings")
+    check_png(tmp_path / "u.png")
+    ax = figures[0].axes[0]
+    bearing = {ln.get_label(): ln for ln in ax.get_lines() if ln.get_label().startswith("bearing")}
+    assert list(bearing) == ["bearing 0 kxx", "bearing 0 kyy", "bearing 1 kxx", "bearing 1 kyy"]
+    styles = {(ln.get_color(), ln.get_linestyle()) for ln in bearing.values()}
+    assert len(styles) == 4
+    assert bearing["bearing 0 kxx"].get_color() != bearing["bearing 1 kxx"].get_color()
+    assert bearing["bearing 0 kxx"].get_linestyle() != bearing["bearing 0 kyy"].get_linestyle()
+    # coinciding curves: one line, named for all of them
+    labels = [ln.get_label() for ln in figures[1].axes[0].get_lines() if ln.get_label().startswith("bearing")]
+    assert labels == ["bearings 0, 1 kxx = kyy"]
+
+
+# a uniform beam of 10 elements on 11 nodes (4 dofs per node: x, y, theta_x, theta_y)
+class _Beam:
+    n_nodes = 11
+    lengths = np.full(10, 0.1)
+    node_positions = np.linspace(0.0, 1.0, 11)
+
+
+BEAM = _Beam()
+Z = BEAM.node_positions
+
+
+def _shape(x, dx, y, dy):
+    v = np.zeros(4 * BEAM.n_nodes, dtype=complex)
+    v[0::4], v[1::4], v[2::4], v[3::4] = x, y, dx, dy
+    return v
+
+
+# forward circular whirl in the first bending mode: y lags x by 90 degrees
+CIRCULAR = _shape(np.sin(np.pi * Z), np.pi * np.cos(np.pi * Z), -1j * np.sin(np.pi * Z),
+                  -1j * np.pi * np.cos(np.pi * Z))
+# the second bending mode, circular, with a phase of 90 degrees on the whole shape: x and y real
+# parts vanish in turn
+SECOND = 1j * _shape(np.sin(2 * np.pi * Z), 2 * np.pi * np.cos(2 * np.pi * Z), -1j * np.sin(2 * np.pi * Z),
+                     -2j * np.pi * np.cos(2 * np.pi * Z))
+# a planar mode (x only)
+PLANAR = _shape(np.sin(np.pi * Z), np.pi * np.cos(np.pi * Z), 0 * Z, 0 * Z)
+
+
+class synthetic_modes:
+    def __init__(self, *shapes):
+        self.shapes = np.stack(shapes, axis=1)
+        self.frequencies = np.arange(1.0, len(shapes) + 1) * 100.0
+        self.whirl = ["forward"] * len(shapes)
+        self.log_dec = np.full(len(shapes), 0.1)
+
+
+def test_mode_shapes_show_the_whirl(tmp_path, figures):
+    """A circular orbit does not look planar: the plotted major semi-axis is the
+    orbit's radius where a real part is zero, the minor semi-axis equals it
+    (forward: positive), no curve is flat zero; a planar mode's minor axis is zero;
+    the second bending mode's major axis changes sign at its nodal point."""
+    rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, SECOND, PLANAR), BEAM, tmp_path / "m.png", title="synthetic")
+    check_png(tmp_path / "m.png")
+    (fig,) = figures
+    panels = fig.axes[:3]
+
+    def curves(ax):
+        return {ln.get_label(): (np.asarray(ln.get_xdata()), np.asarray(ln.get_ydata())) for ln in ax.get_lines()
+                if not ln.get_label().startswith("_")}
+
+    circ, second, planar = (curves(ax) for ax in panels)
+    z, major = circ["major semi-axis"]
+    np.testing.assert_allclose(major, np.sin(np.pi * z), atol=1e-3)
+    _, minor = circ["minor semi-axis (+ forward, - backward)"]
+    np.testing.assert_allclose(minor, major, atol=1e-3)
+    for ax in panels:
+        drawn = [ln for ln in ax.get_lines() if ln.get_linestyle() != "None" and len(ln.get_xdata()) > 2]
+        assert drawn and all(np.max(np.abs(ln.get_ydata())) > 0.5 for ln in drawn if ax is not panels[2]
+                             or not ln.get_label().startswith("minor"))
+    # the second mode: the major axis is the orbit radius |sin(2 pi z)| (to the cubic interpolation's error
+    # and normalisation), with the sign of the shape
+    z2, major2 = second["major semi-axis"]
+    np.testing.assert_allclose(np.abs(major2), np.abs(np.sin(2 * np.pi * z2)), atol=3e-3)
+    assert major2[np.argmin(np.abs(z2 - 0.25))] * major2[np.argmin(np.abs(z2 - 0.75))] < 0
+    _, minor_planar = planar["minor semi-axis (+ forward, - backward)"]
+    np.testing.assert_allclose(minor_planar, 0.0, atol=1e-12)

@@ -41,3 +41,6 @@ from ._summary import analysis_window as analysis_window
 from ._summary import precession_diagram as precession_diagram
 from ._summary import precession_summary as precession_summary
 from ._summary import simulation_summary as simulation_summary
+from ._peaks import Peak as Peak
+from ._peaks import refine_maxima as refine_maxima
+from ._peaks import refined_grid as refined_grid

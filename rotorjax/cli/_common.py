@@ -243,6 +243,20 @@ def build(preset, params):
             from None
 
 
+def speed_warnings(system, lo, hi=None):
+    """Plausibility warnings for the speeds an analysis uses (`lo` to `hi`, rad/s): a
+    speed-tabulated bearing used outside its table (`rotorjax.models.check_speeds`)."""
+    from ..models import check_speeds
+
+    return check_speeds(system, [lo] if hi is None else [lo, hi])
+
+
+def operating_speed(preset, params):
+    """The rotor's operating speed (rad/s): a rotor file's `[rotor] speed` (with `--set
+    speed=`), 0 for a preset without one."""
+    return float(params.get(preset.speed_key, 0.0)) if preset.speed_key else 0.0
+
+
 # ---- presenting ----
 
 def progress(total, desc, enabled=True):
@@ -280,8 +294,61 @@ def out_stem(folder, preset, prefix="", suffix=""):
     return os.path.join(folder, f"{prefix}{name}{suffix}")
 
 
+#: the plausibility warnings of the running command (`collect_warnings`), in order
+WARNINGS = []
+
+
+def collect_warnings():
+    """Route `PlausibilityWarning`s (and the other `UserWarning`s rotorjax issues) to
+    stderr as one line each, `rotorjax: warning: ...`, and to `WARNINGS`, which
+    `write_json` adds to every JSON output. Returns the `warnings.catch_warnings`
+    context to enter around a command."""
+    import warnings
+
+    from .._errors import PlausibilityWarning
+
+    ctx = warnings.catch_warnings()
+
+    class _Collect:
+        def __enter__(self):
+            ctx.__enter__()
+            WARNINGS.clear()
+            warnings.simplefilter("always", PlausibilityWarning)
+            other = warnings.showwarning
+
+            def show(message, category, filename, lineno, file=None, line=None):
+                if not issubclass(category, PlausibilityWarning):
+                    return other(message, category, filename, lineno, file, line)
+                text = str(message)
+                if text not in WARNINGS:
+                    WARNINGS.append(text)
+                    print(f"rotorjax: warning: {text}", file=sys.stderr)
+
+            warnings.showwarning = show
+            return self
+
+        def __exit__(self, *exc):
+            return ctx.__exit__(*exc)
+
+    return _Collect()
+
+
+def with_warnings(obj):
+    """`obj` (a JSON object) with the command's plausibility warnings added to its
+    `warnings` list (created when absent)."""
+    if WARNINGS and isinstance(obj, dict):
+        have = list(obj.get("warnings") or [])
+        obj["warnings"] = have + [w for w in WARNINGS if w not in have]
+    elif isinstance(obj, dict) and "warnings" not in obj:
+        obj["warnings"] = []
+    return obj
+
+
 def write_json(path, obj, **kwargs):
+    """Write `obj` as JSON, with the command's warnings (`with_warnings`); `obj` is
+    updated in place, so a later `print(json.dumps(obj))` shows them too."""
     import json
 
+    with_warnings(obj)
     with open(path, "w") as f:
         json.dump(obj, f, **kwargs)

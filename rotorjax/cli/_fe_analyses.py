@@ -6,7 +6,8 @@ import json
 
 import numpy as np
 
-from ._common import InputError, NumericalError, build, out_stem, prepare_out, preset_and_params, write_json
+from ._common import (InputError, NumericalError, build, operating_speed, out_stem, prepare_out, preset_and_params,
+                      speed_warnings, write_json)
 
 #: kinds of preset with a finite-element rotor
 KINDS = ("flexible", "rotor")
@@ -70,13 +71,18 @@ def cmd_modes(args) -> int:
     from rotorjax.flexible import modes
     from rotorjax.plot import plot_mode_shapes, plot_mode_shapes_3d
 
+    from rotorjax.flexible import check_supported
+
     preset, params = preset_and_params(args, "modes", KINDS)
     prepare_out(args.out)
     scene = _scene(preset, params)
     n = 2 * int(scene.n_shaft)
     if args.n_modes > n // 2:
         raise InputError(f"--n-modes {args.n_modes}: the rotor has {n // 2} modes (upper half-plane eigenvalues)")
-    m = modes(scene, args.speed, args.n_modes)
+    speed, speed_source = _speed(args, preset, params)
+    check_supported(scene, speed, what=preset.name)
+    speed_warnings(scene, speed)
+    m = modes(scene, speed, args.n_modes)
     wd, wn, zeta, logdec = (np.asarray(a) for a in (m.frequencies, m.natural_frequencies, m.damping_ratio,
                                                      m.log_dec))
     if not (np.all(np.isfinite(wd)) and np.all(np.isfinite(wn))):
@@ -84,19 +90,19 @@ def cmd_modes(args) -> int:
     whirl = [str(w) for w in m.whirl]
     full = getattr(scene.rotor, "rotor", scene.rotor)
     stem = out_stem(args.out, preset, "modes_")
-    title = f"{preset.name} at {args.speed:g} rad/s"
+    title = f"{preset.name} at {speed:g} rad/s"
     plot_mode_shapes(m, full, stem + "_shapes.png", title=title)
     plot_mode_shapes_3d(m, full, stem + "_3d.png", title=title)
     rows = [{"mode": k, "damped_frequency": float(wd[k]), "damped_frequency_hz": float(wd[k] / (2 * np.pi)),
              "natural_frequency": float(wn[k]), "damping_ratio": float(zeta[k]), "log_dec": float(logdec[k]),
              "whirl": whirl[k]} for k in range(len(wd))]
-    out = {"preset": preset.name, "speed": args.speed, "unit": "rad/s", "modes": rows,
+    out = {"preset": preset.name, "speed": speed, "speed_source": speed_source, "unit": "rad/s", "modes": rows,
            "files": {"shapes": stem + "_shapes.png", "shapes_3d": stem + "_3d.png"}}
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"{preset.name}: damped modes at {args.speed:g} rad/s")
+        print(f"{preset.name}: damped modes at {speed:g} rad/s ({speed_source})")
         print(f"{'mode':>4}  {'wd (rad/s)':>12}  {'wd (Hz)':>10}  {'wn (rad/s)':>12}  {'damping':>10}  "
               f"{'log dec':>10}  whirl")
         for r in rows:
@@ -105,6 +111,15 @@ def cmd_modes(args) -> int:
                   f"{r['whirl']}")
         print(f"wrote {stem}_shapes.png, {stem}_3d.png and .json")
     return 0
+
+
+def _speed(args, preset, params, option="--speed"):
+    """`(speed, source)`: `--speed`, else the rotor's operating speed (a rotor file's
+    `[rotor] speed`, 0 for a preset without one)."""
+    if args.speed is not None:
+        return float(args.speed), option
+    speed = operating_speed(preset, params)
+    return speed, ("[rotor] speed of the file" if preset.kind == "rotor" else f"{preset.name}'s speed")
 
 
 # ---- ucs, frf, level1 (the UCS map, frequency-response functions, API 684 level I) ----
@@ -146,6 +161,7 @@ def cmd_ucs(args) -> int:
 
     from rotorjax.flexible import ucs
     from rotorjax.plot import plot_ucs
+    from rotorjax.sweep import check_grid_size
 
     preset, params = preset_and_params(args, "ucs", KINDS)
     lo, hi = args.range
@@ -156,6 +172,7 @@ def cmd_ucs(args) -> int:
         raise InputError(f"{text}: need KLO < KHI")
     if not math.isfinite(math.log10(hi)):
         raise InputError(f"{text}: KHI is too large")
+    check_grid_size("--n", args.n, 120.0 * (args.n_modes + 1))   # the map in the JSON and the plot
     prepare_out(args.out)
     rotor = _fe_rotor(preset, params)
     rotor = getattr(rotor, "rotor", rotor)   # a reduced rotor's full one (the basis depends on the bearings)
@@ -188,7 +205,7 @@ def cmd_ucs(args) -> int:
         print(f"{preset.name}: undamped critical speed map, k = {lo:g} .. {hi:g} N/m, {args.n_modes} modes "
               + ("(forward synchronous)" if args.synchronous else "(at rest)"))
         for i in inter:
-            print(f"  mode {i['mode'] + 1} meets bearing {i['bearing']} {i['coefficient']} at {i['speed']:.4f} "
+            print(f"  mode {i['mode']} meets bearing {i['bearing']} {i['coefficient']} at {i['speed']:.4f} "
                   f"rad/s (k = {i['k']:.6g} N/m)")
         if not inter:
             print("  no intersection with the bearings' stiffness in the searched speed range")
@@ -197,25 +214,28 @@ def cmd_ucs(args) -> int:
 
 
 def cmd_frf(args) -> int:
-    from rotorjax.flexible import frf
+    from rotorjax.flexible import check_supported, frf_curve
     from rotorjax.plot import plot_frf
+    from rotorjax.sweep import check_grid_size
 
     from ._common import check_range
 
     preset, params = preset_and_params(args, "frf", KINDS)
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
-    rotor = _fe_rotor(preset, params)
+    scene = _scene(preset, params)
     for option, (node, d) in (("--input", args.input), ("--output", args.output)):
-        _node_option(option, f"{node},{d}", node, rotor.n_nodes)
-    w = np.linspace(lo, hi, args.n)
+        _node_option(option, f"{node},{d}", node, scene.n_nodes)
+    check_grid_size("--n", args.n, 200.0)   # the curve in the JSON (five numbers a point) and the plots
+    check_supported(scene, hi if args.speed is None else args.speed, what=preset.name)
+    speed_warnings(scene, lo if args.speed is None else args.speed, hi if args.speed is None else None)
     try:
-        res = frf(rotor, args.input, args.output, w, args.kind, speed=args.speed)
+        res = frf_curve(scene, args.input, args.output, np.linspace(lo, hi, args.n), args.kind, speed=args.speed)
     except InputError as e:  # a fixed dof
         name = str(e).split(":")[0]
         raise InputError(f"--{name} {','.join(map(str, getattr(args, name)))}: {str(e).split(': ', 1)[-1]}") \
             from None
-    h = np.asarray(res.values)
+    w, h = res.frequencies, np.asarray(res.values)
     if not np.all(np.isfinite(h)):
         raise NumericalError("frf: non-finite response (an undamped rotor exactly at a natural frequency?)")
     unit = {"displacement": "m/N", "velocity": "m/s/N", "acceleration": "m/s^2/N"}[args.kind]
@@ -225,17 +245,16 @@ def cmd_frf(args) -> int:
              f"{args.input[0]}{args.input[1]}, {running}")
     plot_frf(w, h, stem + "_bode.png", stem + "_polar.png", title=title, unit=unit)
     mag = np.abs(h)
-    peak = [int(i) for i in range(1, len(w) - 1) if mag[i] > mag[i - 1] and mag[i] > mag[i + 1]]
     out = {"preset": preset.name, "input": list(args.input), "output": list(args.output), "kind": args.kind,
            "unit": f"rad/s, {unit}", "speed": args.speed, "frequencies": w.tolist(), "magnitude": mag.tolist(),
            "phase": np.angle(h).tolist(), "real": h.real.tolist(), "imag": h.imag.tolist(),
-           "peaks": [float(w[i]) for i in peak],
+           "peaks": [p.x for p in res.peaks], "peak_magnitudes": [p.y for p in res.peaks],
            "files": {"bode": stem + "_bode.png", "polar": stem + "_polar.png"}}
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"{title}: peaks at " + (", ".join(f"{w[i]:.2f} rad/s ({mag[i]:.4g} {unit})" for i in peak)
+        print(f"{title}: peaks at " + (", ".join(f"{p.x:.3f} rad/s ({p.y:.4g} {unit})" for p in res.peaks)
                                        or "none inside the range"))
         print(f"wrote {stem}_bode.png, {stem}_polar.png and .json")
     return 0
@@ -247,10 +266,19 @@ def cmd_level1(args) -> int:
     from rotorjax.flexible import level1, mid_span_node
     from rotorjax.plot import plot_level1
 
+    from rotorjax.flexible import check_supported
+
     preset, params = preset_and_params(args, "level1", KINDS)
     prepare_out(args.out)
     scene = _scene(preset, params)
     rotor = scene.rotor
+    speed, speed_source = _speed(args, preset, params)
+    if not speed > 0:
+        raise InputError(f"level1: give --speed (the maximum continuous speed, rad/s): {preset.name} has no "
+                         "operating speed ([rotor] speed)")
+    args.speed = speed
+    check_supported(scene, speed, what=preset.name)
+    speed_warnings(scene, speed)
     if args.node is not None:
         _node_option("--node", str(args.node), args.node, rotor.n_nodes)
     node = mid_span_node(scene) if args.node is None else args.node
@@ -264,7 +292,8 @@ def cmd_level1(args) -> int:
     stem = out_stem(args.out, preset, "level1_")
     plot_level1(q, ld, stem + ".png", q0, title=f"{preset.name}: API 684 level I at {args.speed:g} rad/s, "
                 f"Q at node {node}")
-    out = {"preset": preset.name, "speed": args.speed, "node": node, "unit": "N/m, rad/s",
+    out = {"preset": preset.name, "speed": args.speed, "speed_source": speed_source, "node": node,
+           "unit": "N/m, rad/s",
            "q0": q0, "check_at_q0": {"real_part": None if q0 is None else float(res.real_part_at_q0),
                                      "max_real_part": None if q0 is None else float(res.max_real_part_at_q0)},
            "log_dec_0": float(res.log_dec_0), "q": q.tolist(), "log_dec": ld.tolist(),

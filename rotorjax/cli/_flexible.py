@@ -6,7 +6,7 @@ import json
 import numpy as np
 
 from ._common import (InputError, NumericalError, build, check_range, out_stem, prepare_out, preset_and_params,
-                      write_json)
+                      speed_warnings, write_json)
 
 #: kinds of preset with a finite-element rotor
 KINDS = ("flexible", "rotor")
@@ -31,24 +31,38 @@ def _rotor(preset, params, n_modes, scene=False):
     return sc if n_modes is None else RotorScene(rotor, sc.speed, sc.components)
 
 
+def _campbell_at(speeds, rotor, n_modes):
+    """`campbell` with the speeds first (a batched function for `map_chunked`)."""
+    from rotorjax.flexible import campbell
+
+    return campbell(rotor, speeds, n_modes)
+
+
 def cmd_campbell(args) -> int:
-    from rotorjax.flexible import campbell, critical_speeds_1x, track_modes, track_order
+    import jax
+
+    from rotorjax.flexible import check_supported, critical_speeds_1x, track_modes, track_order
     from rotorjax.plot import plot_campbell_tracked
     from rotorjax.presets._hooks import rotor_dofs
+    from rotorjax.sweep import check_grid_size, map_chunked
 
     preset, params = preset_and_params(args, "campbell", KINDS)
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     rotor = _rotor(preset, params, args.reduce, scene=True)
+    check_grid_size("--n-speeds", args.n_speeds, 800.0 * (args.modes + 4))  # tracked and plain, in the JSON
+    check_supported(rotor, hi, what=preset.name)
+    speed_warnings(rotor, lo, hi)
     dofs = rotor_dofs(rotor)
     n = 2 * dofs
     if args.modes > n:
         raise InputError(f"--modes {args.modes}: the rotor has {n} modes" + (" after --reduce" if args.reduce else ""))
     speeds = np.linspace(lo, hi, args.n_speeds)
-    # a few modes above those shown, so that branches entering from above are tracked too
-    wide = campbell(rotor, speeds, min(args.modes + 4, dofs))
+    # a few modes above those shown, so that branches entering from above are tracked
+    # too; the modes shown are the lowest of those (one compiled program, in chunks)
+    wide = map_chunked(_campbell_at, speeds, rotor, min(args.modes + 4, dofs))
     k = min(args.modes, dofs)
-    camp = campbell(rotor, speeds, args.modes)
+    camp = jax.tree_util.tree_map(lambda a: a[..., :k], wide)
     tracked = track_modes(wide)
     _, mac_step = track_order(wide)
     t_freq = np.asarray(tracked.frequencies)[:, :k]
@@ -104,60 +118,103 @@ def unbalance_spec(text):
     return node, mag, phase
 
 
-def _unbalances(args, n_nodes):
-    """`(triples, single)`: the NODE,MAG,PHASE unbalances of `--unbalance`, or None
-    and the single magnitude at `--node`."""
-    given = args.unbalance or [1e-3]
+def rotor_unbalances(scene):
+    """The `(node, magnitude, phase)` of the scene's `Unbalance` components (a rotor
+    file's `[[unbalance]]` tables, a preset's load case), in order."""
+    from rotorjax.models import Unbalance
+
+    return [(int(c.node), float(c.magnitude), float(c.phase)) for c in getattr(scene, "components", ())
+            if isinstance(c, Unbalance)]
+
+
+def default_node(scene):
+    """Where a bare `--unbalance MAG` goes without `--node`: the rotor's first
+    unbalance's node, else its heaviest disk's node, else the middle of its bearing span."""
+    from rotorjax.flexible import mid_span_node
+    from rotorjax.flexible._frf import full_rotor
+
+    given = rotor_unbalances(scene)
+    if given:
+        return given[0][0], "the rotor's unbalance"
+    full = getattr(full_rotor(scene), "rotor", full_rotor(scene))
+    if len(full.disk_nodes):
+        masses = np.asarray(full.disk_params)[:, 0]
+        return int(full.disk_nodes[int(np.argmax(masses))]), "the heaviest disk"
+    return mid_span_node(scene), "mid-span"
+
+
+def _unbalances(args, scene, n_nodes, name):
+    """`(triples, source)`: the unbalances the response uses and where they came from:
+    `--unbalance NODE,MAG,PHASE` triples; a bare `--unbalance MAG` at `--node` (default:
+    `default_node`) and `--phase`; `--node`/`--phase` alone move the rotor's single
+    unbalance; otherwise the rotor's own (a rotor file's `[[unbalance]]`)."""
+    given = args.unbalance or []
     triples = [u for u in given if isinstance(u, tuple)]
+    own = rotor_unbalances(scene)
     if triples and len(triples) != len(given):
         raise InputError("--unbalance: give one magnitude (at --node, --phase) or NODE,MAG,PHASE triples, not both")
-    if not triples:
-        if len(given) > 1:
-            raise InputError("--unbalance: a bare magnitude may be given once; use NODE,MAG,PHASE for several")
-        return None, given[0]
-    for node, mag, phase in triples:
-        if not node < n_nodes:
-            raise InputError(f"--unbalance {node},{mag:g},{phase:g}: the rotor has nodes 0..{n_nodes - 1}")
-    return triples, None
+    if triples:
+        if args.node is not None or args.phase is not None:
+            raise InputError("--node and --phase apply to a bare --unbalance MAG, not to NODE,MAG,PHASE triples")
+        for node, mag, phase in triples:
+            if not node < n_nodes:
+                raise InputError(f"--unbalance {node},{mag:g},{phase:g}: the rotor has nodes 0..{n_nodes - 1}")
+        return triples, "--unbalance"
+    if len(given) > 1:
+        raise InputError("--unbalance: a bare magnitude may be given once; use NODE,MAG,PHASE for several")
+    if args.node is not None and not 0 <= args.node < n_nodes:
+        raise InputError(f"--node {args.node}: the rotor has nodes 0..{n_nodes - 1}")
+    phase = 0.0 if args.phase is None else args.phase
+    if given:
+        node, where = (args.node, "--node") if args.node is not None else default_node(scene)
+        return [(node, given[0], phase)], f"--unbalance at {where}"
+    if not own:
+        raise InputError(f"{name} has no unbalance (a rotor file's [[unbalance]] table); give --unbalance "
+                         "NODE,MAG,PHASE (kg m, rad), or --unbalance MAG with --node")
+    if args.node is None and args.phase is None:
+        return own, "the rotor file" if name.endswith(".toml") else f"the {name} preset"
+    if len(own) > 1:
+        raise InputError(f"--node/--phase: {name} has {len(own)} unbalances; give them with --unbalance "
+                         "NODE,MAG,PHASE")
+    node = own[0][0] if args.node is None else args.node
+    phase = own[0][2] if args.phase is None else args.phase
+    return [(node, own[0][1], phase)], "the rotor's unbalance, moved by --node/--phase"
 
 
 def cmd_response(args) -> int:
-    from rotorjax.analysis._summary import local_maxima
-    from rotorjax.flexible import deflected_shape, unbalance_response, unbalance_response_many
+    from rotorjax.flexible import check_supported, deflected_shape, response_curve
     from rotorjax.plot import plot_deflected_shape, plot_response
+    from rotorjax.sweep import check_grid_size
 
     preset, params = preset_and_params(args, "response", KINDS)
     lo, hi = check_range("--range", *args.range, positive_lo=True)
     prepare_out(args.out)
-    rotor = _rotor(preset, params, args.reduce)
-    for name, node in (("--node", args.node), ("--probe", args.probe)):
-        if not 0 <= node < rotor.n_nodes:
-            raise InputError(f"{name} {node}: the rotor has nodes 0..{rotor.n_nodes - 1}")
-    triples, single = _unbalances(args, rotor.n_nodes)
-    speeds = np.linspace(lo, hi, args.n)
-    if triples is None:
-        X, Y = unbalance_response(rotor, args.node, single, args.phase, speeds, probe_nodes=[args.probe])
-        triples_used = [(args.node, single, args.phase)]
-        what = f"{single:g} kg m at node {args.node}"
-    else:
-        X, Y = unbalance_response_many(rotor, triples, speeds, probe_nodes=[args.probe])
-        triples_used = triples
-        what = ", ".join(f"{m:g} kg m at node {n} ({p:g} rad)" for n, m, p in triples)
-    X, Y = np.asarray(X[:, 0]), np.asarray(Y[:, 0])
-    amp = np.sqrt(np.abs(X) ** 2 + np.abs(Y) ** 2)
-    if not np.all(np.isfinite(amp)):
+    scene = _rotor(preset, params, args.reduce, scene=True)
+    n_nodes = scene.n_nodes
+    check_grid_size("--n", args.n, 64.0 * n_nodes + 400.0)   # the response at every node, the plot
+    if args.probe is not None and not 0 <= args.probe < n_nodes:
+        raise InputError(f"--probe {args.probe}: the rotor has nodes 0..{n_nodes - 1}")
+    triples, source = _unbalances(args, scene, n_nodes, preset.name)
+    check_supported(scene, hi, what=preset.name)
+    speed_warnings(scene, lo, hi)
+    curve = response_curve(scene, triples, np.linspace(lo, hi, args.n), args.probe)
+    if not np.all(np.isfinite(curve.amplitude)):
         raise NumericalError("response: non-finite amplitudes (an undamped rotor exactly at a critical speed?)")
-    peaks = local_maxima(speeds, amp)
+    what = ", ".join(f"{m:g} kg m at node {n} ({p:g} rad)" for n, m, p in triples)
+    probe_source = "--probe" if not curve.probe_chosen else "largest response"
     stem = out_stem(args.out, preset, "response_")
-    plot_response(speeds, X, Y, stem + ".png", title=f"{preset.name}: unbalance response at node {args.probe} "
-                  f"({what})")
-    out = {"preset": preset.name, "node": args.node, "probe": args.probe,
-           "unbalance": single if triples is None else None,
-           "unbalances": [{"node": n, "magnitude": m, "phase": p} for n, m, p in triples_used],
-           "unit": "rad/s, m", "peaks": peaks, "max_amplitude": float(amp.max()),
-           "speed_at_max": float(speeds[np.argmax(amp)]), "files": {"plot": stem + ".png"}}
+    plot_response(curve.speeds, curve.x, curve.y, stem + ".png", title=f"{preset.name}: unbalance response at "
+                  f"node {curve.probe} ({what})")
+    single = len(given := (args.unbalance or [])) == 1 and not isinstance(given[0], tuple)
+    out = {"preset": preset.name, "node": triples[0][0], "probe": curve.probe, "probe_source": probe_source,
+           "unbalance": triples[0][1] if single else None,
+           "unbalances": [{"node": n, "magnitude": m, "phase": p} for n, m, p in triples],
+           "unbalance_source": source, "range": [lo, hi], "n": args.n,
+           "unit": "rad/s, m", "peaks": [p.x for p in curve.peaks], "peak_amplitudes": [p.y for p in curve.peaks],
+           "max_amplitude": curve.max_amplitude, "speed_at_max": curve.speed_at_max,
+           "files": {"plot": stem + ".png", "json": stem + ".json"}}
     if args.shape_at is not None:
-        shape = deflected_shape(rotor, triples_used, args.shape_at)
+        shape = deflected_shape(scene, triples, args.shape_at)
         major = np.asarray(shape.major)
         if not np.all(np.isfinite(major)):
             raise NumericalError(f"response: non-finite deflected shape at --shape-at {args.shape_at:g}")
@@ -170,9 +227,13 @@ def cmd_response(args) -> int:
                                   "x_abs": np.abs(np.asarray(shape.x)).tolist(),
                                   "y_abs": np.abs(np.asarray(shape.y)).tolist()}
         out["files"]["shape"] = stem + "_shape.png"
+    write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out, indent=2))
     else:
-        print("peaks at " + (", ".join(f"{p:.2f}" for p in peaks) or "none inside the range")
-              + f" rad/s; wrote {stem}.png")
+        print(f"{preset.name}: unbalance {what} (from {source}); response at node {curve.probe} ({probe_source})")
+        print("  peaks at " + (", ".join(f"{p.x:.3f} rad/s ({p.y:.4g} m)" for p in curve.peaks)
+                               or "none inside the range")
+              + f"; largest {curve.max_amplitude:.4g} m at {curve.speed_at_max:.3f} rad/s")
+        print(f"wrote {stem}.png and .json")
     return 0

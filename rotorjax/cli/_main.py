@@ -2,13 +2,14 @@
 1 an unexpected internal error (one line; `--debug` shows the traceback)."""
 
 import argparse
+import re
 import sys
 
 from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
 from ._bench import cmd_bench
-from ._common import InputError, NumericalError, at_least, finite, nonnegative, positive, tolerance
+from ._common import InputError, NumericalError, at_least, collect_warnings, finite, nonnegative, positive, tolerance
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -24,6 +25,16 @@ PRESET_NAMES = tuple(PRESETS)
 #: the keys `bifurcation` can sweep (on the presets that sweep)
 SWEEPABLE = tuple(dict.fromkeys(k for p in PRESETS.values() for k in p.sweepable))
 SOLVERS = ("auto", "dopri8", "dopri5", "tsit5", "kvaerno5", "kvaerno3")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with every number a value: `--unbalance -1e-3` and `--range -1e3 5`
+    reach the option's own check (`must be > 0`) instead of argparse's "expected one
+    argument" (argparse takes only `-1` and `-1.5` for numbers, not `-1e-3`)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|nan)$", re.I)
 
 
 class _Formatter(argparse.RawDescriptionHelpFormatter):
@@ -86,7 +97,7 @@ def _integration(max_steps):
 
 
 def build_parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="rotorjax", formatter_class=_Formatter,
         description="Differentiable rotordynamics: published rotor models, their stationary regimes, "
                     "stability, simulation, balancing and identification.\n\n`rotorjax presets` lists the "
@@ -137,13 +148,16 @@ def build_parser():
     _command(sub, "response", "unbalance response of a flexible rotor", cmd_response, [
         _range(help="speed range, rad/s (LO > 0)"),
         (("--n",), dict(type=at_least(2), default=2000, help="number of speeds")),
-        (("--node",), dict(type=at_least(0), default=2, help="node of the unbalance")),
-        (("--probe",), dict(type=at_least(0), default=2, help="node where the response is read")),
+        (("--node",), dict(type=at_least(0), default=None,
+                           help="node of a bare --unbalance MAG (default: the rotor's unbalance's node, else its "
+                                "heaviest disk's); alone, moves the rotor's single unbalance")),
+        (("--probe",), dict(type=at_least(0), default=None,
+                            help="node where the response is read (default: the node of largest response)")),
         (("--unbalance",), dict(type=unbalance_spec, action="append", default=None, metavar="U|NODE,MAG,PHASE",
-                                help="unbalance magnitude, kg m, at --node with --phase (default 1e-3); or "
-                                     "NODE,MAG,PHASE (kg m, rad), repeatable: these unbalances act together "
-                                     "and replace the single one")),
-        (("--phase",), dict(type=finite, default=0.0, help="unbalance phase, rad")),
+                                help="unbalance magnitude, kg m, at --node with --phase; or NODE,MAG,PHASE (kg m, "
+                                     "rad), repeatable: these unbalances act together (default: the rotor's own, "
+                                     "a rotor file's [[unbalance]] tables)")),
+        (("--phase",), dict(type=finite, default=None, help="phase of a bare --unbalance MAG, rad (default 0)")),
         (("--shape-at",), dict(type=positive, default=None, metavar="W",
                                help="also plot the deflected shape (orbit major axis along the shaft) at "
                                     "speed W, rad/s")),
@@ -159,8 +173,9 @@ def build_parser():
                     "reactions (the force each bearing exerts on the shaft), and the shear force and bending "
                     "moment along the shaft (sagging positive, dM/dz = V; ROSS reports -V and -M)")
     _command(sub, "modes", "damped modes at a speed: frequencies, damping, whirl, mode shapes", cmd_modes, [
-        (("--speed",), dict(type=nonnegative, default=0.0, metavar="W",
-                            help="spin speed, rad/s (>= 0: the whirl labels refer to the positive spin)")),
+        (("--speed",), dict(type=nonnegative, default=None, metavar="W",
+                            help="spin speed, rad/s (>= 0: the whirl labels refer to the positive spin; default: the "
+                                 "rotor file's [rotor] speed, else 0)")),
         (("--n-modes",), dict(type=at_least(1), default=6, metavar="N", help="modes shown, lowest first")),
     ], kinds="ross-compare, rotor files")
     _command(sub, "ucs", "undamped critical speed map against bearing stiffness", cmd_ucs, [
@@ -190,8 +205,9 @@ def build_parser():
     ], kinds="ross-compare, rotor files")
     _command(sub, "level1", "API 684 level I stability screening (cross-coupled stiffness at mid-span)",
              cmd_level1, [
-                 (("--speed",), dict(type=nonnegative, required=True, metavar="W",
-                                     help="running speed, rad/s (API 684: the maximum continuous speed)")),
+                 (("--speed",), dict(type=nonnegative, default=None, metavar="W",
+                                     help="running speed, rad/s (API 684: the maximum continuous speed; default: "
+                                          "the rotor file's [rotor] speed)")),
                  (("--node",), dict(type=at_least(0), default=None, metavar="N",
                                     help="node of the cross-coupling (default: mid-span between the outer "
                                          "bearings)")),
@@ -379,14 +395,33 @@ def build_parser():
     return parser
 
 
+def _silence_stdout():
+    """After a broken pipe: point stdout at devnull, so that Python's own flush at
+    exit does not raise (and print) a second BrokenPipeError."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout is not a file (a test's capture)
+        pass
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as e:  # --help (0) or a usage error argparse has printed (2)
         return e.code if isinstance(e.code, int) else 2
+    from .._config import enable_compilation_cache
+
+    enable_compilation_cache()
     try:
-        return args.fn(args)
+        with collect_warnings():
+            return args.fn(args)
+    except BrokenPipeError:  # `rotorjax presets | head -1`: the reader left; nothing more to say
+        _silence_stdout()
+        return 0
     except NumericalError as e:
         print(f"rotorjax: numerical failure: {e}", file=sys.stderr)
         return 3

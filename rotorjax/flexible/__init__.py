@@ -47,3 +47,9 @@ from ..models._cantilever import CantileverRotor as CantileverRotor
 from ..models._cantilever import PAPER_SI as PAPER_SI
 from ..models._cantilever import groups_from_si as groups_from_si
 from ..models._cantilever import limiter_groups_from_si as limiter_groups_from_si
+from ._frf import FRFCurve as FRFCurve
+from ._frf import ResponseCurve as ResponseCurve
+from ._frf import frf_curve as frf_curve
+from ._frf import response_curve as response_curve
+from ._frf import check_supported as check_supported
+from ._frf import rigid_body_modes as rigid_body_modes

@@ -11,6 +11,8 @@ whose `transfer_matrix(speed=s)` is the synchronous case), a number holds `W`
 fixed while `w` sweeps. Velocity and acceleration are `i w H` and `-w^2 H`.
 """
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -53,6 +55,41 @@ def linear_system(system):
         return M, C + W * G1, K
 
     return matrices, rotor
+
+
+#: undamped eigenvalues `w^2` below this fraction of the largest are rigid-body modes
+RIGID_BODY_RTOL = 1e-12
+
+
+def rigid_body_modes(system, speed=0.0) -> int:
+    """The number of rigid-body modes of `system` (a `RotorScene`, `FlexibleRotor` or
+    `ReducedRotor`) with its bearings at `speed`: the undamped eigenvalues `w^2` of
+    the symmetric parts of `(K, M)` with `|w^2| < RIGID_BODY_RTOL max |w^2|` (zero up
+    to rounding: a rotor that its bearings do not hold in place)."""
+    import scipy.linalg
+
+    matrices, _ = linear_system(system)
+    M, _, K = (np.asarray(a, dtype=float) for a in matrices(jnp.float64(speed)))
+    M, K = 0.5 * (M + M.T), 0.5 * (K + K.T)
+    try:
+        lam = scipy.linalg.eigh(K, M, eigvals_only=True)
+    except np.linalg.LinAlgError:  # a singular mass matrix: no rigid-body test possible here
+        return 0
+    scale = float(np.max(np.abs(lam))) if lam.size else 0.0
+    return int(np.sum(np.abs(lam) <= RIGID_BODY_RTOL * scale)) if scale > 0 else int(lam.size)
+
+
+def check_supported(system, speed=0.0, what="the rotor"):
+    """Refuse (`InputError`) a rotor with rigid-body modes (`rigid_body_modes`): its
+    linear analyses would report those zero frequencies as whirl modes and critical
+    speeds. The message says why and what to add."""
+    n = rigid_body_modes(system, speed)
+    if n:
+        raise InputError(f"{what} is not supported: it has {n} rigid-body mode{'s' if n > 1 else ''} (zero natural "
+                         f"frequencies{f' with the bearings at {float(speed):g} rad/s' if speed else ''}), so its "
+                         "modes, critical speeds and responses are meaningless; add bearings ([[bearing]] tables "
+                         "with a stiffness) or fix dofs ([[fixed]])")
+    return system
 
 
 def dof_index(rotor, name, node, direction):
@@ -246,3 +283,118 @@ def deflected_shape(rotor, unbalances, speed) -> DeflectedShape:
     minor = jnp.abs(jnp.abs(fwd) - jnp.abs(bwd))
     full = getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
     return DeflectedShape(w, full.node_positions, X, Y, fwd, bwd, major, minor, angle)
+
+
+# ---- curves over a speed or frequency range: chunked, peaks located, refined ----
+
+def _unbalance_amplitudes(speeds, system, unbalances):
+    """`(X, Y)` at every node, `(n_speeds, n_nodes)` (a batched function for
+    `map_chunked`: the probe is chosen on the host, so one program serves all)."""
+    return unbalance_response_many(system, unbalances, speeds)
+
+
+def _traced_unbalances(unbalances):
+    """Nodes static, magnitudes and phases as arrays (one compilation for any values)."""
+    return tuple((int(n), jnp.asarray(m, dtype=jnp.float64), jnp.asarray(p, dtype=jnp.float64))
+                 for n, m, p in unbalances)
+
+
+@dataclasses.dataclass(frozen=True)
+class ResponseCurve:
+    """An unbalance response over a speed range, its peaks located exactly.
+
+    - `speeds` (rad/s): the grid, with points added around each peak (sorted);
+    - `x`, `y`: complex amplitudes at `probe` on `speeds`; `amplitude` `sqrt(|x|^2 +
+      |y|^2)` (m);
+    - `probe`: the node read; `probe_chosen`: True when it was chosen as the node of
+      largest response on the grid;
+    - `peaks`: the `Peak`s (`rotorjax.analysis.refine_maxima`) of the amplitude;
+    - `max_amplitude`, `speed_at_max`: the largest amplitude over the range (a
+      located peak, or an end of the range).
+    """
+
+    speeds: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    amplitude: np.ndarray
+    probe: int
+    probe_chosen: bool
+    peaks: list
+    max_amplitude: float
+    speed_at_max: float
+
+
+def response_curve(system, unbalances, speeds, probe=None, *, rtol=1e-10) -> ResponseCurve:
+    """The unbalance response of `system` (a `RotorScene`, `FlexibleRotor` or
+    `ReducedRotor`) to `unbalances = [(node, kg m, rad), ...]` over `speeds`
+    (rad/s, any length: evaluated in fixed-size chunks), read at node `probe`
+    (default: the node of largest amplitude on the grid), with every interior peak of
+    the amplitude located to `rtol` and points added around it."""
+    from ..analysis._peaks import refine_maxima, refined_grid
+    from ..sweep import bucket_size, map_chunked
+
+    _, rotor = linear_system(system)
+    _unbalances(rotor, unbalances)   # checked here, with their messages
+    speeds = as_numpy("speeds", speeds, ndim=1)
+    size = bucket_size(len(speeds))
+    traced = _traced_unbalances(unbalances)
+
+    def at(w):
+        return map_chunked(_unbalance_amplitudes, w, system, traced, size=size)
+
+    X, Y = at(speeds)
+    amp_all = np.sqrt(np.abs(X) ** 2 + np.abs(Y) ** 2)
+    chosen = probe is None
+    if chosen:
+        probe = int(np.argmax(np.nanmax(np.where(np.isfinite(amp_all), amp_all, -np.inf), axis=0)))
+    probe = check_node("probe", probe, rotor.n_nodes, "probe")
+
+    def amplitude(w):
+        x, y = at(w)
+        return np.sqrt(np.abs(x[:, probe]) ** 2 + np.abs(y[:, probe]) ** 2)
+
+    peaks = refine_maxima(amplitude, speeds, amp_all[:, probe], rtol=rtol, budget=size)
+    grid = refined_grid(speeds, peaks)
+    if grid.size != speeds.size:
+        X, Y = at(grid)
+    x, y = X[:, probe], Y[:, probe]
+    amp = np.sqrt(np.abs(x) ** 2 + np.abs(y) ** 2)
+    k = int(np.nanargmax(amp)) if np.any(np.isfinite(amp)) else 0
+    top = max([(p.y, p.x) for p in peaks] + [(float(amp[k]), float(grid[k]))])
+    return ResponseCurve(grid, x, y, amp, probe, chosen, peaks, float(top[0]), float(top[1]))
+
+
+def _frf_values(w, system, input, output, kind, speed):
+    return frf(system, input, output, w, kind, speed).values
+
+
+@dataclasses.dataclass(frozen=True)
+class FRFCurve:
+    """An FRF over a frequency range (`frf`'s arguments), evaluated in chunks, its
+    magnitude's peaks located exactly (`peaks`) and points added around them
+    (`frequencies` sorted, `values` on them)."""
+
+    frequencies: np.ndarray
+    values: np.ndarray
+    peaks: list
+
+
+def frf_curve(system, input, output, frequencies, kind="displacement", speed=None, *, rtol=1e-10) -> FRFCurve:
+    """`frf` over `frequencies` of any length (chunked), with the peaks of `|H|`
+    located to `rtol` and the curve refined around them (smooth Bode and polar plots
+    through the resonances)."""
+    from ..analysis._peaks import refine_maxima, refined_grid
+    from ..sweep import bucket_size, map_chunked
+
+    w = as_numpy("frequencies", frequencies, ndim=1)
+    frf(system, input, output, w[:1], kind, speed)   # the checks, with their messages
+    size = bucket_size(len(w))
+    s = None if speed is None else jnp.asarray(speed, dtype=jnp.float64)
+
+    def at(f):
+        return map_chunked(_frf_values, f, system, tuple(input), tuple(output), kind, s, size=size)
+
+    h = at(w)
+    peaks = refine_maxima(lambda f: np.abs(at(f)), w, np.abs(h), rtol=rtol, budget=size)
+    grid = refined_grid(w, peaks)
+    return FRFCurve(grid, at(grid) if grid.size != w.size else h, peaks)

@@ -109,7 +109,13 @@ def modes(rotor, speed, n_modes=None) -> Modes:
     """Damped eigen-analysis at spin speed `speed` (rad/s)."""
     n_modes = _check_n_modes("n_modes", n_modes, rotor)
     _check_speed("speed", speed)
-    a = state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64))
+    return _modes(rotor, jnp.asarray(speed, dtype=jnp.float64), n_modes)
+
+
+@eqx.filter_jit
+def _modes(rotor, speed, n_modes):
+    """`modes`, compiled once per rotor layout and number of modes."""
+    a = state_matrix(rotor, speed)
     lam, vec = jnp.linalg.eig(a)
     n = a.shape[0] // 2
     # keep the upper half-plane (one of each conjugate pair), sorted by frequency

@@ -31,6 +31,7 @@ import numpy as np
 from ..analysis._roots import find_roots
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._validate import InputError, as_count, check_span, is_concrete
+from ..sweep import map_chunked
 from ._frf import full_rotor
 
 
@@ -200,7 +201,7 @@ def ucs(rotor, stiffness_range=(1e5, 1e10), n_stiffness=60, n_modes=4, synchrono
     k = np.logspace(np.log10(lo), np.log10(hi), n_stiffness)
     f = _map_function(rotor, n_modes, synchronous)
     fmap = jax.jit(jax.vmap(f))
-    freq = np.asarray(fmap(jnp.asarray(k)))
+    freq = map_chunked(fmap, k)   # any number of stiffnesses, in bounded memory
     tables = [t for t in getattr(rotor, "bearing_tables", ()) if t is not None]
     if speed_range is None and tables:  # inside the tables, as ROSS (no extrapolated coefficients)
         s_lo = min(float(np.asarray(t[0])[0]) for t in tables)

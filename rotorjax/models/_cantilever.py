@@ -126,7 +126,8 @@ class CantileverRotor(eqx.Module):
         disks = ((n, 1.0, self.beta, 2 * self.beta),) if disk else ()
         return FlexibleRotor(jnp.full(n, 1.0 / n), self.d_ratio, E=1 / inertia, G=1.0, rho=rho, nu=0.3,
                              disks=disks, theory=theory,
-                             fixed_dofs=tuple((0, k) for k in range(DOFS_PER_NODE)))
+                             fixed_dofs=tuple((0, k) for k in range(DOFS_PER_NODE)),
+                             plausibility=False)   # nondimensional units: no SI ranges apply
 
     def matrices(self):
         """`(M, C, G1, K, Ci, J)` on the free dofs (see the module docstring)."""

@@ -10,6 +10,7 @@ from ._validate import (InputError, as_param, as_vector, check, check_choice, ch
                                is_concrete, show)
 from ._fe_elements import element_matrices
 from ._interpolate import spline
+from ._plausibility import disk_warnings, shaft_warnings, warn
 
 DOFS_PER_NODE = 4  # x, y, sx, sy
 
@@ -54,8 +55,12 @@ class Bearing(eqx.Module):
     `speeds` (rad/s, strictly increasing, >= 2 values) each coefficient is one value
     or one per speed, evaluated at the running speed by
     `rotorjax.models._interpolate.spline` (not-a-knot cubic through the points,
-    linear outside the table). The values are checked when a `FlexibleRotor` is
-    built (errors name `bearings[i]`)."""
+    linear outside the table; `check_speeds` warns when an analysis leaves it). The
+    values are checked when a `FlexibleRotor` is built (errors name `bearings[i]`).
+
+    The coefficients are keyword-only, `Bearing(node, kxx=1e7, cxx=500.0)`: a
+    positional list would read one way here (`kxx, kyy, kxy, kyx`) and another in
+    the `(node, kxx, kyy, cxx, cyy)` tuples `FlexibleRotor` accepts."""
 
     node: int = eqx.field(static=True)
     kxx: object
@@ -72,7 +77,7 @@ class Bearing(eqx.Module):
     myx: object
     speeds: object
 
-    def __init__(self, node, kxx, kyy=None, kxy=0.0, kyx=0.0, cxx=0.0, cyy=None, cxy=0.0, cyx=0.0, mxx=0.0,
+    def __init__(self, node, *, kxx, kyy=None, kxy=0.0, kyx=0.0, cxx=0.0, cyy=None, cxy=0.0, cyx=0.0, mxx=0.0,
                  myy=None, mxy=0.0, myx=0.0, speeds=None):
         self.node = node
         self.kxx, self.kyy = kxx, kxx if kyy is None else kyy
@@ -88,7 +93,9 @@ class Support(eqx.Module):
     """A pedestal of mass `m` (kg) under bearing `bearing` (its index in
     `bearings`): two dofs `(x, y)` appended after the shaft's, joined to the shaft
     node by the bearing and to ground by `kxx`, `kyy` (N/m) and `cxx`, `cyy`
-    (N s/m); `kyy`, `cyy` default to `kxx`, `cxx`."""
+    (N s/m); `kyy`, `cyy` default to `kxx`, `cxx`. Positional order:
+    `Support(bearing, m, kxx, kyy, cxx, cyy)` (no cross terms: the order of the
+    `(bearing, m, kxx, kyy, cxx, cyy)` tuples)."""
 
     bearing: int = eqx.field(static=True)
     m: object
@@ -123,19 +130,24 @@ def _bearing_entry(i, b, n_nodes):
         raw = {k: getattr(b, k) for k in BEARING_COEFFICIENTS}
         node, speeds = b.node, b.speeds
     else:
+        forms = ("a Bearing or a tuple (node, kxx, kyy, cxx, cyy) or (node, kxx, kyy, cxx, cyy, kxy, kyx, "
+                 "cxy, cyx)")
+        tuples = "(node, kxx, kyy, cxx, cyy) or (node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx), or a Bearing"
+        named = "name the coefficients with Bearing(node, kxx=..., kyy=..., kxy=..., cxx=..., ...)"
+        if isinstance(b, dict):
+            raise InputError(f"{p} must be {forms}, got a dict: {named}, e.g. Bearing(**{p})")
         try:
             b = tuple(b)
         except TypeError:
-            raise InputError(f"{p} must be a Bearing or a tuple (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
-                             f"got {show(b)}") from None
+            raise InputError(f"{p} must be {forms}, got {show(b)}") from None
         if len(b) == 5:
             node, kxx, kyy, cxx, cyy = b
             kxy = kyx = cxy = cyx = 0.0
         elif len(b) == 9:
             node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx = b
         else:
-            raise InputError(f"{p} must be (node, kxx, kyy, cxx, cyy[, kxy, kyx, cxy, cyx]), "
-                             f"got {len(b)} values: {show(b)}")
+            raise InputError(f"{p} must be {tuples}; a tuple of {len(b)} values is ambiguous ({named}): "
+                             f"{show(b)}")
         raw = dict(kxx=kxx, kyy=kyy, kxy=kxy, kyx=kyx, cxx=cxx, cyy=cyy, cxy=cxy, cyx=cyx,
                    mxx=0.0, myy=0.0, mxy=0.0, myx=0.0)
         speeds = None
@@ -204,14 +216,24 @@ class FlexibleRotor(eqx.Module):
       `E / (2 G) - 1`, for Cowper's shear coefficient of the mean section): each a
       scalar (one material) or one value per element (`MATERIALS`, `material(name)`).
     - `disks`: `(node, mass, It, Ip)` tuples.
-    - `bearings`: `Bearing`s, or `(node, kxx, kyy, cxx, cyy)` /
-      `(node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx)` tuples.
+    - `bearings`: `Bearing`s (coefficients by keyword), or tuples of 5 or 9 values in
+      this order: `(node, kxx, kyy, cxx, cyy)` or `(node, kxx, kyy, cxx, cyy, kxy,
+      kyx, cxy, cyx)` (direct stiffness and damping first; any other length is an
+      `InputError`).
     - `theory`: "timoshenko" (shear and rotary inertia), "rayleigh" (rotary inertia,
       no shear) or "euler-bernoulli" (neither; the gyroscopic matrix is kept). ROSS:
       `shear_effects`, `rotary_inertia` True/True, False/True, False/False.
     - `fixed_dofs`: `(node, dof)` pairs held at zero (dof 0..3 = x, y, sx, sy).
     - `point_masses`: `(node, m)` or `(node, mx, my)` (kg) added to the node's x, y mass.
     - `supports`: `Support`s, or `(bearing_index, m, kxx, kyy, cxx, cyy)` tuples.
+    - `plausibility`: warn (`PlausibilityWarning`) about concrete values that are
+      valid but implausible in SI units, most likely a unit slip (see
+      `rotorjax.models._plausibility`): `E`, `G` outside 1e9..1e12 Pa, `rho` outside
+      500..25000 kg/m^3, lengths and diameters outside 0.5 mm..5 m, an element's
+      `L / od` outside 0.05..50, a disk with `Ip > 2 It` (1.05 x, rounding) or a
+      radius of gyration outside 0.5 mm..5 m. `False` for a nondimensional model
+      (or values checked already, as the rotor-file loader does). Traced values are
+      never inspected.
     """
 
     lengths: jax.Array
@@ -237,7 +259,8 @@ class FlexibleRotor(eqx.Module):
     fixed_dofs: tuple = eqx.field(static=True)
 
     def __init__(self, lengths, d_out, d_in=0.0, E=211e9, G=81.2e9, rho=7810.0, disks=(),
-                 bearings=(), theory="timoshenko", fixed_dofs=(), nu=None, point_masses=(), supports=()):
+                 bearings=(), theory="timoshenko", fixed_dofs=(), nu=None, point_masses=(), supports=(), *,
+                 plausibility=True):
         lengths = as_vector("element lengths", lengths, sign="positive", what="elements")
         n_el = lengths.shape[0]
         d_out = _diameter("d_out (outer diameter)", d_out, n_el, "positive")
@@ -280,6 +303,12 @@ class FlexibleRotor(eqx.Module):
                          as_param(f"disks[{i}] Ip", d[3], sign="nonnegative", shape=())])
         self.disk_nodes = tuple(disk_nodes)
         self.disk_params = jnp.array(rows, dtype=jnp.float64).reshape(len(disks), 3)
+        if plausibility:
+            texts = shaft_warnings(lengths, d_out, d_in, self.E, self.G, self.rho)
+            for i, row in enumerate(rows):
+                texts += disk_warnings(f"disks[{i}]", *row)
+            for text in texts:
+                warn(text)
 
         if isinstance(bearings, Bearing):
             bearings = (bearings,)

@@ -5,6 +5,8 @@
 quadratic through the points when there are 3 of them, the line when there are 2.
 Outside the table it continues linearly with the end slopes (bearing tables are
 not meant to be extrapolated far; a cubic's end piece would diverge fast).
+`rotorjax.models.check_speeds(scene, speeds)` warns (`PlausibilityWarning`) when
+the speeds an analysis uses leave a bearing's table; inside `jit` nothing can warn.
 
 Pure JAX: differentiable in the values, the table speeds and the evaluation
 speed, and vmappable. The number of points is static.

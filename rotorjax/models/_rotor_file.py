@@ -51,9 +51,19 @@ otherwise they are per element.
 Every check happens here, before anything is constructed, so an error names the
 file, the table, the index and the key as the user wrote them
 (`rotor.toml: shaft[4].od must be > id (got od = 0.05, id = 0.06)`), as an
-`InputError`. Overrides (`load_rotor(path, {"bearing0.kxx": 2e7})`, the CLI's
-`--set`) name an entry as `<table><index>.<key>` for array tables,
-`<table>.<key>` for single tables, and `speed` for `[rotor] speed`.
+`InputError`; so is a disk with `Ip > 2 Id` (beyond 5 %, for rounding: no rigid
+body has it). Values that are valid but implausible in SI units, most likely a
+unit slip, are `PlausibilityWarning`s issued once the file is valid, named the
+same way and naming the slip (`rotor.toml: shaft[0].od = 60 m: outside the
+plausible 0.5 mm..5 m for a diameter; did you mean mm (60 mm = 0.06 m)?`): `E`,
+`G` outside 1e9..1e12 Pa, `rho` outside 500..25000 kg/m^3, lengths, diameters and
+radii outside 0.5 mm..5 m (bores: above 5 m), an element's `L / od` outside
+0.05..50, a disk's radius of gyration outside 0.5 mm..5 m
+(`rotorjax.models._plausibility`).
+
+Overrides (`load_rotor(path, {"bearing0.kxx": 2e7})`, the CLI's `--set`) name an
+entry as `<table><index>.<key>` for array tables, `<table>.<key>` for single
+tables, and `speed` for `[rotor] speed`.
 """
 
 import dataclasses
@@ -79,6 +89,7 @@ from ._limiters import Limiters
 from ._materials import MATERIALS
 from ._node_parts import BalancerAt, LimitersAt
 from ._nonlinear_bearings import ClearanceBearing, CubicBearing
+from ._plausibility import IP_TOLERANCE, RANGES, gyration, judge, number, warn
 from ._rotor_scene import RotorScene
 from ._speed import ConstantSpeed
 from ._unbalance import Unbalance
@@ -249,10 +260,23 @@ class _Ctx:
     def __init__(self, label):
         self.label = label
         self.overridden = {}
+        self.warnings = []
+
+    def _note(self, loc):
+        return f" (set by the override {self.overridden[loc]})" if loc in self.overridden else ""
 
     def fail(self, msg, loc=None):
-        note = f" (set by the override {self.overridden[loc]})" if loc in self.overridden else ""
-        raise InputError(f"{self.label}: {msg}{note}")
+        raise InputError(f"{self.label}: {msg}{self._note(loc)}")
+
+    def warn(self, msg, loc=None):
+        """Note a plausibility warning; issued once the whole file is valid."""
+        text = f"{self.label}: {msg}{self._note(loc)}"
+        if text not in self.warnings:
+            self.warnings.append(text)
+
+    def issue_warnings(self):
+        for text in self.warnings:
+            warn(text)
 
 
 def _loc(table, index, key=None):
@@ -290,9 +314,29 @@ def _what(value):
     return f"a {type(value).__name__} ({value})"
 
 
-def _suggest(name, known):
+def _closest(name, known):
+    """The key `name` most likely meant, or `None`: a doubled last letter (`kx` ->
+    `kxx`, `cy` -> `cyy`: the direct coefficient before a cross one), the first key
+    that starts with it (`spee` -> `speed`), a different case (`ip` -> `Ip`), else
+    the nearest by `difflib` (`kzz` -> `kxx`)."""
+    known = list(known)
+    if not isinstance(name, str) or not name:
+        return None
+    if name + name[-1] in known:
+        return name + name[-1]
+    prefixed = [k for k in known if k.startswith(name)]
+    if prefixed:
+        return prefixed[0]
+    folded = [k for k in known if k.lower() == name.lower()]
+    if folded:
+        return folded[0]
     close = difflib.get_close_matches(name, known, n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+    return close[0] if close else None
+
+
+def _suggest(name, known):
+    close = _closest(name, known)
+    return f" (did you mean {close!r}?)" if close else ""
 
 
 def _read(path):
@@ -301,6 +345,11 @@ def _read(path):
         raise InputError(f"rotor file: expected a path, got {type(path).__name__}")
     label = os.fspath(path)
     p = pathlib.Path(label)
+    if not p.exists() and os.sep not in label and label.endswith(".toml"):
+        try:  # a bare name of a shipped rotor file (`flexible_rig.toml`), as the CLI finds it
+            p = shipped_rotor(label)
+        except InputError:
+            pass
     if not p.exists():
         raise InputError(f"{label}: no such rotor file")
     if not p.is_file():
@@ -584,6 +633,7 @@ def _validate(ctx, doc):
     for table in SCHEMA:
         out[table] = [_check_keys(ctx, table, i, e, n_nodes) for i, e in _entries(ctx, doc, table)]
 
+    _plausible_values(ctx, out)
     materials = {}
     for i, m in enumerate(out["material"]):
         if m["name"] in materials:
@@ -613,6 +663,8 @@ def _validate(ctx, doc):
                      f"{', '.join(json.dumps(n) for n in materials) or 'none'}; built in: "
                      f"{', '.join(json.dumps(n) for n in MATERIALS)}", _loc("shaft", i, "material"))
 
+    _plausible_slenderness(ctx, out["shaft"])
+    _disks(ctx, out["disk"])
     for i, b in enumerate(out["bearing"]):
         _bearing(ctx, i, b)
     for i, pm in enumerate(out["point_mass"]):
@@ -712,7 +764,69 @@ def _validate(ctx, doc):
         if "kind" in ab and "inertia_factor" in ab:
             ctx.fail(f"{where}: give kind or inertia_factor, not both", where)
         ab.setdefault("drag", 0.0)
+    ctx.issue_warnings()
     return out
+
+
+#: the keys whose values `_plausibility.judge` checks, and as what (`RANGES`)
+PLAUSIBLE = {
+    ("material", "E"): "E", ("material", "G"): "G", ("material", "rho"): "rho",
+    ("shaft", "L"): "length", ("shaft", "od"): "diameter", ("shaft", "id"): "bore",
+    ("bearing", "length"): "length", ("bearing", "diameter"): "diameter",
+    ("limiters", "radius"): "radius",
+    ("auto_balancer", "radius"): "radius", ("auto_balancer", "r1"): "radius", ("auto_balancer", "r2"): "radius",
+}
+
+
+def _plausible_values(ctx, out):
+    """A plausibility warning for each implausible value (`PLAUSIBLE`), once per key and
+    value: `shaft[0].od = 60 m (and 5 more [[shaft]] entries): ...; did you mean mm?`."""
+    for (table, key), quantity in PLAUSIBLE.items():
+        seen = {}
+        for i, entry in enumerate(out[table]):
+            value = entry.get(key)
+            for v in (value if isinstance(value, list) else [value]):
+                if v is not None and v != 0:
+                    seen.setdefault(v, []).append(i)
+        for v, where in seen.items():
+            why = judge(quantity, v)
+            if why:
+                loc = _loc(table, where[0], key)
+                more = len(set(where) - {where[0]})
+                also = f" (and {more} more [[{table}]] entr{'y' if more == 1 else 'ies'})" if more else ""
+                ctx.warn(f"{loc} = {number(v)} {RANGES[quantity].unit}{also}: {why}", loc)
+
+
+def _plausible_slenderness(ctx, shafts):
+    """One warning for the first element whose `L / od` (mean od of a taper) is outside
+    the plausible range while `L` and `od` each are plausible."""
+    for i, s in enumerate(shafts):
+        od = (s["od"][0] + s["od"][1]) / 2
+        if judge("length", s["L"]) or any(judge("diameter", d) for d in s["od"]):
+            continue
+        why = judge("slenderness", s["L"] / od)
+        if why:
+            ctx.warn(f"shaft[{i}]: L / od = {number(s['L'] / od)} (L = {number(s['L'])} m, od = {number(od)} m) "
+                     f"is outside the plausible {RANGES['slenderness'].text}: a unit slip in L or od?",
+                     _loc("shaft", i, "L"))
+            return
+
+
+def _disks(ctx, disks):
+    """`Ip <= 2 Id` (an `InputError` beyond `IP_TOLERANCE`: no rigid body has more); radii
+    of gyration (a warning)."""
+    for i, d in enumerate(disks):
+        if d["Ip"] > 2 * d["Id"] * (1 + IP_TOLERANCE):
+            ip, idd = _loc("disk", i, "Ip"), _loc("disk", i, "Id")
+            ctx.fail(f"{ip} = {_toml_repr(d['Ip'])} > 2 Id = {number(2 * d['Id'])} kg m^2: impossible for a rigid "
+                     f"body (the perpendicular-axis theorem: Ip <= 2 Id); are Id and Ip swapped, or in different "
+                     f"units?",
+                     ip if ip in ctx.overridden else idd)
+        for key in ("Id", "Ip"):
+            why = gyration(d[key], d["m"])
+            if why:
+                loc = _loc("disk", i, key)
+                ctx.warn(f"{loc} = {number(d[key])} kg m^2 with m = {number(d['m'])} kg: {why}", loc)
 
 # --- building -------------------------------------------------------------------------
 def _material_constants(spec):
@@ -780,7 +894,7 @@ def _build(ctx, spec, track_work):
     d_out, d_in = _diameters(shafts)
     try:
         rotor = FlexibleRotor(
-            np.array([s["L"] for s in shafts]), d_out, d_in, E=E, G=G, rho=rho, nu=nu,
+            np.array([s["L"] for s in shafts]), d_out, d_in, E=E, G=G, rho=rho, nu=nu, plausibility=False,
             disks=tuple((d["node"], d["m"], d["Id"], d["Ip"]) for d in spec["disk"]),
             bearings=tuple(_bearing_entry(b) for b in spec["bearing"]),
             **_extras(spec),

@@ -38,6 +38,42 @@ def _full_rotor(rotor):
     return rotor.rotor if isinstance(rotor, ReducedRotor) else rotor
 
 
+def _coords(rotor, a_full):
+    """A full-dof matrix in the rotor's coordinates (free dofs, or modal)."""
+    f = rotor.free_dofs
+    a = a_full[np.ix_(f, f)]
+    if isinstance(rotor, ReducedRotor):
+        a = rotor.basis.T @ a @ rotor.basis
+    return a
+
+
+def _load(rotor, f_full):
+    """A full-dof load in the rotor's coordinates."""
+    return rotor.project(f_full[rotor.free_dofs])
+
+
+@eqx.filter_jit
+def _assemble(rotor, table_speed, components):
+    """The scene's linear part `(M, Minv, C, G1, K, Ks, F0)`: the rotor's matrices at
+    `table_speed` with each component's linearisation and static load added. One
+    compiled program per rotor layout (and kept by the persistent compilation
+    cache), instead of hundreds of small operations dispatched one by one."""
+    full = _full_rotor(rotor)
+    M, C, G1, K = rotor.reduced_matrices(table_speed)
+    n_full = full.n_dofs
+    Cf, Kf, Ksf = (jnp.zeros((n_full, n_full)) for _ in range(3))
+    F0 = jnp.zeros(n_full)
+    for c in components:
+        part = c.linear_part(full)
+        if part is not None:
+            Cf, Kf, Ksf = Cf + part[0], Kf + part[1], Ksf + part[2]
+        load = c.static_load(full)
+        if load is not None:
+            F0 = F0 + load
+    return (M, jnp.linalg.inv(M), C + _coords(rotor, Cf), G1, K + _coords(rotor, Kf), _coords(rotor, Ksf),
+            _load(rotor, F0))
+
+
 class RotorScene(AbstractScene):
     """A finite-element rotor scene (see the module docstring).
 
@@ -79,32 +115,15 @@ class RotorScene(AbstractScene):
         self.rotor, self.speed, self.components, self.track_work = rotor, speed, components, bool(track_work)
         # tabulated bearings: the time-domain equations use the coefficients at the
         # profile's initial speed; `linear_matrices(speed)` re-evaluates them
-        M, C, G1, K = rotor.reduced_matrices(self._table_speed())
-        n_full = full.n_dofs
-        Cf, Kf, Ksf = (jnp.zeros((n_full, n_full)) for _ in range(3))
-        F0 = jnp.zeros(n_full)
-        for c in components:
-            part = c.linear_part(full)
-            if part is not None:
-                Cf, Kf, Ksf = Cf + part[0], Kf + part[1], Ksf + part[2]
-            load = c.static_load(full)
-            if load is not None:
-                F0 = F0 + load
-        self.M, self.G1 = M, G1
-        self.C, self.K, self.Ks = C + self._coords(Cf), K + self._coords(Kf), self._coords(Ksf)
-        self.Minv = jnp.linalg.inv(M)
-        self.F0 = self._load(F0)
+        self.M, self.Minv, self.C, self.G1, self.K, self.Ks, self.F0 = _assemble(
+            rotor, jnp.asarray(self._table_speed(), dtype=jnp.float64), components)
 
     # --- coordinates -------------------------------------------------------------------
     def _coords(self, a_full):
-        f = self.rotor.free_dofs
-        a = a_full[np.ix_(f, f)]
-        if isinstance(self.rotor, ReducedRotor):
-            a = self.rotor.basis.T @ a @ self.rotor.basis
-        return a
+        return _coords(self.rotor, a_full)
 
     def _load(self, f_full):
-        return self.rotor.project(f_full[self.rotor.free_dofs])
+        return _load(self.rotor, f_full)
 
     @property
     def n_shaft(self) -> int:

@@ -179,7 +179,8 @@ class Preset:
             # a finite-element rotor: critical speeds are 1x crossings of its Campbell diagram
             from ._hooks import fe_critical_speeds
 
-            object.__setattr__(self, "critical_speeds", functools.partial(fe_critical_speeds, self.build))
+            object.__setattr__(self, "critical_speeds", functools.partial(fe_critical_speeds, self.build,
+                                                                      name=self.name))
         missing = [k for k in self.defaults if k not in self.domains or k not in self.units]
         if missing:
             raise ValueError(f"preset {self.name!r}: no unit/domain for {missing}")

@@ -62,16 +62,21 @@ def _components_add_nothing(scene, rotor) -> bool:
             and not np.any(np.asarray(scene.Ks)))
 
 
-def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True) -> dict:
+def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True,
+                       name="the rotor") -> dict:
     """Critical speeds of a finite-element rotor in `[lo, hi]` (rad/s): the 1x
     crossings of its first `n_modes` (default 8) damped natural frequencies, each
     with its whirl direction, and for an undamped rotor with symmetric stiffness the
     roots of the synchronous determinant too; `"campbell"` holds the diagram to plot
-    (100 speeds), `"present"` its unit and title."""
-    from ..flexible import campbell, critical_speeds_1x, modes, synchronous_critical_speeds
+    (100 speeds), `"present"` its unit and title. A rotor with rigid-body modes is
+    refused (`check_supported`; `name` names it in the message)."""
+    from ..flexible import campbell, check_supported, critical_speeds_1x, modes, synchronous_critical_speeds
+    from ..models import check_speeds
 
     scene = build(params).scene
     rotor = fe_rotor(scene)   # the linear analyses take the scene: components' linearisations count
+    check_supported(scene, hi, what=name)
+    check_speeds(scene, [lo, hi])
     n_modes = n_modes or 8
     n = 2 * rotor_dofs(rotor)
     if n_modes > n:

@@ -28,10 +28,17 @@ def build_rotor(p) -> FlexibleRotor:
     )
 
 
+#: the unbalance of ROSS's unbalance-response example (kg m), at disk 1's node
+UNBALANCE = 1e-3
+
+
 def build(p) -> Setup:
     """The rotor as a scene (at rest, no initial state: the preset is analysed
-    linearly, not simulated)."""
-    return Setup(RotorScene(build_rotor(p)))
+    linearly, not simulated), with the unbalance of ROSS's unbalance-response
+    example (`UNBALANCE` at disk 1's node, as `rotors/ross_compare.toml` has it)."""
+    from ..models import Unbalance
+
+    return Setup(RotorScene(build_rotor(p), components=(Unbalance(int(p["disk1_node"]), UNBALANCE),)))
 
 
 def _build(p):

@@ -151,7 +151,7 @@ def test_supports_point_masses_taper_and_bearing_mass():
     from rotorjax.models._fe_rotor import Bearing, Support
 
     rotor = FlexibleRotor([0.25] * 6, [[0.05, 0.06]] * 3 + [[0.06, 0.05]] * 3, disks=[(2, 20.0, 0.1, 0.2)],
-                          bearings=[Bearing(0, 1e7, mxx=3.0), (6, 2e7, 2e7, 0, 0)],
+                          bearings=[Bearing(0, kxx=1e7, mxx=3.0), (6, 2e7, 2e7, 0, 0)],
                           point_masses=[(3, 5.0), (5, 2.0, 4.0)], supports=[Support(0, 50.0, 5e6)])
     res = static(rotor)
     shaft = 7810.0 * np.pi / 4 * 0.25 / 3 * (0.05**2 + 0.05 * 0.06 + 0.06**2) * 6

@@ -200,7 +200,7 @@ def test_speed_table_moves_the_frequencies_and_differentiates(reference):
 def test_bearing_defaults_and_coefficients_at_table_speeds():
     speeds = [0.0, 100.0, 250.0, 400.0, 700.0]
     kxx = [1e6, 1.3e6, 1.2e6, 1.8e6, 2.0e6]
-    b = Bearing(1, kxx, kxy=[0, 1e4, 2e4, 3e4, 5e4], cxx=50.0, mxx=[1, 2, 3, 4, 5], myx=0.3, speeds=speeds)
+    b = Bearing(1, kxx=kxx, kxy=[0, 1e4, 2e4, 3e4, 5e4], cxx=50.0, mxx=[1, 2, 3, 4, 5], myx=0.3, speeds=speeds)
     rotor = FlexibleRotor([0.2, 0.2], 0.05, bearings=[(0, 1e7, 2e7, 10.0, 20.0), b])
     assert rotor.speed_dependent and not rotor.tapered
     assert np.all(np.isnan(np.asarray(rotor.bearing_params[1])))
@@ -220,7 +220,7 @@ def test_bearing_defaults_and_coefficients_at_table_speeds():
 def test_tuple_and_constant_bearing_build_the_same_rotor():
     a = FlexibleRotor([0.3, 0.3], 0.05, bearings=[(0, 1e6, 2e6, 10, 20, 1e5, -1e5, 1, 2), (2, 1e6, 1e6, 5, 5)])
     b = FlexibleRotor([0.3, 0.3], 0.05, bearings=[
-        Bearing(0, 1e6, 2e6, kxy=1e5, kyx=-1e5, cxx=10, cyy=20, cxy=1, cyx=2), Bearing(2, 1e6, cxx=5)])
+        Bearing(0, kxx=1e6, kyy=2e6, kxy=1e5, kyx=-1e5, cxx=10, cyy=20, cxy=1, cyx=2), Bearing(2, kxx=1e6, cxx=5)])
     assert not b.speed_dependent
     for x, y in zip(a.matrices(), b.matrices(123.0)):
         np.testing.assert_array_equal(x, y)
@@ -297,7 +297,7 @@ def test_tables_pass_through_their_points_where_ross_smooths(reference):
     table points (by 0.29 kg of 3.5 kg on mxx, 1.5 of 90 N s/m on cxx); ours
     returns the table's values at its speeds."""
     t = reference["table_5_speeds"]
-    b = Bearing(0, 1e7, cxx=t["values"]["cxx"], mxx=t["values"]["mxx"], speeds=t["speeds"])
+    b = Bearing(0, kxx=1e7, cxx=t["values"]["cxx"], mxx=t["values"]["mxx"], speeds=t["speeds"])
     rotor = FlexibleRotor([0.2], 0.05, bearings=[b])
     ours = np.array([rotor.bearing_coefficients(s)[0] for s in t["speeds"]])
     np.testing.assert_allclose(ours[:, 4], t["values"]["cxx"], rtol=1e-13)
@@ -330,19 +330,19 @@ def _rotor(**kw):
 
 
 BAD = [
-    (dict(bearings=[Bearing(0, [1e6, 2e6, 3e6], speeds=[0.0, 2.0, 1.0])]),
+    (dict(bearings=[Bearing(0, kxx=[1e6, 2e6, 3e6], speeds=[0.0, 2.0, 1.0])]),
      r"bearings\[0\] speeds must be strictly increasing"),
-    (dict(bearings=[(0, 1e6, 1e6, 0, 0), Bearing(1, [1e6, 2e6], speeds=[3.0, 3.0])]),
+    (dict(bearings=[(0, 1e6, 1e6, 0, 0), Bearing(1, kxx=[1e6, 2e6], speeds=[3.0, 3.0])]),
      r"bearings\[1\] speeds must be strictly increasing"),
-    (dict(bearings=[Bearing(0, [1e6, 2e6, 3e6], speeds=[0.0, 1.0, 2.0, 3.0])]),
+    (dict(bearings=[Bearing(0, kxx=[1e6, 2e6, 3e6], speeds=[0.0, 1.0, 2.0, 3.0])]),
      r"bearings\[0\] kxx has 3 values but speeds has 4"),
-    (dict(bearings=[Bearing(0, 1e6, cyy=[1.0, 2.0], speeds=[0.0, 1.0, 2.0])]),
+    (dict(bearings=[Bearing(0, kxx=1e6, cyy=[1.0, 2.0], speeds=[0.0, 1.0, 2.0])]),
      r"bearings\[0\] cyy has 2 values but speeds has 3"),
-    (dict(bearings=[Bearing(0, 1e6, speeds=[5.0])]), r"bearings\[0\] speeds must be a 1-D list of >= 2 speeds"),
-    (dict(bearings=[Bearing(0, [1e6, 2e6])]), r"bearings\[0\] kxx must be one value \(give speeds for a table\)"),
-    (dict(bearings=[Bearing(0, [1e6, -2e6], speeds=[0.0, 1.0])]), r"bearings\[0\] kxx must be >= 0"),
-    (dict(bearings=[Bearing(0, 1e6, mxy=float("nan"))]), r"bearings\[0\] mxy must be finite"),
-    (dict(bearings=[Bearing(7, 1e6)]), r"bearings\[0\]: bearing at node 7 does not exist"),
+    (dict(bearings=[Bearing(0, kxx=1e6, speeds=[5.0])]), r"bearings\[0\] speeds must be a 1-D list of >= 2 speeds"),
+    (dict(bearings=[Bearing(0, kxx=[1e6, 2e6])]), r"bearings\[0\] kxx must be one value \(give speeds for a table\)"),
+    (dict(bearings=[Bearing(0, kxx=[1e6, -2e6], speeds=[0.0, 1.0])]), r"bearings\[0\] kxx must be >= 0"),
+    (dict(bearings=[Bearing(0, kxx=1e6, mxy=float("nan"))]), r"bearings\[0\] mxy must be finite"),
+    (dict(bearings=[Bearing(7, kxx=1e6)]), r"bearings\[0\]: bearing at node 7 does not exist"),
     (dict(bearings=[3.0]), r"bearings\[0\] must be a Bearing or a tuple"),
     (dict(bearings=[(0, 1e6, 1e6, 0)]), r"bearings\[0\] must be \(node, kxx, kyy, cxx, cyy"),
     (dict(bearings=[(0, 1e6, 1e6, 0, 0), (2, 1e6, 1e6, 0, 0)], supports=[(5, 1.0, 1e6, 1e6, 0, 0)]),

@@ -145,7 +145,7 @@ def issue15_scene():
         E=np.array([211e9, 211e9, 113.8e9, 211e9]), G=np.array([81.2e9, 81.2e9, 42.4e9, 81.2e9]),
         rho=np.array([7810.0, 7810.0, 4430.0, 7810.0]),
         disks=((2, 12.5, 0.07, 0.12),),
-        bearings=(Bearing(0, 1e7, 9e6, cxx=300.0, mxx=0.5, myy=0.4, mxy=0.01),
+        bearings=(Bearing(0, kxx=1e7, kyy=9e6, cxx=300.0, mxx=0.5, myy=0.4, mxy=0.01),
                   Bearing(4, kxx=np.array([1e7, 1.2e7, 1.5e7]), cxx=np.array([200.0, 250.0, 320.0]),
                           kxy=np.array([0.0, 1e5, 3e5]), speeds=np.array([0.0, 300.0, 900.0]))),
         point_masses=((1, 2.0), (3, 1.5, 1.25)),

@@ -12,6 +12,9 @@ ROSS functions used:
   solution (ross/bearings/fluid_flow.py) with its equilibrium search and coefficients
   fitted to small harmonic journal motions
   (ross/bearings/fluid_flow_coefficients.py::calculate_stiffness_and_damping_coefficients).
+  Its pressure is the full-film solution clipped at zero (half-Sommerfeld:
+  `np.clip(P, a_min=0)` in `FluidFlow.calculate_pressure_matrix_numerical`); stored at
+  ROSS's test mesh (nz=30, ntheta=20) and on finer ones (ntheta up to 320).
 The operating point is the one in ROSS's own tests (test_cylindrical_hydrodynamic,
 test_bearing_fluid_flow): W = 525 N, mu = 0.1 Pa s, L = 30 mm, D = 100 mm,
 c = 0.1 mm, 1500 rpm.
@@ -43,6 +46,17 @@ def mats(b, speed):
 
 k_cyl, c_cyl = mats(cyl, SPEED)
 k_ff, c_ff = mats(ff, SPEED)
+# the same solver on finer meshes (circumferential cells halved each time; about 4 min in
+# all): its coefficients converge at first order in 1/ntheta, to a limit that differs
+# from a Swift-Stieber solution by the half-Sommerfeld clipping (see the test)
+refinement = []
+for ntheta in (20, 40, 80, 160, 320):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        b = rs.BearingFluidFlow(0, nz=30, ntheta=ntheta, length=L, omega=[SPEED], p_in=0.0, p_out=0.0,
+                                radius_rotor=D / 2 - C, radius_stator=D / 2, visc=MU, rho=860.0, load=W)
+    k, c = mats(b, SPEED)
+    refinement.append({"nz": 30, "ntheta": ntheta, "K": k, "C": c})
 out = {
     "ross_version": rs.__version__,
     "script": "tests/models/data/make_journal_ross.py",
@@ -57,6 +71,7 @@ out = {
         "C": c_cyl,
     },
     "BearingFluidFlow": {"nz": 30, "ntheta": 20, "K": k_ff, "C": c_ff},
+    "BearingFluidFlow_refinement": refinement,
 }
 path = pathlib.Path(__file__).with_name("journal_ross.json")
 path.write_text(json.dumps(out, indent=2) + "\n")
