@@ -159,3 +159,49 @@ def root_gradient(g2: Callable, x, p):
     p = jax.tree_util.tree_map(lambda v: jnp.asarray(v, dtype=jnp.float64), p)
     gx, gp = jax.grad(g2, argnums=(0, 1))(x, p)
     return jax.tree_util.tree_map(lambda d: -d / gx, gp)
+
+
+def bisect_batched(g: Callable, a, b, ga, index, *, xtol: float = 1e-10, rtol: float = 0.0, args=()) -> np.ndarray:
+    """`bisect` of many brackets at once, in one compiled loop: bracket `j` is
+    `[a[j], b[j]]` with `ga[j] = g(a[j], index[j], *args)`, and `g` is a traceable
+    function of one point, an integer label (a mode number) and `args` (traced: a
+    rotor). Each halving evaluates `g` at every midpoint in one vmapped call; the
+    loop runs until the widest bracket is `max(xtol, rtol |b|)` wide (the same rule as
+    `bisect`: the end whose sign the midpoint shares moves, an exact zero counts as
+    the other sign, a non-finite midpoint stops its bracket). Returns the final
+    brackets' midpoints."""
+    import equinox as eqx
+
+    a, b, ga = (np.asarray(v, dtype=np.float64) for v in (a, b, ga))
+    index = np.asarray(index, dtype=np.int64)
+    if a.size == 0:
+        return np.zeros(0)
+    tol = np.maximum(xtol, rtol * np.abs(b))
+    halvings = int(np.clip(np.ceil(np.log2(np.max((b - a) / tol))), 0, 200))
+    size = max(8, 1 << (a.size - 1).bit_length())   # padded: a few compiled programs for any count
+    pad = np.minimum(np.arange(size), a.size - 1)
+    out = _bisect_loop(eqx.Partial(g), jnp.asarray(a[pad]), jnp.asarray(b[pad]), jnp.asarray(ga[pad]),
+                       jnp.asarray(index[pad]), jnp.asarray(halvings), args)
+    return np.asarray(out)[: a.size]
+
+
+def _bisect_loop_impl(g, a, b, ga, index, halvings, args):
+    def body(_, carry):
+        a, b, ga = carry
+        c = 0.5 * (a + b)
+        gc = jax.vmap(lambda x, i: g(x, i, *args))(c, index)
+        ok = jnp.isfinite(gc) & (a < c) & (c < b)
+        same = jnp.sign(gc) == jnp.sign(ga)
+        return jnp.where(ok & same, c, a), jnp.where(ok & ~same, c, b), jnp.where(ok & same, gc, ga)
+
+    a, b, _ = jax.lax.fori_loop(0, halvings, body, (a, b, ga))
+    return 0.5 * (a + b)
+
+
+def _jit_loop():
+    import equinox as eqx
+
+    return eqx.filter_jit(_bisect_loop_impl)
+
+
+_bisect_loop = _jit_loop()

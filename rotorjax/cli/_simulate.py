@@ -83,7 +83,8 @@ def _orbit(preset, params, setup, t_end, result, stem):
     run_up = speed_varies(setup.scene, result.ts)
     plot_simulation(result, stem + ".png", title=f"{preset.name}: {preset.source}",
                     speed=speeds_at(setup.scene, result.ts) if run_up else None,
-                    x_label=("speed" if run_up else "time") + f" (time unit {preset.time_unit})")
+                    x_label="speed" if run_up else "time", time_unit=preset.time_unit,
+                    unit=preset.length_unit)
     return summary, {"plot": stem + ".png", "data": stem + ".npz", "summary": stem + ".json"}
 
 

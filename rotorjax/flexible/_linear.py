@@ -9,7 +9,7 @@ import numpy as np
 
 from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
                                check_span, is_concrete)
-from ..analysis._roots import bisect, sign_changes
+from ..analysis._roots import bisect_batched, sign_changes
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._contract import LinearMatrices
 from ..models._rotor_scene import RotorScene
@@ -178,18 +178,24 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     freq = np.asarray(camp.frequencies)
     fwd = np.asarray(camp.forward)
 
-    def one(s):
-        return _modes_compiled(rotor, jnp.float64(s), n_modes)
-    out = []
+    brackets = []
     for k in range(n_modes):
         g = freq[:, k] - speeds
         for i in sign_changes(g):
             if whirl == "forward" and not (fwd[i, k] and fwd[i + 1, k]):
                 continue
-            r = bisect(lambda c: float(one(c).frequencies[k]) - c, speeds[i], speeds[i + 1], g[i],
-                       g[i + 1], xtol=xtol, rtol=xtol)
-            out.append((r.x, k))
-    return sorted(out)
+            brackets.append((speeds[i], speeds[i + 1], g[i], k))
+    if not brackets:
+        return []
+    a, b, ga, ks = (np.array(v) for v in zip(*brackets))
+    # every bracket halved at once, in one compiled loop (eigenvalues only)
+    x = bisect_batched(_crossing_residual, a, b, ga, ks, xtol=xtol, rtol=xtol, args=(rotor, n_modes))
+    return sorted((float(s), int(k)) for s, k in zip(x, ks))
+
+
+def _crossing_residual(speed, k, rotor, n_modes):
+    """`omega_k(speed) - speed`: the k-th damped natural frequency's distance from 1x."""
+    return damped_frequencies(rotor, speed, n_modes)[k] - speed
 
 
 def critical_speed(rotor, k, guess, iters=6):

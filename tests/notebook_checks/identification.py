@@ -1,4 +1,8 @@
-"""Checks of the numbers notebooks/identification.py prints (see tests/test_notebooks.py)."""
+"""Checks of the numbers notebooks/identification.py prints (see tests/test_notebooks.py).
+
+Validation: the fitted parameters and unbalances against the truth the notebook's
+synthetic data were made with (`truth`, `flex["truth"]`); the bands marked "regression pin"
+bracket what the notebook printed, not an independent value."""
 
 REQUIRED = True
 
@@ -8,34 +12,43 @@ NAMES = ("k1", "k2", "c1", "c2")
 def check(claims):
     truth = claims["truth"]
     assert truth == {"k1": 2e5, "k2": 3e5, "c1": 150.0, "c2": 200.0}
+    # regression pin: produced by `python notebooks/identification.py` (2026-11-25)
     assert claims["n_revolutions"] == 667
 
     # the steady fit as before: every 95 % interval misses, and nothing warned
     old = claims["old"]
     assert not any(old["covers"].values()), old["intervals"]
     assert all(abs(old["error_in_sd"][k]) > 2.5 for k in NAMES), old["error_in_sd"]
+    # the bands around the steady fit's errors: regression pin: produced by
+    # `python notebooks/identification.py` (2026-11-25)
+
     assert 0.5 < old["error_pct"]["k1"] < 1.0 and 1.0 < old["error_pct"]["c2"] < 2.0
     assert old["warnings"] == []
 
     # the diagnosis, each source alone (noise-free signals), in per cent
     d = claims["diagnosis"]
+    # the bands below: regression pin: produced by `python notebooks/identification.py` (2026-11-25)
     model = d["model_error_pct"]
     assert 0.3 < model["k1"] < 0.5 and 0.1 < model["k2"] < 0.3 and 0.05 < model["c1"] < 0.2 \
         and 0.5 < model["c2"] < 0.8, model
     assert all(abs(v) < 0.1 for v in d["averaging_bias_pct"].values()), d["averaging_bias_pct"]
     ref = d["reference_bias_unweighted_pct"]
-    assert ref["c1"] > 0.8 and ref["k2"] > 0.3, ref                       # the tacho's phase reference
+    # the tacho's phase reference; regression pin: produced by `python notebooks/identification.py` (2026-11-25)
+    assert ref["c1"] > 0.8 and ref["k2"] > 0.3, ref
     weighted = d["reference_bias_pct"]
     assert all(abs(weighted[k]) < abs(ref[k]) for k in NAMES), (weighted, ref)
     # sources add up: transient + reference, as the steady fit saw them without noise
     both = d["transient_and_reference_bias_unweighted_pct"]
     for k in NAMES:
         assert abs(both[k] - (model[k] + ref[k])) < 0.25, (k, both[k], model[k], ref[k])
-    assert 0.25 < d["pulse_jitter_ms"] < 0.33                             # half a 1 ms sample, uniform: 0.289
+    # independent: a pulse time uniform within a 1 ms sample has sd 1/sqrt(12) ms = 0.289 ms
+    assert 0.25 < d["pulse_jitter_ms"] < 0.33
     assert d["angle_error_max_mrad"] < 3 * max(d["angle_sd_ends_mrad"])
     # the residuals are nearly independent: correlation is not why the intervals missed
     assert all(abs(r) < 0.2 for r in d["residual_rho1"].values()), d["residual_rho1"]
+    # regression pin: produced by `python notebooks/identification.py` (2026-11-25)
     assert all(n > 400 for n in d["residual_n_eff"].values()), d["residual_n_eff"]
+    # regression pin: produced by `python notebooks/identification.py` (2026-11-25)
     assert all(1.0 <= r < 1.4 for r in d["hac_over_classical_sd"].values()), d["hac_over_classical_sd"]
 
     # the run-up model with the phase reference fitted jointly: intervals that cover
@@ -54,10 +67,12 @@ def check(claims):
     assert rms["difference"] < 0.6 * rms["actual"], rms                   # the fit sees most of the tacho's error
     assert all(abs(a) < 0.5 for a in new["unbalance_angle_error_deg"])
 
-    # balancing from the steady runs: 20 g at 210 deg and 30 g at 20 deg
+    # balancing from the steady runs: 20 g at 210 deg and 30 g at 20 deg (validation: the corrections that
+    # cancel the unbalance the notebook's synthetic runs were made with)
     c = claims["balancing"]["corrections"]
     assert abs(c[0]["mass_g"] - 20) < 0.3 and abs(c[0]["angle_deg"] - 210) < 1.5
     assert abs(c[1]["mass_g"] - 30) < 0.3 and abs(c[1]["angle_deg"] - 20) < 1.5
+    # regression pin: produced by `python notebooks/identification.py` (2026-11-25)
     assert claims["balancing"]["model_based_difference"] < 0.01
 
     # the flexible rig (issue 16): the 8 bearing coefficients and 2 unbalances from the run-up
