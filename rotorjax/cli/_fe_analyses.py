@@ -68,10 +68,8 @@ def cmd_static(args) -> int:
 
 
 def cmd_modes(args) -> int:
-    from rotorjax.flexible import modes
+    from rotorjax.flexible import check_supported, modes
     from rotorjax.plot import plot_mode_shapes, plot_mode_shapes_3d
-
-    from rotorjax.flexible import check_supported
 
     preset, params = preset_and_params(args, "modes", KINDS)
     prepare_out(args.out)
@@ -263,10 +261,8 @@ def cmd_frf(args) -> int:
 def cmd_level1(args) -> int:
     import math
 
-    from rotorjax.flexible import level1, mid_span_node
+    from rotorjax.flexible import check_supported, level1, mid_span_node
     from rotorjax.plot import plot_level1
-
-    from rotorjax.flexible import check_supported
 
     preset, params = preset_and_params(args, "level1", KINDS)
     prepare_out(args.out)
@@ -276,7 +272,7 @@ def cmd_level1(args) -> int:
     if not speed > 0:
         raise InputError(f"level1: give --speed (the maximum continuous speed, rad/s): {preset.name} has no "
                          "operating speed ([rotor] speed)")
-    args.speed = speed
+    args.speed = speed   # what the rest of the command reports
     check_supported(scene, speed, what=preset.name)
     speed_warnings(scene, speed)
     if args.node is not None:
