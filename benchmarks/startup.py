@@ -59,11 +59,26 @@ def run(argv, cache, out):
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+def table(out) -> str:
+    """The README's start-up table (markdown) from the results."""
+    lines = ["| command | first run (empty cache) | cached run |", "|---|---|---|"]
+    for r in out["commands"]:
+        lines.append(f"| `rotorjax {' '.join(r['argv'])}` | {r['first_s']:.1f} s | {r['cached_s']:.1f} s |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--smoke", action="store_true", help="one command, one run each way, nothing written")
     p.add_argument("--repeats", type=int, default=3, help="cached runs per command (median)")
+    p.add_argument("--table", action="store_true", help="print the README's table from the stored results")
     args = p.parse_args(argv)
+    if args.table:
+        import json
+
+        with open(os.path.join(ROOT, "benchmarks", "results", "startup.json")) as f:
+            print(table(json.load(f)))
+        return None
     commands = COMMANDS[:1] if args.smoke else COMMANDS
     repeats = 1 if args.smoke else args.repeats
     watch = CpuWatch()

@@ -172,7 +172,8 @@ CASES = [
      r"disks\[0\] mass must be > 0, got -1\.0"),
     (P(FlexibleRotor, [0.1, 0.1], 0.03), dict(disks=(1, 1.0, 0.0, 0.0)), r"disks must be a tuple of tuples"),
     (P(FlexibleRotor, [0.1, 0.1], 0.03), dict(bearings=((0, 1e6, 1e6),)),
-     r"bearings\[0\] must be \(node, kxx, kyy, cxx, cyy\[, kxy, kyx, cxy, cyx\]\), got 3 values"),
+     r"bearings\[0\] must be \(node, kxx, kyy, cxx, cyy\) or \(node, kxx, kyy, cxx, cyy, kxy, kyx, cxy, cyx\), or a "
+     r"Bearing; a tuple of 3 values is ambiguous"),
     (P(FlexibleRotor, [0.1, 0.1], 0.03), dict(bearings=((-1, 1e6, 1e6, 0.0, 0.0),)),
      r"bearings\[0\]: bearing at node -1 does not exist: the shaft has nodes 0\.\.2"),
     (P(FlexibleRotor, [0.1, 0.1], 0.03), dict(bearings=((0, 1e6, NAN, 0.0, 0.0),)),

@@ -42,3 +42,19 @@ def test_page_and_diagrams_from_the_json(tmp_path):
             assert f"{row['ratio']:.3g}x at {row['error']:.1e}" in text
     # the committed page is the generated one
     assert (BENCH / "README.md").read_text() == text.replace(str(tmp_path), str(BENCH / "results"))
+
+
+def test_readme_startup_table_is_the_json():
+    """The README's start-up table (first and cached runs of the everyday commands) is
+    `benchmarks/results/startup.json`'s, as `python benchmarks/startup.py --table` prints it."""
+    sys.path.insert(0, str(BENCH))
+    try:
+        import startup
+    finally:
+        sys.path.remove(str(BENCH))
+    out = json.loads((BENCH / "results" / "startup.json").read_text())
+    readme = (BENCH.parent / "README.md").read_text()
+    assert startup.table(out) in readme
+    cached = [r["cached_s"] for r in out["commands"] if r["command"].split()[0] in out["targets"]["cached_commands"]]
+    assert f"cached runs of `modes`, `campbell`, `critical-speeds` and `response`: {min(cached):.1f}-" \
+           f"{max(cached):.1f} s" in readme

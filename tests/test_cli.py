@@ -379,9 +379,13 @@ def test_ucs_frf_level1_and_several_unbalances(tmp_path, capsys):
                  "--kind", "velocity", "--speed", "300", "--set", "cxx=100", "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     damped = get("ross-compare").build(dict(get("ross-compare").defaults, cxx=100.0)).scene.rotor
-    h = np.asarray(frf(damped, (2, "x"), (4, "y"), np.linspace(10, 1000, 50), "velocity", speed=300.0).values)
-    np.testing.assert_allclose(out["magnitude"], np.abs(h), rtol=1e-12)
-    np.testing.assert_allclose(out["phase"], np.angle(h), atol=1e-12)
+    w = np.asarray(out["frequencies"])   # the grid, with points added around each peak
+    assert np.all(np.diff(w) > 0) and np.all(np.isin(np.linspace(10, 1000, 50), w))
+    h = np.asarray(frf(damped, (2, "x"), (4, "y"), w, "velocity", speed=300.0).values)
+    # the command solves on the scene (assembled in one compiled program), the reference on the bare rotor:
+    # the same numbers up to rounding near the resonances (measured 1.1e-11)
+    np.testing.assert_allclose(out["magnitude"], np.abs(h), rtol=1e-9)
+    np.testing.assert_allclose(out["phase"], np.angle(h), atol=1e-9)
     for f in ("frf_ross-compare_bode.png", "frf_ross-compare_polar.png"):
         assert (tmp_path / f).stat().st_size > 0
 
@@ -401,7 +405,10 @@ def test_ucs_frf_level1_and_several_unbalances(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     X, Y = unbalance_response_many(damped, unb, np.linspace(10, 400, 40), probe_nodes=[3])
     amp = np.sqrt(np.abs(np.asarray(X[:, 0])) ** 2 + np.abs(np.asarray(Y[:, 0])) ** 2)
-    assert out["max_amplitude"] == pytest.approx(float(amp.max()), rel=1e-12)
+    # the peak located between the grid's points: above the grid's largest value, and the library's value there
+    X, Y = unbalance_response_many(damped, unb, np.array([out["speed_at_max"]]), probe_nodes=[3])
+    at_max = float(np.sqrt(np.abs(np.asarray(X[0, 0])) ** 2 + np.abs(np.asarray(Y[0, 0])) ** 2))
+    assert out["max_amplitude"] >= amp.max() and out["max_amplitude"] == pytest.approx(at_max, rel=1e-12)
     assert [u["node"] for u in out["unbalances"]] == [2, 4] and out["unbalance"] is None
     np.testing.assert_allclose(out["deflected_shape"]["major"], np.asarray(deflected_shape(damped, unb, 250.0).major),
                                rtol=1e-12)

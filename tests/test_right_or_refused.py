@@ -183,3 +183,15 @@ def test_python_finds_the_shipped_rotor_files_by_name():
 
     assert load_rotor("flexible_rig.toml").n_nodes == 7
     assert rotor_model("flexible_rig.toml").label == "flexible_rig.toml"
+
+
+def test_the_readme_documents_critical_speed_as_it_is():
+    import inspect
+
+    from rotorjax.flexible import critical_speed
+
+    readme = open(os.path.join(os.path.dirname(__file__), "..", "README.md")).read()
+    documented = re.findall(r"`critical_speed\(([^)]*)\)`", readme)
+    assert documented, "the README no longer documents critical_speed"
+    params = ", ".join(str(p) for p in inspect.signature(critical_speed).parameters.values())
+    assert all(d == params for d in documented), (documented, params)

@@ -57,9 +57,8 @@ def rotor_dofs(rotor) -> int:
 def _components_add_nothing(scene, rotor) -> bool:
     """The scene's linear part is the bare rotor's (no component adds damping or
     stiffness), so the rotor-only analyses apply to it."""
-    _, C, _, K = (np.asarray(a) for a in rotor.reduced_matrices())
-    return (np.array_equal(np.asarray(scene.C), C) and np.array_equal(np.asarray(scene.K), K)
-            and not np.any(np.asarray(scene.Ks)))
+    full = getattr(rotor, "rotor", rotor)
+    return all(c.linear_part(full) is None for c in scene.components)
 
 
 def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True,

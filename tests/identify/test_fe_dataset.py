@@ -48,7 +48,9 @@ def test_runup_file_is_the_regeneration():
     np.testing.assert_array_equal([float(r[0]) for r in rows], [r[0] for r in new])
     assert [(int(r[1]), r[2], int(r[5])) for r in rows] == [(r[1], r[2], r[5]) for r in new]
     X, Xn = _phasors(rows), _regenerated(new)
-    assert np.max(np.abs(X - Xn) / np.abs(Xn)) <= 1e-15
+    # the file was written when scenes were assembled op by op; now they are assembled in one compiled
+    # program, which rounds differently: measured 6.0e-13 (runup) and 2.3e-13 (trials), 2026-11-25
+    assert np.max(np.abs(X - Xn) / np.abs(Xn)) <= 1e-11
     assert sorted({float(r[0]) for r in rows}) == list(fe.RUNUP_SPEEDS)
 
 
@@ -66,7 +68,9 @@ def test_trials_file_is_the_regeneration():
         else:
             assert (int(r[6]), float(r[7]), float(r[8])) == n[6:] == fe.TRIALS[n[5]]
     X, Xn = _phasors(rows), _regenerated(new)
-    assert np.max(np.abs(X - Xn) / np.abs(Xn)) <= 1e-15
+    # the file was written when scenes were assembled op by op; now they are assembled in one compiled
+    # program, which rounds differently: measured 6.0e-13 (runup) and 2.3e-13 (trials), 2026-11-25
+    assert np.max(np.abs(X - Xn) / np.abs(Xn)) <= 1e-11
 
 
 def test_criticals_inside_the_runup(truth):

@@ -82,7 +82,8 @@ def test_linear_part_and_unbalance_load_match_the_flexible_rotor_analyses():
     M, C, G1, K = rotor.reduced_matrices()
     lin = sc.linear_matrices(120.0)
     for a, b in ((lin.M, M), (lin.C, C), (lin.G, 120.0 * G1), (lin.K, K)):
-        assert np.array_equal(np.asarray(a), np.asarray(b))
+        # the scene assembles in one compiled program, the rotor op by op: equal up to rounding
+        assert np.allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-14 * np.abs(np.asarray(b)).max())
 
 
 def test_rotating_frame_round_trip_and_autonomy():
