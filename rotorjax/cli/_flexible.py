@@ -68,7 +68,8 @@ def cmd_campbell(args) -> int:
     t_freq = np.asarray(tracked.frequencies)[:, :k]
     t_whirl = np.asarray(tracked.whirl)[:, :k]
     t_logdec = np.asarray(tracked.log_dec)[:, :k]
-    crit = critical_speeds_1x(rotor, max(lo, 1e-6), hi, n_modes=args.modes)
+    # the crossings of the diagram's own branches (its speeds are the scan), bisected
+    crit = critical_speeds_1x(rotor, lo, hi, n_modes=k, scan=(speeds, camp))
     stem = out_stem(args.out, preset, "campbell_")
     plot_campbell_tracked(speeds, t_freq, t_whirl, t_logdec, stem + ".png", critical=[s for s, _ in crit],
                           title=f"{preset.name}: Campbell diagram (tracked modes)"

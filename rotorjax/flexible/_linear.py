@@ -160,21 +160,29 @@ _campbell_compiled = eqx.filter_jit(campbell)
 _modes_compiled = eqx.filter_jit(modes)
 
 
-def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="all"):
+def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="all", return_scan=False,
+                       scan=None):
     """Intersections of the Campbell diagram's branches with the 1x line
     `frequency = speed`, located by a scan plus bisection on `omega_k(Omega) - Omega`
     (the shared root finder's steps, `rotorjax.analysis._roots`, to `xtol * max(1, speed)`).
     `whirl="forward"` keeps the forward-whirl branches only (those an unbalance
     excites); "all" also the backward ones (as ROSS reports them).
-    Returns `[(speed, mode index)]` in rad/s, sorted."""
+    Returns `[(speed, mode index)]` in rad/s, sorted (with `return_scan`, also the
+    scan `(speeds, Modes)`: the Campbell diagram on the scan's speeds). `scan`: such a
+    diagram computed already (the scan is then its speeds, no second eigen-analysis)."""
     check_choice("whirl", whirl, ("all", "forward"))
     lo, hi = check_span("lo", lo, "hi", hi)
     n_scan = as_count("n_scan", n_scan, minimum=2)
     n_modes = _check_n_modes("n_modes", n_modes, rotor, allow_none=False, bounded=True)
     as_param("xtol", xtol, sign="positive", shape=())
-    speeds = np.linspace(lo, hi, n_scan)
-    # the rotor is an argument (not a constant): one compilation per rotor layout
-    camp = _campbell_compiled(rotor, jnp.asarray(speeds), n_modes)
+    if scan is None:
+        speeds = np.linspace(lo, hi, n_scan)
+        # the rotor is an argument (not a constant): one compilation per rotor layout
+        camp = _campbell_compiled(rotor, jnp.asarray(speeds), n_modes)
+    else:  # a Campbell diagram the caller has computed already (its speeds in [lo, hi], >= n_modes modes)
+        speeds, camp = np.asarray(scan[0], dtype=float), scan[1]
+        if speeds.ndim != 1 or np.asarray(camp.frequencies).shape[:2] != (speeds.size, n_modes):
+            raise InputError(f"scan must be (speeds, Modes) with {n_modes} modes at each speed")
     freq = np.asarray(camp.frequencies)
     fwd = np.asarray(camp.forward)
 
@@ -185,12 +193,13 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
             if whirl == "forward" and not (fwd[i, k] and fwd[i + 1, k]):
                 continue
             brackets.append((speeds[i], speeds[i + 1], g[i], k))
-    if not brackets:
-        return []
-    a, b, ga, ks = (np.array(v) for v in zip(*brackets))
-    # every bracket halved at once, in one compiled loop (eigenvalues only)
-    x = bisect_batched(_crossing_residual, a, b, ga, ks, xtol=xtol, rtol=xtol, args=(rotor, n_modes))
-    return sorted((float(s), int(k)) for s, k in zip(x, ks))
+    found = []
+    if brackets:
+        a, b, ga, ks = (np.array(v) for v in zip(*brackets))
+        # every bracket halved at once, in one compiled loop (eigenvalues only)
+        x = bisect_batched(_crossing_residual, a, b, ga, ks, xtol=xtol, rtol=xtol, args=(rotor, n_modes))
+        found = sorted((float(s), int(k)) for s, k in zip(x, ks))
+    return (found, (speeds, camp)) if return_scan else found
 
 
 def _crossing_residual(speed, k, rotor, n_modes):

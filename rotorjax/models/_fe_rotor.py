@@ -492,8 +492,7 @@ class FlexibleRotor(eqx.Module):
 
     def reduced_matrices(self, speed=0.0):
         """`(M, C, G1, K)` on the free dofs only, bearing coefficients at `speed`."""
-        f = self.free_dofs
-        return tuple(a[np.ix_(f, f)] for a in self.matrices(speed))
+        return _reduced_matrices(self, jnp.asarray(speed, dtype=jnp.float64))
 
     def expand(self, q):
         """Free-dof vector (or columns) to all dofs, fixed dofs zero."""
@@ -511,3 +510,14 @@ class FlexibleRotor(eqx.Module):
         from ._fe_reduction import ReducedRotor
 
         return ReducedRotor(self, n_modes)
+
+
+@eqx.filter_jit
+def _reduced_matrices(rotor, speed):
+    """`FlexibleRotor.reduced_matrices`, as one compiled program per rotor layout: the
+    assembly (element matrices, scatter, bearings) is traced once per process and
+    layout, however many analyses call it, and compiled once (the persistent
+    compilation cache keeps it across runs), instead of hundreds of operations
+    dispatched one by one."""
+    f = rotor.free_dofs
+    return tuple(a[np.ix_(f, f)] for a in rotor.matrices(speed))

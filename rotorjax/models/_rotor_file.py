@@ -960,6 +960,12 @@ def file_parameters(path):
     """The file's label, its `[rotor] name` and its scalar numeric entries as
     `{key: FileParameter}` (keys `table<index>.key`, `table.key`, and `speed`),
     after checking the whole file (it is built once)."""
+    return file_parameters_and_scene(path)[:3]
+
+
+def file_parameters_and_scene(path):
+    """`file_parameters(path)` and the `RotorScene` the file builds (the check's
+    build, for a caller that needs the scene as the file gives it: no second build)."""
     label, doc = _read(path)
     ctx = _Ctx(label)
     spec = _validate(ctx, doc)
@@ -990,7 +996,7 @@ def file_parameters(path):
                 integer = k.kind in ("node", "count", "index")
                 out[name] = FileParameter(int(value) if integer else float(value), k.unit or "dimensionless",
                                           meaning, domain, integer)
-    return label, r["name"], out
+    return label, r["name"], out, scene
 
 
 # --- writing --------------------------------------------------------------------------

@@ -67,9 +67,9 @@ def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=Fa
     crossings of its first `n_modes` (default 8) damped natural frequencies, each
     with its whirl direction, and for an undamped rotor with symmetric stiffness the
     roots of the synchronous determinant too; `"campbell"` holds the diagram to plot
-    (100 speeds), `"present"` its unit and title. A rotor with rigid-body modes is
+    (the scan's `n_scan` speeds), `"present"` its unit and title. A rotor with rigid-body modes is
     refused (`check_supported`; `name` names it in the message)."""
-    from ..flexible import campbell, check_supported, critical_speeds_1x, modes, synchronous_critical_speeds
+    from ..flexible import check_supported, critical_speeds_1x, modes, synchronous_critical_speeds
     from ..models import check_speeds
 
     scene = build(params).scene
@@ -80,7 +80,7 @@ def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=Fa
     n = 2 * rotor_dofs(rotor)
     if n_modes > n:
         raise InputError(f"--modes {n_modes}: the rotor has {n} modes")
-    found = critical_speeds_1x(scene, lo, hi, n_scan=n_scan, n_modes=n_modes)
+    found, (speeds, camp) = critical_speeds_1x(scene, lo, hi, n_scan=n_scan, n_modes=n_modes, return_scan=True)
     fwd = [bool(modes(scene, s, n_modes).forward[k]) for s, k in found]
     out = {"unit": "rad/s", "critical_speeds": [{"speed": s, "mode": k, "whirl": "forward" if f else "backward"}
                                                 for (s, k), f in zip(found, fwd)]}
@@ -89,8 +89,6 @@ def fe_critical_speeds(build, params, lo, hi, n_scan=200, n_modes=None, exact=Fa
             and np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max())):
         roots = np.asarray(synchronous_critical_speeds(rotor))
         out["synchronous_determinant_roots"] = [float(r) for r in roots if lo <= r <= hi]
-    speeds = np.linspace(lo, hi, 100)
-    camp = campbell(scene, speeds, n_modes)
-    out["campbell"] = (speeds, np.asarray(camp.frequencies), np.asarray(camp.forward))
+    out["campbell"] = (speeds, np.asarray(camp.frequencies), np.asarray(camp.forward))   # the scan's
     out["present"] = {"unit": "rad/s", "title": "critical speeds (1x crossings)"}
     return out

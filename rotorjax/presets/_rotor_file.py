@@ -12,7 +12,7 @@ follows it).
 
 import math
 
-from ..models._rotor_file import file_parameters, load_rotor
+from ..models._rotor_file import file_parameters_and_scene, load_rotor
 from ._base import Preset, Setup
 
 #: revolutions in a default run of a rotor file (`t_end` at a positive speed)
@@ -27,13 +27,13 @@ def preset_from_file(path) -> Preset:
     returns a `Setup`: the `RotorScene` at `ConstantSpeed(params["speed"])`, its
     rest state, and `t_end` = 200 revolutions at that speed (None at speed <= 0);
     `extras` holds `revolutions` and `rotor_file` (the path)."""
-    label, rotor_name, entries = file_parameters(path)
+    label, rotor_name, entries, as_given = file_parameters_and_scene(path)
     defaults = {k: e.value for k, e in entries.items()}
 
     def build(params) -> Setup:
         params = dict(defaults, **(params or {}))
         changed = {k: v for k, v in params.items() if k in defaults and v != defaults[k]}
-        scene = load_rotor(path, changed)
+        scene = load_rotor(path, changed) if changed else as_given   # the file as it is: built once already
         speed = float(params["speed"])
         t_end = REVOLUTIONS * 2 * math.pi / speed if speed > 0 else None
         return Setup(scene, scene.rest_state(), t_end,
