@@ -43,7 +43,9 @@ def enable_compilation_cache(path=None) -> str | None:
 
     if os.environ.get(NO_CACHE_VARIABLE, "") not in ("", "0"):
         return None
-    if path is None and not os.environ.get(CACHE_DIR_VARIABLE) and jax.config.jax_compilation_cache_dir:
+    if path is None and jax.config.jax_compilation_cache_dir and (
+            not os.environ.get(CACHE_DIR_VARIABLE)
+            or os.environ[CACHE_DIR_VARIABLE] == jax.config.jax_compilation_cache_dir):
         return jax.config.jax_compilation_cache_dir   # JAX's own setting (JAX_COMPILATION_CACHE_DIR) stands
     path = path or default_cache_dir()
     try:

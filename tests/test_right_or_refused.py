@@ -150,7 +150,9 @@ def test_the_cli_uses_a_persistent_compilation_cache(monkeypatch, tmp_path):
 
     from rotorjax._config import enable_compilation_cache
 
-    before = jax.config.jax_compilation_cache_dir
+    names = ("jax_compilation_cache_dir", "jax_persistent_cache_min_compile_time_secs",
+             "jax_persistent_cache_min_entry_size_bytes")
+    before = {name: getattr(jax.config, name) for name in names}
     try:
         monkeypatch.setenv("ROTORJAX_NO_COMPILATION_CACHE", "1")
         assert enable_compilation_cache() is None
@@ -159,7 +161,8 @@ def test_the_cli_uses_a_persistent_compilation_cache(monkeypatch, tmp_path):
         assert enable_compilation_cache() == str(tmp_path / "cache")
         assert jax.config.jax_compilation_cache_dir == str(tmp_path / "cache") and (tmp_path / "cache").is_dir()
     finally:
-        jax.config.update("jax_compilation_cache_dir", before)
+        for name, value in before.items():
+            jax.config.update(name, value)
 
 
 # ---- item 9: small defects ----

@@ -9,6 +9,9 @@ two cells around the best sample, until it is narrower than `rtol |x|`. A unimod
 peak inside the bracket is found to that width; the value is the curve's own value
 there. `refined_grid` adds points clustered around each peak, so that a plotted
 curve (a Bode or polar plot) is smooth through its resonances.
+
+Two peaks closer than a grid step can sample as one maximum with a shoulder: the
+zoom then finds the higher one only. A finer grid separates them.
 """
 
 import dataclasses
