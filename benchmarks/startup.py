@@ -45,7 +45,9 @@ TARGETED = ("modes", "campbell", "critical-speeds", "response")
 def run(argv, cache, out):
     """Seconds of wall time of `rotorjax ARGV` in a fresh interpreter (exit 0 required)."""
     env = dict(os.environ, ROTORJAX_CACHE_DIR=cache, MPLBACKEND="Agg")
-    for name in ("JAX_COMPILATION_CACHE_DIR", "XLA_FLAGS"):   # the test suite's: a user's command has neither
+    for name in ("JAX_COMPILATION_CACHE_DIR", "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS",
+                 "JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "ROTORJAX_NO_COMPILATION_CACHE",
+                 "XLA_FLAGS"):   # the test suite's: a user's command has none of them
         env.pop(name, None)
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "rotorjax.cli", *argv, "--out", out, "--json"], env=env,

@@ -6,19 +6,17 @@ import jax
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
-# One compilation cache for the whole run (this process and the notebooks and CLI
-# subprocesses it starts): the same computations are compiled by many tests, often
-# from new closures that the in-memory cache cannot match. Fresh per run, so a test
-# never sees a compilation from an older tree.
+# One compilation cache for the subprocesses of the run (the notebooks, the benchmarks' smoke runs): the
+# same computations are compiled by many of them. Fresh per run, so a test never sees a compilation from
+# an older tree. Not in the test workers themselves: in full runs here a worker died, four times in five
+# runs of 2026-11-25, inside XLA's `executable.serialize()` while writing to the cache (a different test
+# each time, never when the test file ran alone), so the workers keep their compilations in memory only,
+# and the CLI commands they call in-process do too (`ROTORJAX_NO_COMPILATION_CACHE`).
 _CACHE = os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", tempfile.mkdtemp(prefix="rotorjax-jax-cache-"))
-os.environ["ROTORJAX_CACHE_DIR"] = _CACHE   # the CLI's cache (enable_compilation_cache): the same folder
-# Only compilations of a second or more are written (JAX's default): in full runs here a worker died,
-# three times in four runs of 2026-11-25, inside XLA's `executable.serialize()` while writing a small
-# program to the cache (a different test each time, never alone); the slow compilations, which are what
-# the cache saves, are still shared. The CLI's own setting (`enable_compilation_cache`) follows.
-os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "1")
-jax.config.update("jax_compilation_cache_dir", _CACHE)
-jax.config.update("jax_persistent_cache_min_compile_time_secs", 1.0)
+os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0")
+os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "0")
+os.environ["ROTORJAX_NO_COMPILATION_CACHE"] = "1"
+jax.config.update("jax_compilation_cache_dir", None)
 
 
 #: the longest test files (a few minutes each on the 2-core CI machine), started first: pytest-xdist
