@@ -2,21 +2,31 @@ import os
 import tempfile
 
 import jax
+import pytest
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
 # One compilation cache for the subprocesses of the run (the notebooks, the benchmarks' smoke runs): the
 # same computations are compiled by many of them. Fresh per run, so a test never sees a compilation from
-# an older tree. Not in the test workers themselves: in full runs here a worker died, four times in five
-# runs of 2026-11-25, inside XLA's `executable.serialize()` while writing to the cache (a different test
-# each time, never when the test file ran alone), so the workers keep their compilations in memory only,
-# and the CLI commands they call in-process do too (`ROTORJAX_NO_COMPILATION_CACHE`).
+# an older tree. The test workers keep their compilations in memory only (and the CLI commands they call
+# in-process, `ROTORJAX_NO_COMPILATION_CACHE`): a worker's memory mappings are the limit that matters
+# (`_free_compiled_programs` below), and writing thousands of small programs to disk buys little there.
 _CACHE = os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", tempfile.mkdtemp(prefix="rotorjax-jax-cache-"))
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0")
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "0")
 os.environ["ROTORJAX_NO_COMPILATION_CACHE"] = "1"
 jax.config.update("jax_compilation_cache_dir", None)
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _free_compiled_programs():
+    """Drop JAX's compiled programs after each test file. Each compiled CPU program keeps
+    memory mappings of its code; a worker that ran hundreds of files reached 34 000 of
+    the kernel's default 65 530 (`vm.max_map_count`) and then died inside XLA, compiling
+    (measured 2026-11-25, five of six full runs). A file's own programs are kept while it runs."""
+    yield
+    jax.clear_caches()
 
 
 #: the longest test files (a few minutes each on the 2-core CI machine), started first: pytest-xdist
