@@ -23,7 +23,7 @@ from ._fe_rotor import Support as Support
 from ._materials import MATERIALS as MATERIALS
 from ._materials import Material as Material
 from ._materials import material as material
-from ._plausibility import check_speeds as check_speeds
+from ._bearing_speeds import check_speeds as check_speeds
 from ._journal_bearing import JournalCoefficients as JournalCoefficients
 from ._journal_bearing import PlainJournal as PlainJournal
 from ._journal_bearing import plain_journal as plain_journal
