@@ -57,6 +57,18 @@ from _common import CpuWatch, machine, timed, timed_first, write_results  # noqa
 LADDERS = {"Radau": (1e-7, 1e-9), "LSODA": (1e-7, 1e-9, 1e-11, 1e-12)}
 
 
+def _reference_scene(p):
+    """The preset's equations as the hand-assembled `CantileverScene` of
+    `tests/reference/model_004_scene.py` (the matrices `tests/reference/model_004.py`
+    reads; the same modal coordinates as the preset's `RotorScene`, whose vector field
+    equals it: tests/models/test_composition_cantilever.py)."""
+    from rotorjax.presets import cantilever_limiters as cl
+    from tests.reference.model_004_scene import CantileverScene
+
+    return CantileverScene(cl.build_rotor(p), p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
+                           limiters=cl.build_limiters(p), n_modes=p["n_modes"] or None)
+
+
 def _with_ratio(d):
     d["ratio"] = d.get("seconds", d.get("seconds_at_least")) / d["rotorjax_seconds"]
     return d
@@ -130,21 +142,22 @@ def main():
                         max_steps=10**7)
     ref13 = rj.simulate(scene, y0, (0.0, t20), saveat=short_save, solver="dopri8", rtol=1e-13, atol=1e-16,
                         max_steps=10**7)
-    disk = np.asarray(scene.disk[:2])
-    pos_ref = disk @ np.asarray(ref20.ys[-1])[: scene.n_coords]
-    ref_uncertainty = float(np.linalg.norm(disk @ np.asarray(ref13.ys[-1])[: scene.n_coords] - pos_ref)
+    disk = np.asarray(cl.disk_rows(scene))
+    n_q = scene.n_shaft
+    pos_ref = disk @ np.asarray(ref20.ys[-1])[:n_q]
+    ref_uncertainty = float(np.linalg.norm(disk @ np.asarray(ref13.ys[-1])[:n_q] - pos_ref)
                             / np.linalg.norm(pos_ref))
 
     def stats(ts_, ys):
-        q = ys[:, : scene.n_coords]
-        qd = ys[:, scene.n_coords: 2 * scene.n_coords]
+        q = ys[:, :n_q]
+        qd = ys[:, n_q: 2 * n_q]
         x, y = q @ disk.T[:, 0], q @ disk.T[:, 1]
         vx, vy = qd @ disk.T[:, 0], qd @ disk.T[:, 1]
         pr = precession(ts_, x, y, vx, vy, N, window=(0.5, 1.0))
         return {"mean_Lambda": pr.mean, "max_disk_x": float(x[ts_ >= ts_[-1] / 2].max())}
 
     def err20(y_end):
-        return float(np.linalg.norm(disk @ np.asarray(y_end)[: scene.n_coords] - pos_ref) / np.linalg.norm(pos_ref))
+        return float(np.linalg.norm(disk @ np.asarray(y_end)[:n_q] - pos_ref) / np.linalg.norm(pos_ref))
 
     runs = {}
     for tol in (1e-7, 1e-9):
@@ -167,7 +180,7 @@ def main():
                 "error_after_5_revolutions": err20(short.ys[-1]),
                 **stats(np.asarray(res.ts), np.asarray(res.ys))}
             print(name, tol, runs[f"{name}_rtol{tol:g}"], flush=True)
-    model = NumpyModel004(scene)
+    model = NumpyModel004(_reference_scene(p))
     ladders = LADDERS
     for method, tols in ladders.items():
         for tol in tols:
@@ -258,11 +271,15 @@ def _sweep_tools(args, scene, y0, T, n_save, ts, N):
 
     import rotorjax as rj
     from rotorjax.analysis import precession
+    from rotorjax.models import leaf_at
+    from rotorjax.presets import cantilever_limiters as cl
 
     eps = np.linspace(0.0, 0.002, args.n_sweep)
+    def eps_of(s):   # the scene's Unbalance magnitude
+        return leaf_at(s, cl.PRESET.sweepable["eps"])
 
     def one(e):
-        s = eqx.tree_at(lambda s: s.eps, scene, e)
+        s = eqx.tree_at(eps_of, scene, e)
         r = rj.simulate(s, y0, (0.0, T), saveat=n_save, solver="dopri8", rtol=1e-7, atol=1e-7, max_steps=10**7)
         o = r.outputs
         return o["disk_x"], o["disk_y"], o["disk_vx"], o["disk_vy"], r.code, r.stats["num_steps"]
@@ -277,7 +294,7 @@ def _sweep_tools(args, scene, y0, T, n_save, ts, N):
 
     def problem(events):
         def ivp(point):
-            s = eqx.tree_at(lambda s: s.eps, scene, point["eps"])
+            s = eqx.tree_at(eps_of, scene, point["eps"])
             return rj.IVP(s, y0, (0.0, T), saveat=n_save, solver="dopri8", rtol=1e-7, atol=1e-7,
                           max_steps=args.events_max_steps if events else 10**7, events=events)
         return ivp
@@ -352,11 +369,10 @@ def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
     matched accuracy (`runs`: part (a)'s single runs, for the matched tolerance)."""
     import inspect
 
-    import equinox as eqx
     import jax
-    import jax.numpy as jnp
 
     import rotorjax as rj
+    from rotorjax.presets import cantilever_limiters as cl
     from rotorjax.solve import simulate_batch
     from tests.reference.model_004 import NumpyModel004
 
@@ -406,7 +422,7 @@ def eccentricity_sweep(args, scene, y0, T, n_save, ts, N, runs):
     watch = CpuWatch()
     each = []
     for e in eps[pick]:
-        m = NumpyModel004(eqx.tree_at(lambda s: s.eps, scene, jnp.float64(e)))
+        m = NumpyModel004(_reference_scene(dict(cl.PRESET.defaults, eps=float(e))))
         t0 = time.perf_counter()
         solve_ivp(m, (0.0, T), np.asarray(y0), method="LSODA", rtol=sweep_tol, atol=sweep_tol, t_eval=ts)
         each.append(time.perf_counter() - t0)

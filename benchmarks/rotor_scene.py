@@ -449,7 +449,7 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
     @eqx.filter_jit
     def vmapped(ws):
         def one(w):
-            s = eqx.tree_at(lambda sc: sc.speed.omega, scene, w)
+            s = eqx.tree_at(lambda sc: sc.speed.constant, scene, w)
             r = rj.simulate(s, y0j, (0.0, T_END), solver="dopri8", rtol=rtol, atol=atol, max_steps=MAX_STEPS)
             return r.ys[-1], r.stats["num_steps"], r.code
         return eqx.filter_vmap(one)(ws)

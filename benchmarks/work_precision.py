@@ -213,7 +213,9 @@ def bench_quick(results):
     from rotorjax.plot import plot_bench
 
     d, _ = _load(results, "bench_quick")
-    plot_bench(d, os.path.join(results, "bench_quick.png"))
+    fig = plot_bench(d)
+    fig.savefig(os.path.join(results, "bench_quick.png"), dpi=120)
+    plt.close(fig)
     pairs = {}
     for r in d["table"]:
         if r["match"] == "interpolated" or r["match"].startswith("same"):

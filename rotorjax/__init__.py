@@ -14,6 +14,7 @@ from .models import Scene as Scene
 from .models import load_rotor as load_rotor
 from .models import save_rotor as save_rotor
 from .solve import IVP as IVP
+from .solve import RESULTS as RESULTS
 from .solve import SimulationResult as SimulationResult
 from .solve import simulate as simulate
 from .sweep import SweepResult as SweepResult

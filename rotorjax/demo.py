@@ -72,13 +72,22 @@ def sweep_001(n_lo=0.5, n_hi=10.0, n_speeds=96, t_end=200.0):
     return res
 
 
+def _save(fig, path):
+    """The demo's PNG (`rotorjax demo` has chosen matplotlib's Agg backend)."""
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def run_demo(out="rotorjax-out"):
     os.makedirs(out, exist_ok=True)
     summary = {}
     t0 = time.perf_counter()
     speed, curves, info = runup_000()
-    plot_curves(speed, curves, os.path.join(out, "runup_000.png"), "speed nu", "whirl amplitude",
-                title="Model 000: run-up nu = 0.16 tau through resonance (paper Fig. 3)")
+    _save(plot_curves(speed, curves, x_label="speed nu", y_label="whirl amplitude",
+                      title="Model 000: run-up nu = 0.16 tau through resonance (paper Fig. 3)"),
+          os.path.join(out, "runup_000.png"))
     summary["runup_000"] = info
     t1 = time.perf_counter()
     res = sweep_001()
@@ -86,10 +95,10 @@ def run_demo(out="rotorjax-out"):
     p = anisotropic_abb.PRESET.defaults
     crit = anisotropic_abb.criterion_polynomial(n, p["n_eta"], p["mu_xi"], p["mu_eta"])
     amp = res["amplitude"]
-    plot_curves(n, {"max whirl amplitude, last 10 time units": amp},
-                os.path.join(out, "sweep_001.png"), "speed n", "whirl amplitude", log=True,
-                shade=crit < 0,
-                title="Model 001: main motion after a perturbation, vs the criterion p(n) < 0")
+    _save(plot_curves(n, {"max whirl amplitude, last 10 time units": amp}, x_label="speed n",
+                      y_label="whirl amplitude", log=True, shade=crit < 0,
+                      title="Model 001: main motion after a perturbation, vs the criterion p(n) < 0"),
+          os.path.join(out, "sweep_001.png"))
     t2 = time.perf_counter()
     summary["sweep_001"] = {
         "speeds": n.tolist(), "max_amplitude": amp.tolist(),

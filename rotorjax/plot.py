@@ -1,18 +1,52 @@
-"""Figures built from result objects (matplotlib is imported on first use)."""
+"""Figures built from result objects (matplotlib is imported on first use).
+
+Every function draws on the axes `ax=` (or the figure `fig=`, where it draws several
+panels) it is given, or on a new pyplot figure, and returns the `Figure`: in a
+notebook it shows like any matplotlib figure, and the caller saves it where it
+likes. Nothing here chooses a matplotlib backend or writes a file:
+the CLI picks the non-interactive one (Agg) and saves its PNGs
+(`rotorjax.cli._common.save_figure`). The `path` arguments of the earlier
+file-writing versions are still accepted, and ignored with a `FutureWarning`.
+"""
 
 import re
 import textwrap
+import warnings
 
 import numpy as np
 
 
 def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def _unwritten(path, name, stacklevel=4):
+    """The file-writing versions' `path`: still accepted, not written (a warning says so)."""
+    if path is not None:
+        warnings.warn(f"{name}: rotorjax.plot draws and returns the Figure but no longer writes it; "
+                      f"{str(path)!r} is not written: save the returned Figure", FutureWarning,
+                      stacklevel=stacklevel)
+
+
+def _on_axes(ax, figsize, path=None, name="plot"):
+    """`(figure, axes, layout)`: the given `ax` and its figure (whose layout is the
+    caller's), or a new pyplot figure of `figsize` with one axes (laid out here)."""
+    _unwritten(path, name)
+    if ax is None:
+        fig, ax = _plt().subplots(figsize=figsize)
+        return fig, ax, True
+    return ax.figure, ax, False
+
+
+def _on_figure(fig, figsize, path=None, name="plot"):
+    """`(figure, layout)`: the given (empty) `fig`, laid out here unless it has a
+    layout engine of its own, or a new pyplot figure of `figsize`."""
+    _unwritten(path, name)
+    if fig is None:
+        return _plt().figure(figsize=figsize), True
+    return fig, fig.get_layout_engine() is None
 
 
 def _wrap_to_width(text, original, width, renderer):
@@ -51,7 +85,7 @@ def _fit_titles_and_layout(fig):
     on its axes, which the tick labels push off the figure's centre): the CLI's
     titles name the preset, the input, the output and the running condition, longer
     than a narrow figure (a 6-inch polar plot) is wide."""
-    renderer = fig.canvas.get_renderer()
+    renderer = fig._get_renderer()   # any canvas (an Agg one, or a notebook's)
     slots = [(t, t.get_text(), room) for t, room in _titles(fig)]
     for text, original, room in slots:
         _wrap_to_width(text, original, room, renderer)
@@ -67,17 +101,16 @@ def _fit_titles_and_layout(fig):
         fig.tight_layout()
 
 
-def _save(fig, path, axes=(), legend=True):
-    """The common finish of every figure: grid, legend, titles wrapped to fit,
-    layout, PNG, close."""
+def _finish(fig, axes=(), legend=True, layout=True):
+    """The common finish of every figure: grid, legend, and (with `layout`) the
+    titles wrapped to fit and the layout. Returns `fig`."""
     for ax in axes:
         ax.grid(alpha=0.3)
         if legend:
             ax.legend(fontsize=8)
-    _fit_titles_and_layout(fig)
-    fig.savefig(path, dpi=120)
-    _plt().close(fig)
-    return path
+    if layout:
+        _fit_titles_and_layout(fig)
+    return fig
 
 
 def _amplitude_axis(ax, values, label="whirl amplitude"):
@@ -103,10 +136,11 @@ def _time_axis_label(x_label, time_unit=None):
     return f"{x_label} ({time_unit})"
 
 
-def plot_simulation(result, path, title="", speed=None, x_label="time", time_unit=None, node=None, unit=None,
-                    amplitude_label=None):
+def plot_simulation(result, path=None, title="", speed=None, x_label="time", time_unit=None, node=None, unit=None,
+                    amplitude_label=None, *, fig=None):
     """Whirl amplitude and weight angles against time (or against `speed`, for a
-    run-up: pass the speed at the saved times). Writes a PNG to `path`.
+    run-up: pass the speed at the saved times), on `fig` (one or two panels) or a
+    new figure.
 
     **Arguments:**
 
@@ -119,10 +153,10 @@ def plot_simulation(result, path, title="", speed=None, x_label="time", time_uni
     - `unit`: the amplitude's unit (the preset's length unit); a rotor scene's
       amplitudes are in m without it.
     - `amplitude_label`: the amplitude axis's name, before the unit.
+    - `fig`: an empty figure to draw on (default: a new one).
 
-    **Returns:** `path`.
+    **Returns:** the `Figure`.
     """
-    plt = _plt()
     out = result.outputs
     x = np.asarray(result.ts) if speed is None else np.asarray(speed)
     has_weights = "weight_angles" in out
@@ -137,8 +171,8 @@ def plot_simulation(result, path, title="", speed=None, x_label="time", time_uni
         name = "whirl amplitude, largest over the nodes" if nodes else "whirl amplitude"
     unit = "m" if unit is None and nodes else unit
     label = (amplitude_label or name) + (f" ({unit})" if unit else "")
-    fig, axes = plt.subplots(2 if has_weights else 1, 1, figsize=(8, 6 if has_weights else 3.5),
-                             sharex=True, squeeze=False)
+    fig, layout = _on_figure(fig, (8, 6 if has_weights else 3.5), path, "plot_simulation")
+    axes = fig.subplots(2 if has_weights else 1, 1, sharex=True, squeeze=False)
     ax = axes[0, 0]
     ax.plot(x, amp, lw=0.8)
     _amplitude_axis(ax, amp, label)
@@ -156,14 +190,14 @@ def plot_simulation(result, path, title="", speed=None, x_label="time", time_uni
     axes[-1, 0].set_xlabel(_time_axis_label(x_label, time_unit))
     if not bool(np.all(np.asarray(result.success))):
         fig.text(0.5, 0.5, f"FAILED: {result.message}", color="red", ha="center")
-    return _save(fig, path)
+    return _finish(fig, layout=layout)
 
 
-def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, shade=None):
-    """Several named curves on one axis; `shade` is an optional boolean mask over `x`
-    drawn as a background band (e.g. where a criterion predicts balancing)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4))
+def plot_curves(x, curves: dict, path=None, x_label="", y_label="", title="", log=False, shade=None, *, ax=None):
+    """Several named curves on one axis (`ax`, or a new figure's); `shade` is an
+    optional boolean mask over `x` drawn as a background band (e.g. where a
+    criterion predicts balancing). Returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 4), path, "plot_curves")
     if shade is not None:
         shade = np.asarray(shade)
         ax.fill_between(x, 0, 1, where=shade, color="tab:green", alpha=0.12,
@@ -175,15 +209,15 @@ def plot_curves(x, curves: dict, path, x_label, y_label, title="", log=False, sh
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
+def plot_stability_map(x, y, margin, path=None, x_label="", y_label="", title="", *, ax=None):
     """Stability margin over a grid (`margin[i, j]` at `x[i], y[j]`), with the zero
-    contour (the stability boundary at the grid's resolution)."""
-    plt = _plt()
+    contour (the stability boundary at the grid's resolution), on `ax` (its colorbar
+    beside it) or a new figure. Returns the `Figure`."""
     m = np.asarray(margin, dtype=float)
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_stability_map")
     lim = np.nanmax(np.abs(m)) if np.isfinite(m).any() else 1.0
     im = ax.pcolormesh(x, y, m.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto")
     if np.nanmin(m) < 0 < np.nanmax(m):
@@ -192,15 +226,14 @@ def plot_stability_map(x, y, margin, path, x_label, y_label, title=""):
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title)
-    return _save(fig, path)
+    return _finish(fig, layout=layout)
 
 
-def plot_campbell(speeds, frequencies, forward, path, critical=(), title="", unit="rad/s"):
+def plot_campbell(speeds, frequencies, forward, path=None, critical=(), title="", unit="rad/s", *, ax=None):
     """Campbell diagram: damped natural frequencies against speed, forward whirl
     solid red, backward dashed blue, with the 1x line and the critical speeds
-    (`unit`: of both axes)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5))
+    (`unit`: of both axes), on `ax` or a new figure. Returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_campbell")
     f, fw = np.asarray(frequencies), np.asarray(forward)
     for k in range(f.shape[1]):
         ax.plot(speeds, np.where(fw[:, k], f[:, k], np.nan), "-", color="tab:red", lw=1.2,
@@ -214,13 +247,14 @@ def plot_campbell(speeds, frequencies, forward, path, critical=(), title="", uni
     ax.set_ylabel(f"damped natural frequency ({unit})")
     ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_response(speeds, X, Y, path, title=""):
-    """Unbalance response amplitude (log) and phase of x and y against speed."""
-    plt = _plt()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+def plot_response(speeds, X, Y, path=None, title="", *, fig=None):
+    """Unbalance response amplitude (log) and phase of x and y against speed, two
+    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
+    fig, layout = _on_figure(fig, (8, 6), path, "plot_response")
+    a1, a2 = fig.subplots(2, 1, sharex=True)
     for z, label in ((X, "x"), (Y, "y")):
         a1.semilogy(speeds, np.abs(z), label=label)
         a2.plot(speeds, np.degrees(np.angle(z)), label=label)
@@ -228,17 +262,18 @@ def plot_response(speeds, X, Y, path, title=""):
     a2.set_ylabel("phase (deg)")
     a2.set_xlabel("speed (rad/s)")
     a1.set_title(title)
-    return _save(fig, path, [a1, a2])
+    return _finish(fig, [a1, a2], layout=layout)
 
 
-def plot_precession(result, prec, path, title="", clearance=None):
+def plot_precession(result, prec, path=None, title="", clearance=None, *, fig=None):
     """Model 004 run: disk-centre orbit (window, with the once-per-revolution
-    samples), the relative precession speed `Lambda(t)` and its spectrum."""
-    plt = _plt()
+    samples), the relative precession speed `Lambda(t)` and its spectrum: four
+    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
+    fig, layout = _on_figure(fig, (11, 8), path, "plot_precession")
     out = result.outputs
     ts, x, y = np.asarray(result.ts), np.asarray(out["disk_x"]), np.asarray(out["disk_y"])
     k = ts >= prec.ts[0]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
+    axes = fig.subplots(2, 2)
     ax = axes[0, 0]
     ax.plot(x[k], y[k], lw=0.4, label="disk centre")
     ax.plot(prec.strobe_x, prec.strobe_y, ".", color="C3", ms=3, label="once per revolution")
@@ -262,13 +297,14 @@ def plot_precession(result, prec, path, title="", clearance=None):
     ax.set_xlabel("frequency (cycles per time unit)")
     ax.set_yscale("log")
     fig.suptitle(title)
-    return _save(fig, path, axes.ravel())
+    return _finish(fig, axes.ravel(), layout=layout)
 
 
-def plot_bifurcation(values, extrema, mean_lambda, path, param, title=""):
-    """Extrema diagram of the disk's x against a swept parameter, with <Lambda>."""
-    plt = _plt()
-    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+def plot_bifurcation(values, extrema, mean_lambda, path=None, param="", title="", *, fig=None):
+    """Extrema diagram of the disk's x against a swept parameter, with <Lambda>: two
+    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
+    fig, layout = _on_figure(fig, (8, 7), path, "plot_bifurcation")
+    axes = fig.subplots(2, 1, sharex=True)
     for v, ext, lam in zip(values, extrema, mean_lambda):
         axes[0].plot(np.full(len(ext), v), ext, ".", ms=1.5, color="C3" if lam < 0 else "k")
     axes[0].set_ylabel("extrema of disk x / l")
@@ -277,7 +313,7 @@ def plot_bifurcation(values, extrema, mean_lambda, path, param, title=""):
     axes[1].set_xlabel(param)
     axes[1].set_ylabel("<Lambda>")
     fig.suptitle(title)
-    return _save(fig, path, axes[1:])
+    return _finish(fig, axes[1:], layout=layout)
 
 
 # --- one picture per CLI analysis ------------------------------------------------------
@@ -294,8 +330,8 @@ def _verdict_style(verdict):
     return _VERDICT_STYLE.get(verdict, dict(marker="s", color="tab:gray", mfc="none", label=str(verdict)))
 
 
-def plot_steady_regimes(path, regimes, title, x_label="weight angle relative to the rotor (rad)",
-                        y_label="whirl amplitude (dimensionless)"):
+def plot_steady_regimes(path=None, regimes=None, title="", x_label="weight angle relative to the rotor (rad)",
+                        y_label="whirl amplitude (dimensionless)", *, ax=None):
     """Stationary regimes of a rotor with an automatic balancer on the plane (weight
     angle, whirl amplitude): a regime is one marker per weight at
     `(weight_angles[j], whirl_amplitude)`, the markers of one regime joined by a
@@ -310,15 +346,18 @@ def plot_steady_regimes(path, regimes, title, x_label="weight angle relative to 
       `regimes` of `rotorjax steady --json`. For regimes without weight angles
       (the modal model 003) use `plot_regime_amplitudes`.
     - `title`: the run's parameters.
+    - `ax`: the axes to draw on (default: a new figure's); `path`: ignored (the
+      file-writing version's), give `regimes` and `title` by keyword.
 
-    **Returns:** `path`.
+    **Returns:** the `Figure`.
     """
+    if regimes is None:
+        raise TypeError("plot_steady_regimes: missing the argument 'regimes'")
     missing = [i + 1 for i, r in enumerate(regimes) if "weight_angles" not in r]
     if missing:
         raise ValueError(f"regimes {missing} have no 'weight_angles'; plot regimes given by kind and "
                          "amplitude with plot_regime_amplitudes")
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_steady_regimes")
     seen = set()
     for i, r in enumerate(regimes):
         st = dict(_verdict_style(r["verdict"]))
@@ -345,11 +384,11 @@ def plot_steady_regimes(path, regimes, title, x_label="weight angle relative to 
                  fontsize=10)
     if not regimes:
         ax.text(0.5, 0.5, "no stationary regime found", transform=ax.transAxes, ha="center")
-    return _save(fig, path, [ax], legend=bool(regimes))
+    return _finish(fig, [ax], legend=bool(regimes), layout=layout)
 
 
-def plot_regime_amplitudes(path, regimes, title, y_label="disk amplitude (dimensionless)",
-                           amplitude_key="disk_amplitude"):
+def plot_regime_amplitudes(path=None, regimes=None, title="", y_label="disk amplitude (dimensionless)",
+                           amplitude_key="disk_amplitude", *, ax=None):
     """Stationary regimes given by kind and amplitude (model 003: "C", "PS", "NS1",
     ...): the amplitude of each regime over a categorical axis of kinds (in order
     of first appearance; several regimes of one kind side by side), filled for
@@ -361,11 +400,14 @@ def plot_regime_amplitudes(path, regimes, title, y_label="disk amplitude (dimens
       `amplitude_key` (e.g. the `regimes` of `rotorjax steady flexible-abb --json`);
       an optional `sigma` is written next to the marker.
     - `title`: the run's parameters.
+    - `ax`: the axes to draw on (default: a new figure's); `path`: ignored (the
+      file-writing version's), give `regimes` and `title` by keyword.
 
-    **Returns:** `path`.
+    **Returns:** the `Figure`.
     """
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    if regimes is None:
+        raise TypeError("plot_regime_amplitudes: missing the argument 'regimes'")
+    fig, ax, layout = _on_axes(ax, (8, 4.5), path, "plot_regime_amplitudes")
     kinds = list(dict.fromkeys(str(r["kind"]) for r in regimes))
     count = {k: sum(str(r["kind"]) == k for r in regimes) for k in kinds}
     placed = {k: 0 for k in kinds}
@@ -394,11 +436,12 @@ def plot_regime_amplitudes(path, regimes, title, y_label="disk amplitude (dimens
     ax.set_title(title, fontsize=10)
     if not regimes:
         ax.text(0.5, 0.5, "no stationary regime found", transform=ax.transAxes, ha="center")
-    return _save(fig, path, [ax], legend=bool(regimes))
+    return _finish(fig, [ax], legend=bool(regimes), layout=layout)
 
 
-def plot_margin(path, speeds, margin, roots, title, speed_label, margin_label, root_label="critical speed",
-                extra_roots=None, extra_label=None):
+def plot_margin(path=None, speeds=None, margin=None, roots=None, title="", speed_label="speed",
+                margin_label="stability margin", root_label="critical speed", extra_roots=None, extra_label=None, *,
+                ax=None):
     """Stability margin against speed (largest real part of the eigenvalues, or
     largest Floquet exponent): the curve, the zero line, the stable region
     (margin < 0) shaded, the located `roots` as dots on the zero line with dotted
@@ -411,13 +454,16 @@ def plot_margin(path, speeds, margin, roots, title, speed_label, margin_label, r
     - `roots`, `extra_roots`: speeds (floats) where the margin is zero.
     - `speed_label`, `margin_label`: axis labels with units (or "dimensionless").
     - `title`: the run's parameters.
+    - `ax`: the axes to draw on (default: a new figure's); `path`: ignored (the
+      file-writing version's), give the other arguments by keyword.
 
-    **Returns:** `path`.
+    **Returns:** the `Figure`.
     """
-    plt = _plt()
+    if speeds is None or margin is None:
+        raise TypeError("plot_margin: missing the argument 'speeds' or 'margin'")
     speeds = np.asarray(speeds, dtype=float)
     m = np.asarray(margin, dtype=float)
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax, layout = _on_axes(ax, (8, 4.5), path, "plot_margin")
     stable = np.isfinite(m) & (m < 0)
     ax.fill_between(speeds, 0, 1, where=stable, color="tab:green", alpha=0.12, step="mid",
                     transform=ax.get_xaxis_transform(), label="stable (margin < 0)")
@@ -438,7 +484,7 @@ def plot_margin(path, speeds, margin, roots, title, speed_label, margin_label, r
     ax.set_xlabel(speed_label)
     ax.set_ylabel(margin_label)
     ax.set_title(title, fontsize=10)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
 def _arrow(ax, angle, radius, color, ls="-", lw=1.6):
@@ -446,7 +492,8 @@ def _arrow(ax, angle, radius, color, ls="-", lw=1.6):
                 arrowprops=dict(arrowstyle="-|>", color=color, lw=lw, ls=ls, shrinkA=0, shrinkB=0))
 
 
-def plot_balance(path, before, after, corrections, title, unit="m", planes=None, mass_unit="g"):
+def plot_balance(path=None, before=None, after=None, corrections=None, title="", unit="m", planes=None,
+                 mass_unit="g", *, fig=None):
     """Two-plane (or more) balancing on polar axes. Left: the 1x vibration phasors
     per sensor, measured before (solid) and predicted after the correction
     (dashed). Right: the correction per plane, a mass at an angle. Angles are
@@ -461,15 +508,19 @@ def plot_balance(path, before, after, corrections, title, unit="m", planes=None,
       and grams).
     - `planes`: the plane numbers (default 1, 2, ...).
     - `title`: the run's parameters.
+    - `fig`: an empty figure to draw the two polar panels on (default: a new one);
+      `path`: ignored (the file-writing version's), give the others by keyword.
 
-    **Returns:** `path`.
+    **Returns:** the `Figure` (its legends hang below the axes: save it with
+    `bbox_inches="tight"`).
     """
-    plt = _plt()
+    if before is None or after is None or corrections is None:
+        raise TypeError("plot_balance: missing the argument 'before', 'after' or 'corrections'")
     before = np.atleast_1d(np.asarray(before, dtype=complex))
     after = np.atleast_1d(np.asarray(after, dtype=complex))
     corr = np.atleast_1d(np.asarray(corrections, dtype=complex))
     planes = list(range(1, corr.size + 1)) if planes is None else list(planes)
-    fig = plt.figure(figsize=(11, 5.5))
+    fig, layout = _on_figure(fig, (11, 5.5), path, "plot_balance")
     a1 = fig.add_subplot(1, 2, 1, projection="polar")
     a2 = fig.add_subplot(1, 2, 2, projection="polar")
     from matplotlib.lines import Line2D
@@ -511,10 +562,7 @@ def plot_balance(path, before, after, corrections, title, unit="m", planes=None,
         ax.grid(alpha=0.3)
     fig.suptitle(title + "\nangles from the once-per-revolution mark, positive in the direction of "
                  "rotation (counter-clockwise here)", fontsize=10)
-    _fit_titles_and_layout(fig)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
-    return path
+    return _finish(fig, layout=layout)
 
 
 def _break_wraps(x, deg):
@@ -523,8 +571,8 @@ def _break_wraps(x, deg):
     return np.insert(np.asarray(x, dtype=float), cut, np.nan), np.insert(deg, cut, np.nan)
 
 
-def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="m",
-                        speed_label="speed (rad/s)", level=0.95):
+def plot_identification(path=None, speeds=None, data=None, fit=None, lo=None, hi=None, title="", channels=None,
+                        unit="m", speed_label="speed (rad/s)", level=0.95, *, fig=None):
     """Identification on a Bode plot: measured 1x phasors (dots) against the fitted
     model (lines), amplitude (log scale) above and phase below, with the model's
     confidence band on the amplitude (from `rotorjax.identify.response_band`) shaded.
@@ -536,15 +584,19 @@ def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="
     - `lo`, `hi`: the band's edges on `|fit|`, shape `(n, c)`.
     - `channels`: `c` names (e.g. `["x1", "x2"]`).
     - `title`: the run's parameters.
+    - `fig`: an empty figure to draw the two panels on (default: a new one);
+      `path`: ignored (the file-writing version's), give the others by keyword.
 
-    **Returns:** `path`.
+    **Returns:** the `Figure`.
     """
-    plt = _plt()
+    if any(v is None for v in (speeds, data, fit, lo, hi, channels)):
+        raise TypeError("plot_identification: give speeds, data, fit, lo, hi and channels")
     w = np.asarray(speeds, dtype=float)
     data, fit = (np.asarray(v, dtype=complex).reshape(w.size, -1) for v in (data, fit))
     lo, hi = (np.asarray(v, dtype=float).reshape(w.size, -1) for v in (lo, hi))
     order = np.argsort(w)
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    fig, layout = _on_figure(fig, (9, 7), path, "plot_identification")
+    a1, a2 = fig.subplots(2, 1, sharex=True)
     for j, name in enumerate(channels):
         c = f"C{j}"
         a1.fill_between(w[order], np.maximum(lo[order, j], 1e-300), hi[order, j], color=c, alpha=0.25,
@@ -561,15 +613,18 @@ def plot_identification(path, speeds, data, fit, lo, hi, title, channels, unit="
     a2.set_yticks(np.arange(-180, 181, 90))
     a2.set_xlabel(speed_label)
     a1.set_title(title, fontsize=10)
-    return _save(fig, path, [a1, a2])
+    return _finish(fig, [a1, a2], layout=layout)
 
 
-def plot_fe_identification(path, result, title, unit="m"):
+def plot_fe_identification(path=None, result=None, title="", unit="m", *, fig=None):
     """An `FEIdentification` on a Bode plot per channel (run, node, direction):
     measured phasors (dots) against the fitted model (lines), amplitude and phase,
     and below the scaled residuals `(model - measured) / sigma` (real and
-    imaginary parts) against speed (frequency for receptances)."""
-    plt = _plt()
+    imaginary parts) against speed (frequency for receptances): three panels on
+    `fig` (empty) or a new figure. `path` is ignored (the file-writing version's).
+    Returns the `Figure`."""
+    if result is None:
+        raise TypeError("plot_fe_identification: missing the argument 'result'")
     d = result.data
     x = np.asarray(d.frequency if d.kind == "frf" else d.speed, dtype=float)
     if d.kind == "frf":
@@ -580,7 +635,8 @@ def plot_fe_identification(path, result, title, unit="m"):
         keys = list(zip(d.run.tolist(), d.node.tolist(), d.direction.tolist()))
         name = {k: (f"run {k[0]} " if len(set(d.run.tolist())) > 1 else "") + f"node {k[1]} {'xy'[k[2]]}"
                 for k in keys}
-    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    fig, layout = _on_figure(fig, (9, 9), path, "plot_fe_identification")
+    a1, a2, a3 = fig.subplots(3, 1, sharex=True)
     scaled = (result.fitted - d.X) / result.sigma
     for j, k in enumerate(dict.fromkeys(keys)):
         sel = np.array([kk == k for kk in keys])
@@ -607,15 +663,15 @@ def plot_fe_identification(path, result, title, unit="m"):
     a1.set_title(title, fontsize=10)
     for a in (a2, a3):
         a.grid(alpha=0.3)
-    return _save(fig, path, [a1], legend=True)
+    return _finish(fig, [a1], legend=True, layout=layout)
 
 
-def plot_boundaries(branches, crossings, path, key, key2, box, title):
+def plot_boundaries(branches, crossings, path=None, key="", key2="", box=None, title="", *, ax=None):
     """Stability boundaries in two parameters: every branch's dense (cubic Hermite)
     curve with its points marked, and the crossings the scan located (`box`:
-    `(lo1, hi1, lo2, hi2)`)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5))
+    `(lo1, hi1, lo2, hi2)`, the axes' limits; default: fitted to the curves), on `ax`
+    or a new figure. Returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_boundaries")
     for i, c in enumerate(branches):
         d = c.dense(8)
         line, = ax.plot(d[:, 0], d[:, 1], lw=1.2, label=f"branch {i + 1} ({c.stop})")
@@ -623,24 +679,26 @@ def plot_boundaries(branches, crossings, path, key, key2, box, title):
     if crossings:
         ax.plot([c[key] for c in crossings], [c[key2] for c in crossings], "kx", ms=6,
                 label="crossings located by the scan")
-    ax.set_xlim(box[0], box[1])
-    ax.set_ylim(box[2], box[3])
+    if box is not None:
+        ax.set_xlim(box[0], box[1])
+        ax.set_ylim(box[2], box[3])
     ax.set_xlabel(key)
     ax.set_ylabel(key2)
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
 # ---- finite-element rotor: static deflection, mode shapes, tracked Campbell diagram ----
 
-def plot_static(result, path, title=""):
+def plot_static(result, path=None, title="", *, fig=None):
     """A `StaticResult`: deflection, shear force and bending moment along the shaft
-    in the plane of gravity (shear and moment at both ends of every element)."""
-    plt = _plt()
+    in the plane of gravity (shear and moment at both ends of every element), three
+    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
     p = ("x", "y").index(result.axis)
     z = np.asarray(result.positions)
     ends = np.asarray(result.element_ends)
-    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    fig, layout = _on_figure(fig, (8, 8), path, "plot_static")
+    a1, a2, a3 = fig.subplots(3, 1, sharex=True)
     a1.plot(z, 1e6 * np.asarray(result.displacement)[:, p], "o-", ms=3, label=f"{result.axis} (µm)")
     a1.set_ylabel("deflection (µm)")
     a2.plot(ends.ravel(), np.asarray(result.shear)[:, :, p].ravel(), "-", color="tab:green", label="shear force")
@@ -650,7 +708,7 @@ def plot_static(result, path, title=""):
     a3.set_ylabel("bending moment (N m)")
     a3.set_xlabel("axial position (m)")
     a1.set_title(title)
-    return _save(fig, path, [a1, a2, a3])
+    return _finish(fig, [a1, a2, a3], layout=layout)
 
 
 def mode_shape_lines(shape, rotor, n_per_element=8):
@@ -704,18 +762,19 @@ def _mode_label(modes, k):
             f"log dec {float(modes.log_dec[k]):.3g}")
 
 
-def plot_mode_shapes(modes, rotor, path, title=""):
+def plot_mode_shapes(modes, rotor, path=None, title="", *, fig=None):
     """2-D mode shapes of a `Modes` (one speed), one panel per mode: the orbits'
     semi-major axis along the shaft (signed: negative where a station moves against
     the largest orbit, so nodal points show), as ROSS's 2-D mode shape draws it,
     and the semi-minor axis (positive forward whirl, negative backward): equal to
     the major one for a circular orbit, zero for a planar one. Normalised so that
-    the largest of `|x|`, `|y|` is 1."""
-    plt = _plt()
+    the largest of `|x|`, `|y|` is 1. On `fig` (empty) or a new figure; returns the
+    `Figure`."""
     k_all = len(np.asarray(modes.frequencies))
     cols = min(k_all, 2)
     rows = -(-k_all // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(6 * cols, 2.8 * rows), squeeze=False)
+    fig, layout = _on_figure(fig, (6 * cols, 2.8 * rows), path, "plot_mode_shapes")
+    axes = fig.subplots(rows, cols, squeeze=False)
     shapes = np.asarray(modes.shapes)
     for k in range(k_all):
         ax = axes.flat[k]
@@ -731,17 +790,17 @@ def plot_mode_shapes(modes, rotor, path, title=""):
     for ax in list(axes.flat)[k_all:]:
         ax.set_visible(False)
     fig.suptitle(title)
-    return _save(fig, path, list(axes.flat)[:k_all])
+    return _finish(fig, list(axes.flat)[:k_all], layout=layout)
 
 
-def plot_mode_shapes_3d(modes, rotor, path, title="", n_orbit=60):
+def plot_mode_shapes_3d(modes, rotor, path=None, title="", n_orbit=60, *, fig=None):
     """3-D mode shapes of a `Modes`: the orbits `(x(t), y(t))` along the shaft (at
-    the nodes, and the deflected line at one instant), one panel per mode."""
-    plt = _plt()
+    the nodes, and the deflected line at one instant), one panel per mode, on `fig`
+    (empty) or a new figure. Returns the `Figure`."""
     k_all = len(np.asarray(modes.frequencies))
     cols = min(k_all, 2)
     rows = -(-k_all // cols)
-    fig = plt.figure(figsize=(6 * cols, 4.5 * rows))
+    fig, layout = _on_figure(fig, (6 * cols, 4.5 * rows), path, "plot_mode_shapes_3d")
     shapes = np.asarray(modes.shapes)
     ph = np.exp(1j * np.linspace(0, 2 * np.pi, n_orbit))
     axes = []
@@ -760,20 +819,21 @@ def plot_mode_shapes_3d(modes, rotor, path, title="", n_orbit=60):
         ax.set_title(_mode_label(modes, k), fontsize=9)
         axes.append(ax)
     fig.suptitle(title)
-    return _save(fig, path, axes, legend=False)
+    return _finish(fig, axes, legend=False, layout=layout)
 
 
-def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path, critical=(), title="", unit="rad/s"):
+def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path=None, critical=(), title="", unit="rad/s", *,
+                          ax=None):
     """Campbell diagram of tracked branches (`frequencies` speeds x branches):
     forward whirl solid red, backward dashed blue, mixed dotted grey, drawn over
     dots coloured by the logarithmic decrement (a colorbar; at most about 40 dots
     per branch, so the line styles show between them); the 1x line and its
     crossings. The legend names the line styles with proxy lines (no marker) and
-    only the whirl directions present."""
+    only the whirl directions present. On `ax` (its colorbar beside it) or a new
+    figure; returns the `Figure`."""
     from matplotlib.lines import Line2D
 
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(9, 5.5))
+    fig, ax, layout = _on_axes(ax, (9, 5.5), path, "plot_campbell_tracked")
     speeds = np.asarray(speeds, dtype=float)
     f, w, d = np.asarray(frequencies), np.asarray(whirl), np.asarray(log_dec, dtype=float)
     d = np.where(np.abs(d) < 1e-9, 0.0, d)   # an undamped rotor's round-off
@@ -806,7 +866,7 @@ def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path, critical=()
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(handles, labels, fontsize=8, handlelength=3)
-    return _save(fig, path)
+    return _finish(fig, layout=layout)
 
 
 #: A bearing's colour on the UCS map (its kxx dashed, kyy dotted), apart from the modes' C0, C1, ...
@@ -824,15 +884,15 @@ def _bearing_label(members):
     return " = ".join(f"bearing {b} {n}" for b, n in members)
 
 
-def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, intersections=(), title="",
-             synchronous=False):
+def plot_ucs(stiffness, frequencies, path=None, bearing_speeds=None, bearing_k=None, intersections=(), title="",
+             synchronous=False, *, ax=None):
     """Undamped critical speed map (log-log): critical speed against bearing
     stiffness, one curve per mode, with each bearing's `kxx` (dashed) and `kyy`
     (dotted) against speed in the bearing's own colour (`bearing_k` (n_b, 2, n_s)
     at `bearing_speeds`; curves that coincide drawn once, their legend entry naming
-    them all) and their intersections (`(k, speed)` pairs)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5))
+    them all) and their intersections (`(k, speed)` pairs). On `ax` or a new
+    figure; returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_ucs")
     k, f = np.asarray(stiffness), np.asarray(frequencies)
     for j in range(f.shape[1]):
         ax.loglog(k, np.where(np.isfinite(f[:, j]), f[:, j], np.nan), "-", lw=1.4, label=f"mode {j + 1}")
@@ -858,24 +918,23 @@ def plot_ucs(stiffness, frequencies, path, bearing_speeds=None, bearing_k=None, 
     ax.set_xlabel("bearing stiffness (N/m)")
     ax.set_ylabel("critical speed (rad/s)" + (" (forward synchronous)" if synchronous else " (at rest)"))
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
-    """A frequency-response function: Bode (magnitude, log; phase, degrees, with a
-    gap where it wraps past +-180) and polar (Nyquist: Im against Re, the
-    frequency increasing along the curve). The frequencies may be spaced unevenly
-    (refined near the resonances, so that the polar curve is smooth) and in any
-    order: the points are joined in order of frequency. Long titles are wrapped to
-    the figure's width.
-
-    **Returns:** `path_polar`.
-    """
-    plt = _plt()
+def _frf_points(frequencies, values):
     w, h = np.asarray(frequencies, dtype=float).ravel(), np.asarray(values).ravel()
     order = np.argsort(w, kind="stable")
-    w, h = w[order], h[order]
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    return w[order], h[order]
+
+
+def plot_bode(frequencies, values, title="", unit="m/N", *, fig=None):
+    """A frequency-response function's Bode plot: magnitude (log) above, phase
+    (degrees, with a gap where it wraps past +-180) below, on `fig` (empty) or a new
+    figure. The frequencies may be uneven and in any order (joined in order of
+    frequency). Returns the `Figure`."""
+    w, h = _frf_points(frequencies, values)
+    fig, layout = _on_figure(fig, (8, 6))
+    a1, a2 = fig.subplots(2, 1, sharex=True)
     a1.semilogy(w, np.abs(h), lw=1.2)
     a2.plot(*_break_wraps(w, np.degrees(np.angle(h))), lw=1.2)
     a2.set_ylim(-180, 180)
@@ -884,8 +943,15 @@ def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
     a2.set_ylabel("phase (deg)")
     a2.set_xlabel("frequency (rad/s)")
     a1.set_title(title)
-    _save(fig, path_bode, [a1, a2], legend=False)
-    fig, ax = plt.subplots(figsize=(6, 6))
+    return _finish(fig, [a1, a2], legend=False, layout=layout)
+
+
+def plot_nyquist(frequencies, values, title="", unit="m/N", *, ax=None):
+    """A frequency-response function's polar (Nyquist) plot: Im against Re, the
+    frequency increasing along the curve (its ends marked), on `ax` or a new
+    figure. Returns the `Figure`."""
+    w, h = _frf_points(frequencies, values)
+    fig, ax, layout = _on_axes(ax, (6, 6))
     ax.plot(h.real, h.imag, lw=1.2)
     ax.plot([h.real[0]], [h.imag[0]], "o", color="tab:green", ms=4, label=f"{w[0]:g} rad/s")
     ax.plot([h.real[-1]], [h.imag[-1]], "s", color="tab:red", ms=4, label=f"{w[-1]:g} rad/s")
@@ -893,14 +959,30 @@ def plot_frf(frequencies, values, path_bode, path_polar, title="", unit="m/N"):
     ax.set_ylabel(f"imaginary ({unit})")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title + " (polar)" if title else "polar")
-    return _save(fig, path_polar, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_deflected_shape(positions, x, y, major, path, title=""):
+def plot_frf(frequencies, values, path_bode=None, path_polar=None, title="", unit="m/N", *, fig=None, ax=None):
+    """A frequency-response function: Bode (`plot_bode`, on `fig`) and polar
+    (`plot_nyquist`, on `ax`), each on a new figure by default. The frequencies may
+    be spaced unevenly (refined near the resonances, so that the polar curve is
+    smooth) and in any order: the points are joined in order of frequency. Long
+    titles are wrapped to the figure's width. `path_bode`, `path_polar`: ignored
+    (the file-writing version's).
+
+    **Returns:** the two `Figure`s, `(bode, polar)`.
+    """
+    _unwritten(path_bode, "plot_frf", 3)
+    _unwritten(path_polar, "plot_frf", 3)
+    return (plot_bode(frequencies, values, title, unit, fig=fig),
+            plot_nyquist(frequencies, values, title, unit, ax=ax))
+
+
+def plot_deflected_shape(positions, x, y, major, path=None, title="", *, ax=None):
     """Deflected shape at one speed: the orbit's major semi-axis along the shaft and
-    the `x`, `y` displacements at the instant `t = 0` (real parts)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4))
+    the `x`, `y` displacements at the instant `t = 0` (real parts), on `ax` or a new
+    figure. Returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 4), path, "plot_deflected_shape")
     z = np.asarray(positions)
     ax.plot(z, np.asarray(major), "k-o", ms=3, lw=1.4, label="major semi-axis")
     ax.plot(z, np.real(np.asarray(x)), "--", lw=1.0, label="x (t = 0)")
@@ -908,19 +990,19 @@ def plot_deflected_shape(positions, x, y, major, path, title=""):
     ax.set_xlabel("axial position (m)")
     ax.set_ylabel("displacement (m)")
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_level1(q, log_dec, path, q0=None, title=""):
+def plot_level1(q, log_dec, path=None, q0=None, title="", *, ax=None):
     """API 684 level I: the first forward mode's log decrement against the
     cross-coupled stiffness, with the threshold `q0` where it crosses zero marked
     and annotated ("Q0 = ... N/m"). `q` runs from 0 to about the bearings'
     stiffness, and `Q0` is often a small part of it: where `Q0` is below 5 % of the
     largest `Q` the axis is symmetric-logarithmic (linear from 0 to the power of ten
     below `Q0`, logarithmic above), so that `Q0` stands clear of 0. The curve joins
-    the computed points and passes through `(Q0, 0)`."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4))
+    the computed points and passes through `(Q0, 0)`. On `ax` or a new figure;
+    returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 4), path, "plot_level1")
     q, ld = np.asarray(q, dtype=float), np.asarray(log_dec, dtype=float)
     order = np.argsort(q)
     q, ld = q[order], ld[order]
@@ -947,16 +1029,18 @@ def plot_level1(q, log_dec, path, q0=None, title=""):
     ax.set_xlabel(x_label)
     ax.set_ylabel("log decrement")
     ax.set_title(title)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
-def plot_fe_balance(path, result, title):
+def plot_fe_balance(path=None, result=None, title="", *, ax=None):
     """A flexible rotor's balancing (`rotorjax.identify._fe_balance.FEBalancing`): the
     1x vibration magnitude per sensor against speed, measured before (solid) and
-    predicted after the corrections (dashed), with the corrections in the legend's
-    title. Writes a PNG to `path` and returns it."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    predicted after the corrections (dashed), with the corrections in the title. On
+    `ax` or a new figure; `path` is ignored (the file-writing version's). Returns
+    the `Figure`."""
+    if result is None:
+        raise TypeError("plot_fe_balance: missing the argument 'result'")
+    fig, ax, layout = _on_axes(ax, (8, 4.5), path, "plot_fe_balance")
     speeds = np.asarray(result.speeds)
     before, after = np.abs(np.asarray(result.X0)), np.abs(np.asarray(result.predicted))
     for k, sensor in enumerate(dict.fromkeys(result.sensors)):
@@ -974,30 +1058,33 @@ def plot_fe_balance(path, result, title):
     ax.set_ylabel("1x vibration magnitude (m)")
     corr = ", ".join(f"node {n}: {m:.3g} kg m at {np.degrees(p) % 360:.0f} deg" for n, m, p in result.corrections)
     ax.set_title(f"{title}\ncorrections ({result.method}): {corr}", fontsize=9)
-    return _save(fig, path, [ax])
+    return _finish(fig, [ax], layout=layout)
 
 
 def work_precision_curve(ax, points, label, style):
     """One method's curve on a work-precision diagram (log cost across, log error up),
     each marker labelled with its tolerance. `points`: `(error, cost, tolerance label)`;
-    a zero or non-finite error cannot be drawn on a log axis and is left out."""
+    a zero or non-finite error cannot be drawn on a log axis and is left out.
+    Returns `ax`'s `Figure`."""
     pts = sorted((e, c, t) for e, c, t in points if np.isfinite(e) and e > 0 and np.isfinite(c) and c > 0)
     if not pts:
-        return
+        return ax.figure
     ax.loglog([p[1] for p in pts], [p[0] for p in pts], style, label=label, markersize=4)
     for e, c, t in pts:
         ax.annotate(t, (c, e), fontsize=5, xytext=(2, 2), textcoords="offset points")
+    return ax.figure
 
 
-def plot_bench(report, path):
+def plot_bench(report, path=None, *, fig=None):
     """`rotorjax bench`'s figure: one panel per comparison; a work-precision diagram
     where the methods have ladders, else the time per analysis as bars with the
-    agreement in the title. The machine and date in the caption."""
+    agreement in the title. The machine and date in the caption. On `fig` (empty) or
+    a new figure; returns the `Figure`."""
     from matplotlib.ticker import NullFormatter
 
-    plt = _plt()
     comps = report["comparisons"]
-    fig, axes = plt.subplots(1, len(comps), figsize=(5.2 * len(comps), 4.6))
+    fig, layout = _on_figure(fig, (5.2 * len(comps), 4.6), path, "plot_bench")
+    axes = fig.subplots(1, len(comps))
     for ax, c in zip(np.atleast_1d(axes), comps):
         ladders = any(len(pts) > 1 for pts in c["curves"].values())
         if ladders:
@@ -1027,4 +1114,4 @@ def plot_bench(report, path):
     m = report["machine"]
     fig.suptitle(f"rotorjax bench: {m['device']}, {m['cpu_count']} CPU cores, {m['platform'][:48]}, jax "
                  f"{m['jax']}, {m['date']}", fontsize=8)
-    return _save(fig, path)
+    return _finish(fig, layout=layout)

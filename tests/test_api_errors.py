@@ -15,7 +15,8 @@ import pytest
 import rotorjax as rj
 from rotorjax import identify as idf
 from rotorjax._errors import InputError
-from rotorjax.contact import CantileverScene, Limiters
+from rotorjax.contact import Limiters
+from tests.reference.model_004_scene import CantileverScene
 from rotorjax.flexible import (CantileverRotor, FlexibleRotor, ModalBalancerRotor, ModalShaft,
                                critical_speeds_1x, damped_frequencies, exact_critical_speeds,
                                pseudo_balanced_speeds, unbalance_response)

@@ -149,3 +149,87 @@ def test_imports_are_resolved(tmp_path, src, text, dst):
     path.write_text(text + "\n")
     ((_, target, _),) = list(_imports(path, src))
     assert _part(target) == dst
+
+
+# --- one analysis layer (issue 29) -------------------------------------------------------
+
+#: the compatibility namespaces: re-exports for users' code, imported by nothing inside rotorjax
+SHIMS = ("flexible", "contact")
+
+
+def test_nothing_inside_imports_the_compatibility_namespaces():
+    """`rotorjax.flexible` and `rotorjax.contact` re-export what lives in `models/` and
+    `analysis/`; only the facade (`rotorjax/__init__.py`, for `rotorjax.flexible.x` in
+    users' code) names them."""
+    bad = [f"{path.relative_to(ROOT.parent)}:{line}: imports {'.'.join(target)}"
+           for path, line, src, dst, target, _ in _edges()
+           if dst in SHIMS and src not in SHIMS and src != "rotorjax"]
+    assert not bad, "modules importing a compatibility namespace:\n" + "\n".join(bad)
+
+
+def test_shims_only_re_export():
+    """The compatibility namespaces define nothing: every statement is an import (or the docstring)."""
+    for name in SHIMS:
+        path = ROOT / name / "__init__.py"
+        body = ast.parse(path.read_text()).body
+        bad = [n.lineno for n in body if not isinstance(n, (ast.Import, ast.ImportFrom))
+               and not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+        assert not bad, f"{path.relative_to(ROOT.parent)} defines something at lines {bad}"
+        assert sorted(p.name for p in (ROOT / name).glob("*.py")) == ["__init__.py"]
+
+
+def _calls(name):
+    for path, _ in _modules():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == name:
+                yield path, node
+
+
+def test_no_capability_probing():
+    """Capabilities are declared by type (`AbstractLinearScene`, `AbstractShaftModel`,
+    ...) and checked with `isinstance`/`require`: no `hasattr`, no `getattr` with a
+    default (an argparse namespace's options excepted), no `getattr(x, "rotor", x)`."""
+    bad = [f"{path.relative_to(ROOT.parent)}:{node.lineno}: hasattr" for path, node in _calls("hasattr")]
+    for path, node in _calls("getattr"):
+        obj = node.args[0] if node.args else None
+        if len(node.args) > 2 and not (isinstance(obj, ast.Name) and obj.id == "args"):
+            bad.append(f"{path.relative_to(ROOT.parent)}:{node.lineno}: getattr with a default")
+    assert not bad, "attribute probing (declare a capability class instead):\n" + "\n".join(bad)
+
+
+def test_fe_analyses_take_capabilities_not_concrete_rotors():
+    """The analyses check what they get by capability class, not by concrete scene
+    or rotor type (`isinstance(x, RotorScene)` would make a second scene contract)."""
+    concrete = {"RotorScene", "FlexibleRotor", "ReducedRotor", "CantileverScene", "ModalBalancerRotor",
+                "BalancingScene", "Scene"}
+    bad = []
+    for path, node in _calls("isinstance"):
+        if path.relative_to(ROOT).parts[0] != "analysis" or len(node.args) < 2:
+            continue
+        types = node.args[1].elts if isinstance(node.args[1], ast.Tuple) else [node.args[1]]
+        names = {t.id for t in types if isinstance(t, ast.Name)}
+        if names & concrete:
+            bad.append(f"{path.relative_to(ROOT.parent)}:{node.lineno}: isinstance(..., {sorted(names & concrete)})")
+    assert not bad, "analyses branching on concrete types:\n" + "\n".join(bad)
+
+
+def test_presets_are_data():
+    """A preset holds nothing callable but `build` (no hooks: every analysis is a library
+    function of the built scene or its reference motion), nested values included."""
+    import dataclasses
+
+    from rotorjax import presets
+
+    def callables(value, where):
+        if callable(value):
+            yield where
+        elif isinstance(value, dict):
+            for k, v in value.items():
+                yield from callables(v, f"{where}[{k!r}]")
+        elif isinstance(value, (tuple, list)):
+            for i, v in enumerate(value):
+                yield from callables(v, f"{where}[{i}]")
+
+    for preset in presets.PRESETS.values():
+        found = [w for f in dataclasses.fields(preset) for w in callables(getattr(preset, f.name), f.name)]
+        assert found == ["build"], (preset.name, found)

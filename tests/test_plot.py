@@ -1,28 +1,44 @@
 """The CLI's pictures (`rotorjax.plot`) and the model band of an identification
 (`rotorjax.identify.response_band`)."""
 
+import inspect
+import pathlib
+
 import jax
+import matplotlib
 import numpy as np
 import pytest
 
 from rotorjax import identify as idf
 from rotorjax import plot as rplot
+from rotorjax.cli._common import save_figure
 from rotorjax.identify._fit import fit_covariance
 from rotorjax.presets import balancing_machine as bm
+
+matplotlib.use("Agg")   # as the CLI does: rotorjax.plot chooses no backend
+import matplotlib.pyplot as plt  # noqa: E402
 
 
 @pytest.fixture
 def figures(monkeypatch):
-    """The figures the plot functions close, kept for inspection."""
-    plt = rplot._plt()
-    closed, close = [], plt.close
+    """The pyplot figures the plot functions make, in order, kept for inspection
+    (and closed after the test)."""
+    made, figure = [], plt.figure
 
-    def keep(fig=None):
-        closed.append(fig)
-        close(fig)
+    def keep(*args, **kwargs):
+        fig = figure(*args, **kwargs)
+        made.append(fig)
+        return fig
 
-    monkeypatch.setattr(plt, "close", keep)
-    return closed
+    monkeypatch.setattr(plt, "figure", keep)
+    yield made
+    for fig in made:
+        plt.close(fig)
+
+
+def save(fig, path):
+    """`fig` written as the CLI writes it (`save_figure`); the PNG's path."""
+    return pathlib.Path(save_figure(fig, path))
 
 
 def legend_labels(fig):
@@ -54,10 +70,10 @@ MODAL = [
 
 
 def test_steady_regimes(tmp_path, figures):
-    path = tmp_path / "steady.png"
-    assert rplot.plot_steady_regimes(path, REGIMES, "elliptic-abb, n = 1.5") == path
-    check_png(path)
+    made = rplot.plot_steady_regimes(regimes=REGIMES, title="elliptic-abb, n = 1.5")
+    check_png(save(made, tmp_path / "steady.png"))
     (fig,) = figures
+    assert made is fig
     ax = fig.axes[0]
     assert sorted(legend_labels(fig)) == ["marginal", "stable", "unstable"]
     assert ax.get_xlabel() == "weight angle relative to the rotor (rad)"
@@ -69,19 +85,19 @@ def test_steady_regimes(tmp_path, figures):
     assert {ln.get_label(): ln.get_markerfacecolor() != "none" for ln in markers
             if not ln.get_label().startswith("_")} == {"stable": True, "unstable": False, "marginal": False}
     with pytest.raises(ValueError, match="plot_regime_amplitudes"):
-        rplot.plot_steady_regimes(tmp_path / "x.png", MODAL, "flexible-abb")
+        rplot.plot_steady_regimes(regimes=MODAL, title="flexible-abb")
 
 
 def test_steady_regimes_without_weights_or_regimes(tmp_path, figures):
-    rplot.plot_steady_regimes(tmp_path / "a.png", [dict(REGIMES[1], weight_angles=[])], "no balancer")
-    rplot.plot_steady_regimes(tmp_path / "b.png", [], "nothing found")
+    rplot.plot_steady_regimes(regimes=[dict(REGIMES[1], weight_angles=[])], title="no balancer")
+    empty = rplot.plot_steady_regimes(regimes=[], title="nothing found")
     assert legend_labels(figures[0]) == ["stable (no weights)"]
-    check_png(tmp_path / "b.png")
+    check_png(save(empty, tmp_path / "b.png"))
 
 
 def test_regime_amplitudes(tmp_path, figures):
-    path = rplot.plot_regime_amplitudes(tmp_path / "modal.png", MODAL, "flexible-abb, omega = 1.5")
-    check_png(path)
+    check_png(save(rplot.plot_regime_amplitudes(regimes=MODAL, title="flexible-abb, omega = 1.5"),
+                   tmp_path / "modal.png"))
     (fig,) = figures
     ax = fig.axes[0]
     assert sorted(legend_labels(fig)) == ["stable", "unstable"]
@@ -95,10 +111,10 @@ def test_margin(tmp_path, figures):
     s = np.linspace(0.0, 3.0, 301)
     m = 0.1 * (s - 1.0) * (s - 2.0)
     m[50] = np.nan
-    path = rplot.plot_margin(tmp_path / "margin.png", s, m, np.array([1.0, 2.0]), "anisotropic-abb, mu_xi = 0.1",
+    made = rplot.plot_margin(None, s, m, np.array([1.0, 2.0]), "anisotropic-abb, mu_xi = 0.1",
                              "speed n (dimensionless)", "largest Re(lambda) (dimensionless)",
                              extra_roots=[1.05], extra_label="criterion p(n) = 0 (eq. 18)")
-    check_png(path)
+    check_png(save(made, tmp_path / "margin.png"))
     (fig,) = figures
     ax = fig.axes[0]
     assert legend_labels(fig) == ["stable (margin < 0)", "margin", "critical speed: 1, 2",
@@ -113,8 +129,8 @@ def test_campbell_marks_the_crossings(tmp_path, figures):
     s = np.linspace(0.0, 400.0, 50)
     f = np.stack([150 - 0.1 * s, 150 + 0.1 * s, 350 + 0.05 * s], axis=1)
     fw = np.array([False, True, True])[None, :].repeat(50, 0)
-    rplot.plot_campbell(s, f, fw, tmp_path / "c.png", critical=[136.4, 166.7, 368.4], title="ross-compare")
-    check_png(tmp_path / "c.png")
+    check_png(save(rplot.plot_campbell(s, f, fw, critical=[136.4, 166.7, 368.4], title="ross-compare"),
+                   tmp_path / "c.png"))
     assert legend_labels(figures[0]) == ["forward", "backward", "1x", "critical speed (1x crossing)"]
     assert figures[0].axes[0].get_xlabel() == "speed (rad/s)"
 
@@ -123,9 +139,9 @@ def test_balance(tmp_path, figures):
     before = np.array([3e-5 * np.exp(1j * 0.4), 5e-5 * np.exp(-1j * 2.0)])
     after = np.array([2e-7 * np.exp(1j * 1.0), 1e-7 * np.exp(1j * 3.0)])
     corr = np.array([20.0 * np.exp(1j * np.radians(210.0)), 31.5 * np.exp(-1j * np.radians(20.0))])
-    path = rplot.plot_balance(tmp_path / "balance.png", before, after, corr,
-                              "balancing at 170 rad/s, radius 10 mm", planes=[1, 2])
-    check_png(path)
+    made = rplot.plot_balance(before=before, after=after, corrections=corr,
+                              title="balancing at 170 rad/s, radius 10 mm", planes=[1, 2])
+    check_png(save(made, tmp_path / "balance.png"))
     (fig,) = figures
     labels = legend_labels(fig)
     assert labels[:2] == ["measured before: 3e-05, 5e-05 m", "predicted after: 2e-07, 1e-07 m"]
@@ -141,9 +157,9 @@ def test_identification_plot(tmp_path, figures):
     w = np.linspace(30.0, 400.0, 40)
     fit = np.stack([1e-5 * w**2 / (200.0**2 - w**2 + 40j * w), 2e-5 * w**2 / (260.0**2 - w**2 + 30j * w)], 1)
     data = fit * (1 + 0.02 * np.random.default_rng(0).normal(size=fit.shape))
-    path = rplot.plot_identification(tmp_path / "ident.png", w, data, fit, 0.95 * np.abs(fit),
+    made = rplot.plot_identification(None, w, data, fit, 0.95 * np.abs(fit),
                                      1.05 * np.abs(fit), "balancing-machine: fit k1, k2, c1, c2", ["x1", "x2"])
-    check_png(path)
+    check_png(save(made, tmp_path / "ident.png"))
     (fig,) = figures
     a1, a2 = fig.axes
     assert legend_labels(fig) == ["x1 model 95 % band", "x1 measured", "x1 model",
@@ -238,8 +254,8 @@ def test_campbell_tracked_legend_shows_line_styles(tmp_path, figures):
     f = np.stack([150 - 0.1 * s, 150 + 0.1 * s, 350 + 0.05 * s], axis=1)
     whirl = np.array(["backward", "forward", "forward"])[None, :].repeat(200, 0)
     d = np.stack([0.1 + 0 * s, 0.2 - 1e-4 * s, 0.05 + 0 * s], axis=1)
-    rplot.plot_campbell_tracked(s, f, whirl, d, tmp_path / "c.png", critical=[136.4, 166.7], title="ross-compare")
-    check_png(tmp_path / "c.png")
+    check_png(save(rplot.plot_campbell_tracked(s, f, whirl, d, critical=[136.4, 166.7], title="ross-compare"),
+                   tmp_path / "c.png"))
     (fig,) = figures
     ax, cbar = fig.axes
     assert cbar.get_ylabel().startswith("logarithmic decrement")
@@ -267,10 +283,11 @@ CLI_TITLES = [
 def test_frf_titles_fit_the_figures(tmp_path, figures, title):
     w = np.linspace(10.0, 600.0, 300)
     h = 1e-6 / (250.0**2 - w**2 + 2j * 0.05 * 250.0 * w)
-    rplot.plot_frf(w, h, tmp_path / "bode.png", tmp_path / "polar.png", title=title)
-    check_png(tmp_path / "bode.png")
-    check_png(tmp_path / "polar.png")
+    made = rplot.plot_frf(w, h, title=title)
+    check_png(save(made[0], tmp_path / "bode.png"))
+    check_png(save(made[1], tmp_path / "polar.png"))
     bode, polar = figures
+    assert made == (bode, polar)
     assert inside_figure(bode, bode.axes[0].title)
     assert inside_figure(polar, polar.axes[0].title)
     # wrapped (a path too long for a line broken inside), nothing lost
@@ -279,24 +296,23 @@ def test_frf_titles_fit_the_figures(tmp_path, figures, title):
 
 @pytest.mark.parametrize("plot", ["ucs", "level1", "campbell", "modes", "stability_map", "simulation"])
 def test_long_titles_fit_every_figure(tmp_path, figures, plot):
-    """Every figure finishes in `_save`, which wraps the titles to the figure."""
+    """Every figure finishes in `_finish`, which wraps the titles to the figure."""
     title = CLI_TITLES[1]
     if plot == "ucs":
-        rplot.plot_ucs(np.logspace(5, 9, 20), np.logspace(2, 3, 20)[:, None], tmp_path / "p.png", title=title)
+        rplot.plot_ucs(np.logspace(5, 9, 20), np.logspace(2, 3, 20)[:, None], title=title)
     elif plot == "level1":
-        rplot.plot_level1(np.linspace(0, 5e7, 41), 0.3 - 1e-8 * np.linspace(0, 5e7, 41), tmp_path / "p.png",
-                          q0=3e7, title=title)
+        rplot.plot_level1(np.linspace(0, 5e7, 41), 0.3 - 1e-8 * np.linspace(0, 5e7, 41), q0=3e7, title=title)
     elif plot == "campbell":
         s = np.linspace(0, 100, 20)
         rplot.plot_campbell_tracked(s, 50 + 0 * s[:, None], np.full((20, 1), "forward"), 0.1 + 0 * s[:, None],
-                                    tmp_path / "p.png", title=title)
+                                    title=title)
     elif plot == "modes":
-        rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, CIRCULAR), BEAM, tmp_path / "p.png", title=title)
+        rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, CIRCULAR), BEAM, title=title)
     elif plot == "stability_map":
         g = np.linspace(0, 1, 5)
-        rplot.plot_stability_map(g, g, g[:, None] - g[None, :], tmp_path / "p.png", "a", "b", title=title)
+        rplot.plot_stability_map(g, g, g[:, None] - g[None, :], None, "a", "b", title=title)
     else:
-        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "p.png", title=title)
+        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), title=title)
     (fig,) = figures
     titles = [t for ax in fig.axes for t in (ax.title,) if t.get_text()]
     titles += [fig._suptitle] if fig._suptitle is not None else []
@@ -311,7 +327,7 @@ def test_frf_takes_a_refined_uneven_frequency_array(tmp_path, figures):
     fine = 250.0 + np.linspace(-20.0, 20.0, 81)
     w_all = np.concatenate([w, fine])
     h = 1e-6 / (250.0**2 - w_all**2 + 2j * 0.02 * 250.0 * w_all)
-    rplot.plot_frf(w_all, h, tmp_path / "bode.png", tmp_path / "polar.png", title="refined")
+    rplot.plot_frf(w_all, h, title="refined")
     bode, polar = figures
     order = np.argsort(w_all)
     (mag,) = bode.axes[0].get_lines()
@@ -333,8 +349,7 @@ def test_level1_shows_q0(tmp_path, figures):
     q = np.linspace(0.0, 5e7, 41)
     ld = 0.02 - 0.02 * q / 1e5 * np.exp(-q / 1e6)
     q0 = 1e5
-    rplot.plot_level1(q, ld, tmp_path / "l1.png", q0, title="ross-compare: API 684 level I")
-    check_png(tmp_path / "l1.png")
+    check_png(save(rplot.plot_level1(q, ld, q0=q0, title="ross-compare: API 684 level I"), tmp_path / "l1.png"))
     (fig,) = figures
     ax = fig.axes[0]
     lo, hi = ax.get_xlim()
@@ -352,7 +367,7 @@ def test_level1_shows_q0(tmp_path, figures):
 
 def test_level1_without_q0_stays_linear(tmp_path, figures):
     q = np.linspace(0.0, 5e7, 11)
-    rplot.plot_level1(q, 0.1 + 0 * q, tmp_path / "l1.png", None, title="no crossing")
+    rplot.plot_level1(q, 0.1 + 0 * q, None, None, title="no crossing")
     (fig,) = figures
     assert fig.axes[0].get_xscale() == "linear" and not fig.axes[0].texts
 
@@ -375,11 +390,11 @@ def test_simulation_labels(tmp_path, figures):
     nx = np.outer(np.cos(t), [0.0, 1e-5, 3e-5, 1e-5])
     ny = np.outer(np.sin(t), [0.0, 1e-5, 3e-5, 1e-5])
     rotor_run = fake_run({"node_x": nx, "node_y": ny, "whirl_amplitude": np.hypot(nx, ny).max(1)})
-    rplot.plot_simulation(rotor_run, tmp_path / "a.png", title="rotor", x_label="time (time unit s)")
-    rplot.plot_simulation(rotor_run, tmp_path / "b.png", title="rotor", x_label="time", time_unit="s", node=2)
-    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "c.png", speed=t,
+    rplot.plot_simulation(rotor_run, title="rotor", x_label="time (time unit s)")
+    rplot.plot_simulation(rotor_run, title="rotor", x_label="time", time_unit="s", node=2)
+    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), speed=t,
                           x_label="speed", time_unit="1/Omega", unit="r = (r1+r2)/2")
-    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "d.png")
+    rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}))
     a, b, c, d = (fig.axes[0] for fig in figures)
     assert a.get_xlabel() == "time (s)"
     assert a.get_ylabel() == "whirl amplitude, largest over the nodes (m)"
@@ -388,7 +403,7 @@ def test_simulation_labels(tmp_path, figures):
     assert c.get_xlabel() == "speed (rad per 1/Omega)" and c.get_ylabel() == "whirl amplitude (r = (r1+r2)/2)"
     assert d.get_xlabel() == "time" and d.get_ylabel() == "whirl amplitude"   # the old defaults
     with pytest.raises(ValueError, match="node"):
-        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), tmp_path / "e.png", node=1)
+        rplot.plot_simulation(fake_run({"whirl_amplitude": np.ones(5)}), node=1)
 
 
 def test_ucs_bearings_have_their_own_styles(tmp_path, figures):
@@ -396,10 +411,10 @@ def test_ucs_bearings_have_their_own_styles(tmp_path, figures):
     f = np.stack([30 * np.sqrt(k / 1e3), 90 * np.sqrt(k / 1e3)], axis=1)
     s = np.linspace(10.0, 2000.0, 20)
     kb = np.stack([np.stack([1e7 + 0 * s, 2e7 + 0 * s]), np.stack([3e7 + 0 * s, 4e7 + 1e3 * s])])
-    rplot.plot_ucs(k, f, tmp_path / "u.png", s, kb, [(1e7, 500.0)], title="two bearings")
+    two = rplot.plot_ucs(k, f, None, s, kb, [(1e7, 500.0)], title="two bearings")
     same = np.stack([np.stack([5e7 + 0 * s, 5e7 + 0 * s])] * 2)
-    rplot.plot_ucs(k, f, tmp_path / "v.png", s, same, title="two equal isotropic bearings")
-    check_png(tmp_path / "u.png")
+    rplot.plot_ucs(k, f, None, s, same, title="two equal isotropic bearings")
+    check_png(save(two, tmp_path / "u.png"))
     ax = figures[0].axes[0]
     bearing = {ln.get_label(): ln for ln in ax.get_lines() if ln.get_label().startswith("bearing")}
     assert list(bearing) == ["bearing 0 kxx", "bearing 0 kyy", "bearing 1 kxx", "bearing 1 kyy"]
@@ -453,8 +468,8 @@ def test_mode_shapes_show_the_whirl(tmp_path, figures):
     orbit's radius where a real part is zero, the minor semi-axis equals it
     (forward: positive), no curve is flat zero; a planar mode's minor axis is zero;
     the second bending mode's major axis changes sign at its nodal point."""
-    rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, SECOND, PLANAR), BEAM, tmp_path / "m.png", title="synthetic")
-    check_png(tmp_path / "m.png")
+    check_png(save(rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, SECOND, PLANAR), BEAM, title="synthetic"),
+                   tmp_path / "m.png"))
     (fig,) = figures
     panels = fig.axes[:3]
 
@@ -478,3 +493,142 @@ def test_mode_shapes_show_the_whirl(tmp_path, figures):
     assert major2[np.argmin(np.abs(z2 - 0.25))] * major2[np.argmin(np.abs(z2 - 0.75))] < 0
     _, minor_planar = planar["minor semi-axis (+ forward, - backward)"]
     np.testing.assert_allclose(minor_planar, 0.0, atol=1e-12)
+
+
+# --- issue 29, item 6: plots you can use in a notebook ---------------------------------------
+
+def _ns(**kw):
+    import types
+
+    return types.SimpleNamespace(**kw)
+
+
+def _branch():
+    x = np.column_stack([np.linspace(0.0, 1.0, 5), np.linspace(1.0, 2.0, 5)])
+    return _ns(x=x, stop="box", dense=lambda n: x)
+
+
+def _fe_identification():
+    speed = np.repeat(np.linspace(100.0, 300.0, 6), 2)
+    data = _ns(kind="runup", speed=speed, run=np.zeros(12, int), node=np.full(12, 2), direction=np.tile([0, 1], 6),
+               X=1e-5 * np.exp(1j * speed / 100))
+    return _ns(data=data, fitted=data.X * 1.01, sigma=np.full(12, 1e-7),
+               critical_speeds=[{"ci95": [190.0, 210.0]}])
+
+
+def _bench_report():
+    pts = [{"error": 1e-3, "cost": 1e-2, "tol": "1e-6"}, {"error": 1e-6, "cost": 3e-2, "tol": "1e-9"}]
+    comp = {"name": "campbell", "what": "Campbell diagram", "rotorjax": "rotorjax", "curves": {"rotorjax": pts},
+            "cost_unit": "s per speed", "error_label": "relative error", "checks": {}, "skipped": []}
+    return {"comparisons": [comp], "machine": {"device": "cpu", "cpu_count": 2, "platform": "linux", "jax": "0",
+                                               "date": "2026-01-01"}}
+
+
+S = np.linspace(0.0, 400.0, 30)
+F3 = np.stack([150 - 0.1 * S, 150 + 0.1 * S, 350 + 0.05 * S], axis=1)
+W = np.linspace(10.0, 600.0, 50)
+H = 1e-6 / (250.0**2 - W**2 + 2j * 0.05 * 250.0 * W)
+RUN = fake_run({"whirl_amplitude": np.ones(5), "weight_angles": np.zeros((5, 2)), "disk_x": np.ones(5),
+                "disk_y": np.ones(5)})
+PREC = _ns(ts=RUN.ts, strobe_x=np.ones(2), strobe_y=np.ones(2), Lambda=np.ones(5), mean=1.0,
+           frequencies=np.arange(1.0, 6.0), spectrum=np.ones(5))
+STATIC = _ns(axis="y", positions=Z, element_ends=np.stack([Z[:-1], Z[1:]], 1), displacement=np.ones((11, 2)),
+             shear=np.ones((10, 2, 2)), moment=np.ones((10, 2, 2)))
+FE_BALANCE = _ns(speeds=np.array([100.0, 200.0]), X0=np.array([1e-5, 2e-5]), predicted=np.array([1e-7, 2e-7]),
+                 sensors=[(2, "x"), (2, "x")], corrections=[(3, 1e-3, 0.5)], method="ls")
+
+#: every public drawing function of rotorjax.plot with arguments, and whether it draws on `ax=` or `fig=`
+CALLS = {
+    "plot_simulation": ("fig", lambda **kw: rplot.plot_simulation(RUN, title="run", **kw)),
+    "plot_curves": ("ax", lambda **kw: rplot.plot_curves(S, {"a": S}, x_label="x", y_label="y", **kw)),
+    "plot_stability_map": ("ax", lambda **kw: rplot.plot_stability_map(W[:5], W[:4], np.ones((5, 4)) - 2, **kw)),
+    "plot_campbell": ("ax", lambda **kw: rplot.plot_campbell(S, F3, np.ones((30, 3), bool), critical=[150.0], **kw)),
+    "plot_response": ("fig", lambda **kw: rplot.plot_response(W, H, 2 * H, **kw)),
+    "plot_precession": ("fig", lambda **kw: rplot.plot_precession(RUN, PREC, clearance=1.0, **kw)),
+    "plot_bifurcation": ("fig", lambda **kw: rplot.plot_bifurcation([1.0, 2.0], [[0.1], [0.2]], [0.3, -0.1],
+                                                                     param="n", **kw)),
+    "plot_steady_regimes": ("ax", lambda **kw: rplot.plot_steady_regimes(regimes=REGIMES, title="t", **kw)),
+    "plot_regime_amplitudes": ("ax", lambda **kw: rplot.plot_regime_amplitudes(regimes=MODAL, title="t", **kw)),
+    "plot_margin": ("ax", lambda **kw: rplot.plot_margin(speeds=S, margin=S - 100, roots=[100.0], **kw)),
+    "plot_balance": ("fig", lambda **kw: rplot.plot_balance(before=[1e-5], after=[1e-7], corrections=[2.0], **kw)),
+    "plot_identification": ("fig", lambda **kw: rplot.plot_identification(speeds=W, data=H, fit=H, lo=0.9 * abs(H),
+                                                                           hi=1.1 * abs(H), channels=["x1"], **kw)),
+    "plot_fe_identification": ("fig", lambda **kw: rplot.plot_fe_identification(result=_fe_identification(), **kw)),
+    "plot_boundaries": ("ax", lambda **kw: rplot.plot_boundaries([_branch()], [{"a": 0.5, "b": 1.5}], key="a",
+                                                                 key2="b", **kw)),
+    "plot_static": ("fig", lambda **kw: rplot.plot_static(STATIC, **kw)),
+    "plot_mode_shapes": ("fig", lambda **kw: rplot.plot_mode_shapes(synthetic_modes(CIRCULAR, PLANAR), BEAM, **kw)),
+    "plot_mode_shapes_3d": ("fig", lambda **kw: rplot.plot_mode_shapes_3d(synthetic_modes(CIRCULAR), BEAM, **kw)),
+    "plot_campbell_tracked": ("ax", lambda **kw: rplot.plot_campbell_tracked(S, F3, np.full((30, 3), "forward"),
+                                                                             0.1 + 0 * F3, **kw)),
+    "plot_ucs": ("ax", lambda **kw: rplot.plot_ucs(np.logspace(5, 9, 20), np.logspace(2, 3, 20)[:, None], **kw)),
+    "plot_bode": ("fig", lambda **kw: rplot.plot_bode(W, H, **kw)),
+    "plot_nyquist": ("ax", lambda **kw: rplot.plot_nyquist(W, H, **kw)),
+    "plot_deflected_shape": ("ax", lambda **kw: rplot.plot_deflected_shape(Z, Z, Z, Z, **kw)),
+    "plot_level1": ("ax", lambda **kw: rplot.plot_level1(np.linspace(0, 5e7, 11), 0.3 - 1e-8 * np.linspace(0, 5e7, 11),
+                                                         q0=3e7, **kw)),
+    "plot_fe_balance": ("ax", lambda **kw: rplot.plot_fe_balance(result=FE_BALANCE, title="t", **kw)),
+    "plot_bench": ("fig", lambda **kw: rplot.plot_bench(_bench_report(), **kw)),
+    "work_precision_curve": ("ax", lambda ax: rplot.work_precision_curve(ax, [(1e-3, 1e-2, "1e-6")], "m", "o-")),
+}
+
+
+def _public_drawing_functions():
+    return sorted(name for name, f in vars(rplot).items() if inspect.isfunction(f) and f.__module__ == rplot.__name__
+                  and not name.startswith("_") and (name.startswith("plot_") or name.endswith("_curve")))
+
+
+def test_every_plot_function_is_covered():
+    assert sorted(CALLS) == sorted(n for n in _public_drawing_functions() if n != "plot_frf")
+
+
+@pytest.mark.parametrize("name", sorted(CALLS))
+def test_draws_on_the_given_axes_or_figure(figures, name):
+    """A notebook's axes (`ax=`) or figure (`fig=`): drawn on, returned, no other
+    figure made; without them, a new figure is returned."""
+    kind, call = CALLS[name]
+    if kind == "ax":
+        fig, (ax, other) = plt.subplots(1, 2, figsize=(12, 4))
+        n = len(figures)
+        got = call(ax=ax)
+        assert got is fig and len(figures) == n
+        assert ax.lines or ax.collections or ax.patches
+        assert not (other.lines or other.collections or other.patches)    # the other panel left alone
+    else:
+        fig = plt.figure(figsize=(10, 7))
+        n = len(figures)
+        got = call(fig=fig)
+        assert got is fig and len(figures) == n and fig.axes
+    if name != "work_precision_curve":
+        new = call()
+        assert isinstance(new, matplotlib.figure.Figure) and new is not fig and new is figures[-1]
+
+
+def test_frf_draws_on_the_given_figure_and_axes(figures):
+    bode = plt.figure()
+    polar_fig, polar = plt.subplots()
+    n = len(figures)
+    assert rplot.plot_frf(W, H, title="t", fig=bode, ax=polar) == (bode, polar_fig)
+    assert len(figures) == n and len(bode.axes) == 2 and polar.lines
+    made = rplot.plot_frf(W, H)
+    assert made == tuple(figures[-2:])
+
+
+def test_an_old_path_argument_is_not_written(tmp_path, figures):
+    """The file-writing versions' calls still run: the path is ignored with a
+    FutureWarning, the figure returned, nothing written."""
+    with pytest.warns(FutureWarning, match="not written"):
+        fig = rplot.plot_campbell(S, F3, np.ones((30, 3), bool), tmp_path / "c.png", title="old call")
+    assert fig is figures[-1] and fig.axes[0].get_title() == "old call"
+    with pytest.warns(FutureWarning):
+        rplot.plot_steady_regimes(tmp_path / "s.png", REGIMES, "old call")
+    with pytest.warns(FutureWarning):
+        rplot.plot_frf(W, H, tmp_path / "b.png", tmp_path / "p.png")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_module_chooses_no_backend_and_writes_no_file():
+    """Only the CLI chooses matplotlib's backend (Agg) and saves figures."""
+    source = pathlib.Path(rplot.__file__).read_text()
+    for word in ("matplotlib.use", "savefig", "switch_backend", "open(", "print_figure"):
+        assert word not in source, word

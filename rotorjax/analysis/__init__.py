@@ -1,4 +1,8 @@
-"""Analyses: stationary regimes, stability, Floquet multipliers, critical speeds."""
+"""Analyses, every one a function of a scene (or of a finite-element shaft model):
+linear ones (modes, Campbell diagrams with tracking, 1x critical speeds, unbalance
+and frequency responses, deflected shapes, UCS maps, API level I, static
+deflection), stationary regimes and their stability, Floquet multipliers, Hopf
+points, continuation, stability margins, and model 003's closed forms."""
 
 from ._rotating import check_autonomous as check_autonomous
 from ._rotating import rotating_field as rotating_field
@@ -15,17 +19,23 @@ from ._floquet import periodic_orbit as periodic_orbit
 from ._roots import Root as Root
 from ._roots import find_roots as find_roots
 from ._roots import root_gradient as root_gradient
-from ._critical import CriticalSpeed as CriticalSpeed
-from ._critical import critical_speed_gradient as critical_speed_gradient
-from ._critical import critical_speeds as critical_speeds
+from ._critical import StabilityThreshold as StabilityThreshold
+from ._critical import stability_thresholds as stability_thresholds
+from ._critical import threshold_gradient as threshold_gradient
+from ._critical import CriticalSpeed as CriticalSpeed  # deprecated alias of StabilityThreshold
+from ._critical import critical_speed_gradient as critical_speed_gradient  # deprecated: threshold_gradient
+from ._critical import critical_speeds as critical_speeds  # deprecated: stability_thresholds
 from ._hopf import HopfPoint as HopfPoint
 from ._hopf import hopf_points as hopf_points
 from ._hopf import hopf_speed_gradient as hopf_speed_gradient
+from ._hopf import HopfReport as HopfReport
+from ._hopf import reference_hopf_points as reference_hopf_points
 from ._precession import Precession as Precession
 from ._precession import precession as precession
 from ._continuation import Boundaries as Boundaries
 from ._continuation import Branch as Branch
 from ._continuation import Curve as Curve
+from ._continuation import FloquetCrossing as FloquetCrossing
 from ._continuation import boundary_points as boundary_points
 from ._continuation import boundary_sensitivity as boundary_sensitivity
 from ._continuation import continue_branch as continue_branch
@@ -44,3 +54,62 @@ from ._summary import simulation_summary as simulation_summary
 from ._peaks import Peak as Peak
 from ._peaks import refine_maxima as refine_maxima
 from ._peaks import refined_grid as refined_grid
+from ._linear import Modes as Modes
+from ._linear import campbell as campbell
+from ._linear import CampbellCriticalSpeed as CampbellCriticalSpeed
+from ._linear import CampbellCriticalSpeeds as CampbellCriticalSpeeds
+from ._linear import campbell_critical_speeds as campbell_critical_speeds
+from ._linear import critical_speed as critical_speed
+from ._linear import critical_speeds_1x as critical_speeds_1x
+from ._linear import damped_frequencies as damped_frequencies
+from ._linear import modes as modes
+from ._linear import state_matrix as state_matrix
+from ._linear import synchronous_critical_speeds as synchronous_critical_speeds
+from ._frf import unbalance_response as unbalance_response
+from ._linear import whirl_labels as whirl_labels
+from ._static import StaticResult as StaticResult
+from ._static import static as static
+from ._tracking import mac as mac
+from ._tracking import track_modes as track_modes
+from ._tracking import track_order as track_order
+from ._ucs import UCS as UCS
+from ._ucs import Intersection as Intersection
+from ._ucs import ucs as ucs
+from ._ucs import ucs_frequencies as ucs_frequencies
+from ._frf import FRF as FRF
+from ._frf import FRFCurve as FRFCurve
+from ._frf import ResponseCurve as ResponseCurve
+from ._frf import DeflectedShape as DeflectedShape
+from ._frf import check_supported as check_supported
+from ._frf import deflected_shape as deflected_shape
+from ._frf import frf as frf
+from ._frf import frf_curve as frf_curve
+from ._frf import full_rotor as full_rotor
+from ._frf import response_curve as response_curve
+from ._frf import rigid_body_modes as rigid_body_modes
+from ._frf import unbalance_response_many as unbalance_response_many
+from ._level1 import Level1 as Level1
+from ._level1 import level1 as level1
+from ._level1 import level1_log_dec as level1_log_dec
+from ._level1 import mid_span_node as mid_span_node
+from ._modal003 import closed_form_sums as closed_form_sums
+from ._modal003 import critical_speed_function as critical_speed_function
+from ._modal003 import exact_critical_speeds as exact_critical_speeds
+from ._balancer003 import BalancerRegime as BalancerRegime
+from ._balancer003 import balanced_regime as balanced_regime
+from ._balancer003 import pseudo_balanced_speeds as pseudo_balanced_speeds
+from ._balancer003 import unbalanced_regimes as unbalanced_regimes
+from ._balancer003 import ModalCriticalSpeeds as ModalCriticalSpeeds
+from ._balancer003 import balancer003_critical_speeds as balancer003_critical_speeds
+from ._balancer003 import balancer003_regimes as balancer003_regimes
+from ._reference import AbstractReference as AbstractReference
+from ._reference import NoReference as NoReference
+from ._reference import PeriodicOrbit as PeriodicOrbit
+from ._reference import StationaryRegime as StationaryRegime
+from ._reference import StraightRunning as StraightRunning
+from ._reference import branch_problem as branch_problem
+from ._reference import floquet_family as floquet_family
+from ._reference import floquet_of as floquet_of
+from ._reference import margin_gradient as margin_gradient
+from ._reference import regime as regime
+from ._reference import stability_margin as stability_margin

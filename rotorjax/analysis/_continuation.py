@@ -73,7 +73,7 @@ def _stop_kind(reason):
     return reason.split(" at ")[0]
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class Curve:
     """Points `x` (rows) of an implicit curve, with `residuals` (max |G|), the
     arclength steps taken (`steps[i]`: from `x[i-1]` to `x[i]`, 0 at the first
@@ -100,7 +100,9 @@ class Curve:
     A reason is one of `"box edge (<name> = <bound>)"` (the last point lies on
     that bound), `"closed loop"` (`x[-1]` repeats `x[0]`), `"max_points
     reached"`, `"corrector failed (step below ds_min) at <point>"` and
-    `"non-finite <G> at <point>"`."""
+    `"non-finite <G> at <point>"`.
+
+    Frozen: a new curve is made with `dataclasses.replace`."""
 
     x: np.ndarray
     residuals: np.ndarray
@@ -113,6 +115,9 @@ class Curve:
     errors: np.ndarray = None
     dense_tol: float = None
     error_axis: int = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "stops", tuple(self.stops))
 
     @property
     def stop(self) -> str:
@@ -564,20 +569,24 @@ def trace_curve(G: Callable, x0, ds=0.01, ds_min=1e-9, ds_max=0.2, max_points=20
                   dense_tol=dense_tol)
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class Branch:
     """A branch of stationary regimes `u(p)`: `u`, `p`, the largest real part of
     the eigenvalues (`margin`) and stability at each point, the detected `events`
-    (kind "fold", "hopf" or "branch_point", with the refined `p`, `u`, the
-    residual of its defining system, and for Hopf the frequency), and the curve's
-    checks."""
+    (a tuple, one row per event: kind "fold", "hopf" or "branch_point", with the
+    refined `p`, `u`, the residual of its defining system, and for Hopf the
+    frequency), and the curve's checks. Frozen (`dataclasses.replace` for a new
+    one)."""
 
     u: np.ndarray
     p: np.ndarray
     margin: np.ndarray
     stable: np.ndarray
-    events: list
+    events: tuple
     curve: Curve
+
+    def __post_init__(self):
+        object.__setattr__(self, "events", tuple(self.events))
 
     @property
     def stopped(self) -> str:
@@ -674,7 +683,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
                 events.append(_refine_hopf(F, Fu, a, b, n) | {"between": [i, i + 1]})
-    return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=events, curve=curve)
+    return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
 def _refine_hopf(F, Fu, a, b, n):
@@ -807,7 +816,7 @@ def trace_boundary(sigma: Callable, p0, bounds=None, ds=0.01, ds_max=0.2, max_po
                      gradient=gradient, max_turn=max_turn, progress=progress, dense_tol=dense_tol)
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class Boundaries:
     """Every branch of a stability boundary that `trace_boundaries` found in a box.
 
@@ -823,12 +832,17 @@ class Boundaries:
       None with an `"error"` when no branch could be started there.
     - `box`: `((lo1, hi1), (lo2, hi2))`.
 
-    It is also the sequence of its branches (`len`, iteration, indexing)."""
+    It is also the sequence of its branches (`len`, iteration, indexing). Frozen;
+    `branches` and `crossings` are tuples."""
 
-    branches: list
-    crossings: list
+    branches: tuple
+    crossings: tuple
     lines: np.ndarray
     box: tuple
+
+    def __post_init__(self):
+        object.__setattr__(self, "branches", tuple(self.branches))
+        object.__setattr__(self, "crossings", tuple(self.crossings))
 
     def __len__(self):
         return len(self.branches)
@@ -977,7 +991,8 @@ def trace_boundaries(sigma: Callable, box, n_lines: int = 3, n_scan: int = 40, x
                         break
     for c in crossings:
         del c["_axis"], c["_span"]
-    return Boundaries(branches=branches, crossings=crossings, lines=lines, box=((lo1, hi1), (lo2, hi2)))
+    return Boundaries(branches=tuple(branches), crossings=tuple(crossings), lines=lines,
+                      box=((lo1, hi1), (lo2, hi2)))
 
 
 def boundary_sensitivity(sigma3: Callable, point, q, axis=0) -> float:
@@ -1009,8 +1024,49 @@ def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-
                        names=[None] * n + list(names))
 
 
+@dataclasses.dataclass(frozen=True)
+class FloquetCrossing:
+    """Where a periodic regime's Floquet multiplier crosses the unit circle (one
+    row of `floquet_crossings`).
+
+    - `p`: the parameter at the crossing (bisected to `xtol`).
+    - `kind`: the crossing multiplier: `"+1"` (fold or pitchfork of the periodic
+      regime), `"-1"` (period doubling) or `"complex pair"` (Neimark-Sacker).
+    - `multiplier`: `(real, imag)` of the multiplier nearest the unit circle.
+    - `residual`: `| |mu| - 1 |` of that multiplier.
+    - `closure`, `liouville_error`, `code`: the checks and the `RESULTS` code of
+      the Floquet result at the crossing.
+    - `stable_side`: `"above"` or `"below"`, the side in `p` where the largest
+      multiplier lies inside the unit circle.
+
+    `as_dict()` gives the JSON row; `row["p"]` style access reads the same keys
+    (for code written against the former dict rows)."""
+
+    p: float
+    kind: str
+    multiplier: tuple
+    residual: float
+    closure: float
+    liouville_error: float
+    stable_side: str
+    code: int = 0
+
+    def __post_init__(self):
+        object.__setattr__(self, "multiplier", tuple(float(v) for v in self.multiplier))
+
+    def as_dict(self) -> dict:
+        """JSON-ready: `{"p", "kind", "multiplier": [re, im], "residual", "closure",
+        "liouville_error", "stable_side", "code"}`."""
+        return {"p": self.p, "kind": self.kind, "multiplier": list(self.multiplier), "residual": self.residual,
+                "closure": self.closure, "liouville_error": self.liouville_error,
+                "stable_side": self.stable_side, "code": self.code}
+
+    def __getitem__(self, key):
+        return self.as_dict()[key]
+
+
 def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 60, xtol: float = 1e-10,
-                      progress: bool = False):
+                      progress: bool = False) -> tuple:
     """Follow a periodic regime's Floquet multipliers along a parameter and find
     where one leaves (or enters) the unit circle: `floquet_fn(p)` returns a
     `FloquetResult` (e.g. `anisotropic_abb.main_motion_floquet` at speed `p`).
@@ -1018,8 +1074,8 @@ def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 
     `max |mu| - 1` and classified by the
     crossing multiplier: at +1 (fold or pitchfork of the periodic regime), at -1
     (period doubling), or a complex pair (Neimark-Sacker: quasi-periodic motion).
-    Returns `[{"p", "kind", "multiplier", "residual", "closure", "liouville_error",
-    "stable_side"}]`; the checks are those of the Floquet result at the crossing."""
+    Returns a tuple of `FloquetCrossing` (in increasing `p`); the checks are
+    those of the Floquet result at the crossing."""
     from ._critical import critical_speeds
 
     f = jax.jit(floquet_fn)
@@ -1031,10 +1087,11 @@ def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 
         k = int(np.argmin(np.abs(np.abs(mu) - 1)))
         ang = abs(np.angle(mu[k]))
         kind = "+1" if ang < 1e-3 else "-1" if abs(ang - np.pi) < 1e-3 else "complex pair"
-        out.append({"p": c.speed, "kind": kind, "multiplier": [float(mu[k].real), float(mu[k].imag)],
-                    "residual": float(abs(abs(mu[k]) - 1)), "closure": float(r.closure),
-                    "liouville_error": float(r.liouville_error), "stable_side": c.stable_side})
-    return out
+        out.append(FloquetCrossing(p=c.speed, kind=kind, multiplier=(mu[k].real, mu[k].imag),
+                                   residual=float(abs(abs(mu[k]) - 1)), closure=float(r.closure),
+                                   liouville_error=float(r.liouville_error), stable_side=c.stable_side,
+                                   code=int(np.asarray(r.code))))
+    return tuple(out)
 
 
 def boundary_points(sigma: Callable, p1_guess, p2_values, iters: int = 12):

@@ -1,4 +1,6 @@
-"""Critical speeds: where the stability margin of a regime changes sign."""
+"""Stability thresholds: the speeds where the stability margin of a reference motion
+changes sign (onset, or end, of an instability). The other "critical speeds", where a
+Campbell diagram's branch meets the 1x line, are `campbell_critical_speeds`."""
 
 import dataclasses
 from typing import Callable
@@ -15,7 +17,7 @@ from ._roots import find_roots, root_gradient
 
 
 @dataclasses.dataclass(frozen=True)
-class CriticalSpeed:
+class StabilityThreshold:
     """A speed where the margin (largest real part of the eigenvalues, or largest
     Floquet exponent) crosses zero; `stable_side` is "above" or "below"; `slope` is
     d(margin)/d(speed) there; `bracket` the final bisection bracket."""
@@ -30,7 +32,7 @@ class CriticalSpeed:
                 "bracket": list(self.bracket)}
 
 
-def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
+def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
                     xtol: float = 1e-10, chunk_size: int = 100, return_scan: bool = False,
                     progress: bool = False):
     """Scan `margin(speed)` (a JAX-traceable scalar function) over `[lo, hi]` with a
@@ -46,7 +48,7 @@ def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
     """
     if isinstance(margin, AbstractScene):
         scene = margin
-        require(scene, "linear_matrices", "critical_speeds")
+        require(scene, "linear_matrices", "stability_thresholds")
         margin = lambda s: linear_margin(scene, s)  # noqa: E731
     if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
         raise InputError(f"the speed range must be finite and increasing, got ({lo}, {hi})")
@@ -62,13 +64,19 @@ def critical_speeds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
     one = eqx.filter_jit(margin)
     roots, found_scan = find_roots(lambda c: one(jnp.float64(c)), lo, hi, n_scan, values=scan, xtol=xtol,
                                    progress=progress, return_scan=True)
-    out = [CriticalSpeed(speed=r.x, stable_side="above" if r.values[1] < 0 else "below", slope=r.slope,
+    out = [StabilityThreshold(speed=r.x, stable_side="above" if r.values[1] < 0 else "below", slope=r.slope,
                          bracket=r.bracket) for r in roots]
     return (out, found_scan) if return_scan else out
 
 
-def critical_speed_gradient(margin2: Callable, speed: float, param: float) -> float:
+def threshold_gradient(margin2: Callable, speed: float, param: float) -> float:
     """`d(critical speed)/d(param)` by the implicit function theorem on
     `margin2(speed, param) = 0`: `-(dm/dparam) / (dm/dspeed)`, both by autodiff
     (`rotorjax.analysis.root_gradient`)."""
     return float(root_gradient(margin2, speed, param))
+
+
+#: deprecated names (one release): the speeds where a margin changes sign were called critical speeds
+CriticalSpeed = StabilityThreshold
+critical_speeds = stability_thresholds
+critical_speed_gradient = threshold_gradient

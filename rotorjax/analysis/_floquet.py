@@ -18,6 +18,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from ..solve._results import RESULTS, as_result, code_of, result_code
+
 
 class FloquetResult(eqx.Module):
     """Monodromy matrix, multipliers, exponents, verdict and self-checks.
@@ -25,7 +27,10 @@ class FloquetResult(eqx.Module):
     - `margin`: the largest Floquet exponent `max log|mu| / T` (< 0: stable).
     - `liouville_error`: `|log|det M| - int tr J| ` (should be ~ the tolerance).
     - `closure`: max-norm of `y(T) - y(0)` (0 for a true periodic solution).
-    - `code`: the integration's diffrax result (0 success).
+    - `code`: the outcome's index in `rotorjax.solve.RESULTS`, the same codes as
+      `SimulationResult.code`: `successful` (0), `max_steps_reached` (1),
+      `nonfinite` (2: the monodromy matrix or the orbit is not finite),
+      `solver_failure` (3); `result` is it as a `RESULTS` item.
     """
 
     monodromy: jax.Array
@@ -36,6 +41,15 @@ class FloquetResult(eqx.Module):
     liouville_error: jax.Array
     closure: jax.Array
     code: jax.Array
+
+    @property
+    def result(self):
+        """`code` as a `RESULTS` item (batched like `code`)."""
+        return as_result(self.code)
+
+    @property
+    def success(self):
+        return self.code == code_of(RESULTS.successful)
 
     @property
     def stable(self):
@@ -79,11 +93,10 @@ def floquet(scene, y0, period, t0=0.0, rtol=1e-10, atol=1e-12, max_steps=100_000
     mult = jnp.linalg.eigvals(m)
     exps = jnp.log(jnp.abs(mult)) / period
     _, logdet = jnp.linalg.slogdet(m)
-    ok = result == diffrax.RESULTS.successful
     return FloquetResult(
         monodromy=m, multipliers=mult, exponents=exps, margin=jnp.max(exps), period=period,
         liouville_error=jnp.abs(logdet - trace_integral), closure=jnp.max(jnp.abs(y1 - y0)),
-        code=jnp.where(ok & jnp.all(jnp.isfinite(m)), 0, 1).astype(jnp.int32),
+        code=result_code(result, (m, y1)),
     )
 
 

@@ -8,8 +8,9 @@ from typing import Callable
 import jax.numpy as jnp
 import numpy as np
 
+from .._errors import InputError
 from ..models._contract import AbstractScene, require
-from ._critical import critical_speeds
+from ._critical import stability_thresholds
 from ._roots import root_gradient
 
 
@@ -45,7 +46,7 @@ def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
         state_matrix = lambda s: scene.linear_matrices(s).state_matrix()  # noqa: E731
     margin = _margin(state_matrix)
     out = []
-    found, scan = critical_speeds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True,
+    found, scan = stability_thresholds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True,
                                   progress=progress)
     for c in found:
         if c.stable_side != "below":
@@ -65,3 +66,78 @@ def hopf_speed_gradient(state_matrix2: Callable, speed: float, param: float) -> 
         return jnp.max(jnp.real(jnp.linalg.eigvals(state_matrix2(s, p))))
 
     return float(root_gradient(m, speed, param))
+
+
+@dataclasses.dataclass(frozen=True)
+class HopfReport:
+    """What `reference_hopf_points` returns: the Hopf `points` of a reference motion in
+    a speed range, the `whirl` of the crossing mode at each (`"forward"`,
+    `"backward"`, or `"undefined"` for a scene without nodes), the derivative of each
+    Hopf speed with respect to a parameter (`sensitivities`, None when not asked), and
+    the scan of the margin (`speeds`, `margins`)."""
+
+    points: tuple
+    whirl: tuple
+    sensitivities: tuple | None
+    speeds: np.ndarray
+    margins: np.ndarray
+
+    def as_dict(self, speed_key="speed", sensitivity_key=None) -> dict:
+        """JSON rows: each point's fields, its speed again as `{speed_key}_crit`, its
+        whirl, and its sensitivity as `d{speed_key}_crit_d_{sensitivity_key}`; the
+        first point's speed and frequency on top."""
+        rows = []
+        for i, h in enumerate(self.points):
+            d = h.as_dict()
+            d.update({f"{speed_key}_crit": h.speed, "whirl_frequency": h.frequency, "whirl": self.whirl[i]})
+            if self.sensitivities is not None and sensitivity_key:
+                d[f"d{speed_key}_crit_d_{sensitivity_key}"] = self.sensitivities[i]
+            rows.append(d)
+        out = {"hopf_points": rows}
+        if self.points:
+            out[f"{speed_key}_crit"], out["whirl_frequency"] = self.points[0].speed, self.points[0].frequency
+        return out
+
+
+def _crossing_whirl(scene, speed, lam):
+    """The whirl of the mode whose eigenvalue is `lam` at `speed`."""
+    from ..models._contract import AbstractShaftModel
+    from ._linear import modes
+
+    if not isinstance(scene, AbstractShaftModel):
+        return "undefined"
+    m = modes(scene, speed)
+    k = int(np.argmin(np.abs(np.asarray(m.eigenvalues) - (lam.real + 1j * abs(lam.imag)))))
+    return "forward" if bool(np.asarray(m.forward)[k]) else "backward"
+
+
+def reference_hopf_points(reference, lo: float, hi: float, n_scan: int = 80, sensitivity=None,
+                          progress: bool = False) -> HopfReport:
+    """The Hopf points of a reference motion with linear equations (a
+    `StraightRunning`: its scene's `linear_matrices(speed)`) in `[lo, hi]`
+    (`hopf_points`), the whirl of each crossing mode, and with `sensitivity = (value,
+    reference_at)` the derivative of each Hopf speed with respect to a parameter at
+    `value` (`reference_at(v)` the reference with the parameter at `v`; the implicit
+    function theorem, `hopf_speed_gradient`)."""
+    from ._reference import StraightRunning, _check
+
+    _check(reference, "reference_hopf_points")
+    if not isinstance(reference, StraightRunning):
+        raise InputError(f"Hopf points need a reference motion with linear equations (StraightRunning); "
+                         f"{reference.label} is a {type(reference).__name__}")
+    scene = reference.scene
+
+    def a(s):
+        return scene.linear_matrices(s).state_matrix()
+
+    points, (speeds, margins) = hopf_points(a, lo, hi, n_scan=n_scan, return_scan=True, progress=progress)
+    whirl = []
+    for h in points:
+        lam = np.asarray(jnp.linalg.eigvals(a(jnp.float64(h.speed))))
+        whirl.append(_crossing_whirl(scene, h.speed, lam[np.argmax(lam.real)]))
+    sens = None
+    if sensitivity is not None:
+        value, reference_at = sensitivity
+        sens = tuple(hopf_speed_gradient(lambda s, v: reference_at(v).scene.linear_matrices(s).state_matrix(),
+                                         h.speed, value) for h in points)
+    return HopfReport(tuple(points), tuple(whirl), sens, np.asarray(speeds), np.asarray(margins))

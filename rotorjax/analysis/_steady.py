@@ -47,6 +47,18 @@ class Regime(eqx.Module):
     def kind(self) -> str:
         return "balanced" if float(self.whirl_amplitude) < 1e-8 else "unbalanced"
 
+    def as_dict(self) -> dict:
+        """The regime as a JSON row (one unbatched regime)."""
+        return {
+            "whirl_amplitude": float(self.whirl_amplitude),
+            "weight_angles": [float(a) for a in np.asarray(self.weight_angles)],
+            "max_eigenvalue_real_part": float(self.margin),
+            "verdict": self.verdict,
+            "kind": self.kind,
+            "residual": float(self.residual),
+            "state_rotating_frame": [float(v) for v in np.asarray(self.z)],
+        }
+
 
 def _accel_residual(q, scene):
     n = scene.n_dof

@@ -51,7 +51,7 @@ def machine(device):
     import jax
 
     return {"platform": platform.platform(), "processor": platform.processor(), "cpu_count": os.cpu_count(),
-            "jax": jax.__version__, "device": f"{device.platform}: {getattr(device, 'device_kind', device)}",
+            "jax": jax.__version__, "device": f"{device.platform}: {device.device_kind}",
             "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
 
 

@@ -76,7 +76,7 @@ def nearest_relative_difference(ours, theirs):
 def campbell_comparison(sizes, progress, repeats, ross_py=None):
     import jax
 
-    from rotorjax.flexible import campbell
+    from rotorjax.analysis import campbell
     from rotorjax.models import load_rotor, shipped_rotor
 
     speeds = np.linspace(*SPEED_RANGE, sizes.campbell_speeds)

@@ -5,7 +5,7 @@ import json
 import os
 
 from ._common import InputError, Stages, build, get_preset, int_list, name_list, out_stem, prepare_out
-from ._common import preset_and_params
+from ._common import is_rotor_file, preset_and_params
 
 #: options of the rotor-file forms, with their defaults (given with the balancing machine: bad input)
 _ROTOR_ONLY_BALANCE = {"--set": ("set", None), "--data": ("data", None), "--speeds": ("speeds", None),
@@ -24,6 +24,7 @@ def _not_here(args, options, where):
 def cmd_balance(args) -> int:
     from rotorjax import identify as idf
     from rotorjax.plot import plot_balance
+    from ._common import save_figure
 
     if args.preset is not None:
         from ._fe_balance import cmd_fe_balance
@@ -53,8 +54,9 @@ def cmd_balance(args) -> int:
                       rotor_mass=args.rotor_mass)
     out = res.as_dict()
     stem = os.path.join(args.out, "balance")
-    plot_balance(stem + ".png", res.X0, res.predicted, res.masses_g, planes=list(res.planes),
-                 title=f"balancing at {res.speed:.1f} rad/s, {len(res.planes)} plane(s), radius {args.radius:g} m")
+    save_figure(plot_balance(before=res.X0, after=res.predicted, corrections=res.masses_g, planes=list(res.planes),
+                             title=f"balancing at {res.speed:.1f} rad/s, {len(res.planes)} plane(s), "
+                                   f"radius {args.radius:g} m"), stem + ".png", bbox_inches="tight")
     out["files"] = {"plot": stem + ".png"}
     if args.json:
         print(json.dumps(out, indent=2))
@@ -78,8 +80,9 @@ def cmd_balance(args) -> int:
 def cmd_identify(args) -> int:
     from rotorjax import identify as idf
     from rotorjax.plot import plot_identification
+    from ._common import save_figure
 
-    if get_preset(args.preset).kind == "rotor":
+    if is_rotor_file(get_preset(args.preset)):
         from ._fe_identify import cmd_fe_identify
 
         for option, dest in (("--block", "block"), ("--min-speed", "min_speed")):
@@ -94,7 +97,7 @@ def cmd_identify(args) -> int:
     args.fit_unbalance = args.fit_unbalance is True
     args.block = 1 if args.block is None else args.block
     args.min_speed = 0.0 if args.min_speed is None else args.min_speed
-    preset, params = preset_and_params(args, "identify", "machine")
+    preset, params = preset_and_params(args, "identify")
     fit = name_list("--fit", args.fit or "k1,k2,c1,c2", idf.FITTABLE)
     path = idf.resolve_data(args.data) if args.data else idf.RUNUP
     scene = build(preset, params).scene
@@ -107,9 +110,10 @@ def cmd_identify(args) -> int:
            "speed_range_rad_s": [float(found.speeds.min()), float(found.speeds.max())],
            "start": {k: params[k] for k in fit}, **res.as_dict()}
     stem = out_stem(args.out, preset, "identify_")
-    plot_identification(stem + ".png", found.speeds, found.X, found.fitted, found.band_lo, found.band_hi,
-                        title=f"{preset.name}: fit of {', '.join(fit)} to {os.path.basename(path)}",
-                        channels=list(found.sensors))
+    save_figure(plot_identification(speeds=found.speeds, data=found.X, fit=found.fitted, lo=found.band_lo,
+                                    hi=found.band_hi,
+                                    title=f"{preset.name}: fit of {', '.join(fit)} to {os.path.basename(path)}",
+                                    channels=list(found.sensors)), stem + ".png")
     out["files"] = {"plot": stem + ".png"}
     stages.close()
     if args.json:

@@ -59,6 +59,7 @@ def table_lines(report):
 def cmd_bench(args) -> int:
     from rotorjax import bench
     from rotorjax.plot import plot_bench
+    from ._common import save_figure
 
     ross_py = _check_ross_python(args.ross_python)
     try:
@@ -77,7 +78,7 @@ def cmd_bench(args) -> int:
     path_json = os.path.join(args.out, "bench.json")
     path_png = os.path.join(args.out, "bench.png")
     write_json(path_json, report, indent=2)
-    plot_bench(report, path_png)
+    save_figure(plot_bench(report), path_png)
     report["files"] = {"json": path_json, "diagram": path_png}
     if args.json:
         print(json.dumps(report, indent=2))

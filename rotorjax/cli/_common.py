@@ -9,20 +9,62 @@ import argparse
 import math
 import os
 import sys
+from typing import NamedTuple
 
 from .._errors import InputError, NumericalError  # noqa: F401  (re-exported for the commands)
 
-#: Commands that apply to each kind of preset (the message for a mismatch).
-KIND_COMMANDS = {
-    "planar": "a planar rotor: use `simulate`, `steady`, `critical-speeds`, `stability-map`, `continue`",
-    "flexible": "a finite-element rotor: use `campbell`, `response`, `critical-speeds`, `static`, `modes`, `ucs`, "
-                "`frf`, `level1`",
-    "modal": "model 003's modal shaft: use `steady`, `critical-speeds`, `stability-map`, `continue`",
-    "contact": "model 004's rotor with limiters: use `simulate`, `hopf`, `bifurcation`, `critical-speeds`, "
-               "`stability-map`, `continue`",
-    "machine": "a balancing machine: use `balance`, `identify`",
-    "rotor": "a rotor file's finite-element rotor: use `simulate`, `campbell`, `response`, `critical-speeds`, "
-             "`static`, `modes`, `ucs`, `frf`, `level1`, `identify`, `balance`",
+def _fe(setup, preset):
+    from ..models import provides
+
+    return provides(setup.scene, "shaft")
+
+
+def _regimes(setup, preset):
+    from ..models import ModalBalancerRotor, provides
+
+    scene = setup.scene
+    return isinstance(scene, ModalBalancerRotor) or (provides(scene, "to_rotating")
+                                                      and len(scene.weight_coordinates()[0]) > 0)
+
+
+def _critical(setup, preset):
+    from ..models import ModalBalancerRotor
+
+    return isinstance(setup.scene, ModalBalancerRotor) or setup.reference is not None or _fe(setup, preset)
+
+
+def _hopf(setup, preset):
+    from ..analysis import StraightRunning
+
+    return isinstance(setup.reference, StraightRunning)
+
+
+def _measured(setup, preset):
+    from ..models import BalancingScene
+
+    return "rotor_file" in setup.extras or isinstance(setup.scene, BalancingScene)
+
+
+#: what each command needs of a preset's built `Setup` (its scene's capabilities, its
+#: reference motion, its data), and in words for the message when it is missing; the
+#: commands that apply to a preset are listed in this order
+COMMAND_NEEDS = {
+    "simulate": ("an initial state to run from", lambda s, p: s.y0 is not None),
+    "steady": ("balancing weights in a rotating frame", _regimes),
+    "campbell": ("a finite-element rotor", _fe),
+    "response": ("a finite-element rotor", _fe),
+    "critical-speeds": ("a reference motion or a finite-element rotor", _critical),
+    "stability-map": ("a reference motion", lambda s, p: s.reference is not None),
+    "continue": ("a reference motion", lambda s, p: s.reference is not None),
+    "hopf": ("straight-line rotation with linear equations", _hopf),
+    "bifurcation": ("contacts and sweepable parameters", lambda s, p: s.scene.n_contacts > 0 and bool(p.sweepable)),
+    "static": ("a finite-element rotor", _fe),
+    "modes": ("a finite-element rotor", _fe),
+    "ucs": ("a finite-element rotor", _fe),
+    "frf": ("a finite-element rotor", _fe),
+    "level1": ("a finite-element rotor", _fe),
+    "balance": ("measurements to work from: a rotor file or the balancing machine", _measured),
+    "identify": ("measurements to work from: a rotor file or the balancing machine", _measured),
 }
 
 
@@ -161,8 +203,37 @@ def name_list(option, text, known):
 
 # ---- output ----
 
+#: where a command writes its files without `--out`: a folder in the current directory, never the
+#: installed package nor the folder of a shipped rotor file
+DEFAULT_OUT = "rotorjax-out"
+
+
+def use_agg():
+    """Matplotlib's non-interactive backend (Agg) for the command's pictures. The CLI
+    chooses it (`rotorjax.plot` chooses none), before its first figure, so that a
+    command run without a display never tries to open one."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
+def save_figure(fig, path, **kwargs):
+    """Write `fig` (a `rotorjax.plot` figure) as a PNG at `path` (120 dpi unless
+    `kwargs` say otherwise), close it, and return `path`."""
+    import matplotlib.pyplot as plt
+
+    kwargs.setdefault("dpi", 120)
+    try:
+        fig.savefig(path, **kwargs)
+    finally:
+        plt.close(fig)
+    return path
+
+
 def prepare_out(path, option="--out"):
-    """Create the output folder `path` (before any computing) or say why it cannot be."""
+    """Create the output folder `path` (before any computing) or say why it cannot be;
+    the command will draw, so matplotlib's backend is set to Agg (`use_agg`)."""
+    use_agg()
     if os.path.exists(path) and not os.path.isdir(path):
         raise InputError(f"{option} {path}: exists and is not a folder")
     try:
@@ -217,19 +288,35 @@ def get_preset(name):
         raise
 
 
-def wrong_kind(preset, command):
-    return InputError(f"`{command}` does not apply to {preset.name!r}, {KIND_COMMANDS[preset.kind]}")
+def is_rotor_file(preset) -> bool:
+    """Whether `preset` is a rotor file's (its `Setup.extras` names the file)."""
+    return "rotor_file" in build(preset, preset.params()).extras
 
 
-def preset_and_params(args, command, kinds, speed_option=None):
-    """The preset named on the command line, checked to be of one of `kinds`,
-    and its parameters with the `--set` overrides applied (and `--speed`, when
-    `speed_option` is given, as the preset's speed key)."""
+def applicable(preset, setup=None) -> list:
+    """The commands that apply to `preset` (built at its defaults unless `setup` is
+    given), in `COMMAND_NEEDS`' order."""
+    setup = build(preset, preset.params()) if setup is None else setup
+    return [c for c, (_, needs) in COMMAND_NEEDS.items() if needs(setup, preset)]
+
+
+def wrong_kind(preset, command, setup=None):
+    """`command` does not apply to `preset`: what it needs, and the commands that do."""
+    what = COMMAND_NEEDS[command][0]
+    ok = applicable(preset, setup)
+    use = ("use " + ", ".join(f"`{c}`" for c in ok)) if ok else "no command applies to it"
+    return InputError(f"`{command}` does not apply to {preset.name!r}: it needs {what}; {use}")
+
+
+def preset_and_params(args, command, speed_option=None):
+    """The preset named on the command line, checked to offer what `command` needs
+    (`COMMAND_NEEDS`, on the preset built at its defaults), and its parameters with
+    the `--set` overrides applied (and `--speed`, when `speed_option` is given, as the
+    preset's speed key)."""
     preset = get_preset(args.preset)
-    if isinstance(kinds, str):
-        kinds = (kinds,)
-    if preset.kind not in kinds:
-        raise wrong_kind(preset, command)
+    setup = build(preset, preset.params())
+    if not COMMAND_NEEDS[command][1](setup, preset):
+        raise wrong_kind(preset, command, setup)
     extra = None if speed_option is None else {preset.speed_key: ("--speed", speed_option)}
     return preset, preset_params(preset, args.set, extra)
 
@@ -241,6 +328,59 @@ def build(preset, params):
     except ZeroDivisionError:
         raise InputError(f"{preset.name}: the --set values make a degenerate scene (a division by zero)") \
             from None
+
+
+def fe_rotor(scene):
+    """The `FlexibleRotor` (or `ReducedRotor`) of a finite-element rotor scene."""
+    from rotorjax.models import RotorScene
+
+    if not isinstance(scene, RotorScene):
+        raise InputError(f"needs a finite-element rotor (RotorScene), got {type(scene).__name__}")
+    return scene.rotor
+
+
+class Study(NamedTuple):
+    """What the stability commands ask of a preset at its parameters, from its
+    reference motion (`Setup.reference`): the margin as a function of the
+    parameters, the regime's name, how boundary tangents are differentiated, and
+    (where the reference is of that kind) its branch as a root problem or its
+    Floquet analysis along a parameter."""
+
+    margin: object
+    regime: str
+    gradient: str
+    branch_problem: object = None
+    floquet_family: object = None
+    published: tuple = ()
+
+
+def stability_study(preset, params):
+    """The preset's `Study` at `params`, or None where its scene has no reference motion."""
+    from rotorjax.analysis import PeriodicOrbit, branch_problem, floquet_family, stability_margin
+
+    setup = build(preset, params)
+    ref = setup.reference
+    if ref is None:
+        return None
+
+    def at(p):
+        return preset.build(p).reference
+
+    periodic = isinstance(ref, PeriodicOrbit)
+    return Study(
+        margin=lambda p: stability_margin(at(p)),
+        regime=ref.label,
+        gradient=margin_gradient_of(ref),
+        branch_problem=None if periodic else (
+            lambda q, key: branch_problem(lambda v: at(dict(q, **{key: v})), q[key])),
+        floquet_family=(lambda q, key: floquet_family(lambda v: at(dict(q, **{key: v})))) if periodic else None,
+        published=setup.published)
+
+
+def margin_gradient_of(ref) -> str:
+    from rotorjax.analysis import NoReference, margin_gradient
+
+    return "autodiff" if isinstance(ref, NoReference) else margin_gradient(ref)
 
 
 def speed_warnings(system, lo, hi=None):

@@ -20,17 +20,21 @@ def cmd_bifurcation(args) -> int:
     import jax.numpy as jnp
 
     from rotorjax.analysis._summary import precession_diagram, speeds_at
+    from rotorjax.models import leaf_at
     from rotorjax.plot import plot_bifurcation
     from rotorjax.solve import IVP
     from rotorjax.sweep import sweep
 
-    preset, params = preset_and_params(args, "bifurcation", "contact")
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "bifurcation")
     key, lo, hi, n = grid_spec("--param", args.param, preset, params, allowed=tuple(preset.sweepable))
     base = build(preset, params)
     events = bool(base.extras.get("events"))
     if events and args.batch != "buffered":
         raise InputError("--set events=1: event-located contact runs in the buffered batch; drop --batch vmap")
-    where = preset.sweepable[key]
+    path = preset.sweepable[key]   # a path into the scene (`rotorjax.models.leaf_at`), or a function of it
+    where = (lambda s: leaf_at(s, path)) if isinstance(path, str) else path
     try:
         where(base.scene)
     except InputError as e:
@@ -61,9 +65,9 @@ def cmd_bifurcation(args) -> int:
     rows, extrema, lams, switches = precession_diagram(key, values, lanes, speeds, revolutions,
                                                        base.extras.get("analysis_revolutions", 300))
     stem = out_stem(args.out, preset, "bifurcation_", f"_{key}")
-    plot_bifurcation(values, extrema, lams, stem + ".png", key,
-                     title=f"{preset.name}: extrema of disk x vs {key} ({preset.speed_key} = "
-                           f"{params[preset.speed_key]:g}, {revolutions} revolutions)")
+    save_figure(plot_bifurcation(values, extrema, lams, param=key,
+                                 title=f"{preset.name}: extrema of disk x vs {key} ({preset.speed_key} = "
+                                       f"{params[preset.speed_key]:g}, {revolutions} revolutions)"), stem + ".png")
     failed = sum(r["code"] != 0 for r in rows)
     steps = np.asarray(r.stats["num_steps"])
     out = {"preset": preset.name, "param": key, "params": params, "points": rows,

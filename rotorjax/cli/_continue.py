@@ -5,7 +5,7 @@ import os
 
 import numpy as np
 
-from ._common import InputError, get_preset, out_stem, prepare_out, preset_params, write_json
+from ._common import InputError, get_preset, out_stem, prepare_out, preset_params, stability_study, write_json
 
 #: the accuracy of a boundary's dense curve between its points (along --param, at fixed --param2)
 DENSE_TOL = 1e-6
@@ -60,6 +60,7 @@ def _param_range(preset, key, to, start):
 def cmd_continue(args) -> int:
     from rotorjax.analysis import continue_branch, floquet_crossings, trace_boundaries, trace_boundary
     from rotorjax.plot import plot_boundaries, plot_curves
+    from ._common import save_figure
 
     preset = get_preset(args.preset)
     params = preset_params(preset, args.set)
@@ -90,10 +91,11 @@ def cmd_continue(args) -> int:
     stem = out_stem(args.out, preset, "continue_", f"_{key}" + (f"_{key2}" if key2 else ""))
     out = {"preset": preset.name, "param": key, "param2": key2, "start": start,
            "start_source": "--from" if args.start else "the preset's values"}
+    study = stability_study(preset, params)
     if key2:
-        if preset.margin is None:
+        if study is None:
             raise InputError(f"{preset.name!r} has no reference regime whose boundary could be traced")
-        gradient = args.gradient if args.gradient != "auto" else preset.margin_gradient
+        gradient = args.gradient if args.gradient != "auto" else study.gradient
         box, box_source = _box(preset, args, key, key2, start)
         if args.start is not None and not (box[0] <= start[0] <= box[1] and box[2] <= start[1] <= box[3]):
             raise InputError(f"--from {start[0]:g} {start[1]:g}: outside the box {key} in [{box[0]:g}, {box[1]:g}]"
@@ -103,7 +105,7 @@ def cmd_continue(args) -> int:
                              "every boundary in the box is traced both ways")
 
         def sigma(a, b):
-            return preset.margin(dict(params, **{key: a, key2: b}))
+            return study.margin(dict(params, **{key: a, key2: b}))
 
         bounds = (np.array([box[0], box[2]]), np.array([box[1], box[3]]))
         if args.start is None:
@@ -133,7 +135,7 @@ def cmd_continue(args) -> int:
             crossings = []
             start = branches[0].x[branches[0].start].tolist()
         first = branches[0]
-        out.update({"kind": "stability boundary (margin = 0)", "regime": preset.regime, "start": start,
+        out.update({"kind": "stability boundary (margin = 0)", "regime": study.regime, "start": start,
                     "box": box, "box_source": box_source, "dense_tol": DENSE_TOL,
                     "n_branches": len(branches),
                     "branches": [c.as_dict(names=(key, key2), dense=8) for c in branches],
@@ -145,22 +147,23 @@ def cmd_continue(args) -> int:
         np.savetxt(stem + ".csv", np.concatenate([np.column_stack([c.x, c.residuals, np.full(len(c.x), i)])
                                                   for i, c in enumerate(branches)]),
                    delimiter=",", header=f"{key},{key2},residual,branch", comments="", fmt="%.17g")
-        plot_boundaries(branches, crossings, stem + ".png", key, key2, box,
-                         f"{preset.name}: stability boundary of {preset.regime}")
-    elif preset.floquet_family is not None:
+        save_figure(plot_boundaries(branches, crossings, key=key, key2=key2, box=box,
+                                    title=f"{preset.name}: stability boundary of {study.regime}"), stem + ".png")
+    elif study is not None and study.floquet_family is not None:
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
-        found = floquet_crossings(preset.floquet_family(params, key), lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
+        found = floquet_crossings(study.floquet_family(params, key), lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
                                   progress=not args.json)
-        out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi], "crossings": found})
+        out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi],
+                    "crossings": [c.as_dict() for c in found]})
         with open(stem + ".csv", "w") as f:
             f.write(f"{key},kind,residual\n")
             for c in found:
-                f.write(f"{c['p']},{c['kind']},{c['residual']}\n")
+                f.write(f"{c.p},{c.kind},{c.residual}\n")
     else:
-        if preset.branch_problem is None:
+        if study is None or study.branch_problem is None:
             raise InputError(f"{preset.name!r} has no stationary branch to continue in one parameter; trace a "
                              "boundary with --param2, or use `critical-speeds` / `hopf`")
-        F, u0 = preset.branch_problem(params, key)
+        F, u0 = study.branch_problem(params, key)
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
         if not lo <= start[0] <= hi:
             raise InputError(f"--to {lo:g} {hi:g}: the start {key} = {start[0]:g} lies outside")
@@ -172,8 +175,8 @@ def cmd_continue(args) -> int:
                     "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()})
         np.savetxt(stem + ".csv", np.column_stack([br.p, br.margin, br.curve.residuals]), delimiter=",",
                    header=f"{key},margin,residual", comments="")
-        plot_curves(br.p, {"largest real part": br.margin}, stem + ".png", key, "margin",
-                    title=f"{preset.name}: branch in {key}")
+        save_figure(plot_curves(br.p, {"largest real part": br.margin}, x_label=key, y_label="margin",
+                                title=f"{preset.name}: branch in {key}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json"}
     if os.path.exists(stem + ".png"):
         out["files"]["plot"] = stem + ".png"

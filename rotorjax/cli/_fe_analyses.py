@@ -6,17 +6,16 @@ import json
 
 import numpy as np
 
-from ._common import (InputError, NumericalError, build, operating_speed, out_stem, prepare_out, preset_and_params,
-                      speed_warnings, write_json)
+from ._common import (InputError, NumericalError, build, is_rotor_file, operating_speed, out_stem, prepare_out,
+                      preset_and_params, speed_warnings, write_json)
 
 #: kinds of preset with a finite-element rotor
-KINDS = ("flexible", "rotor")
 
 
 def _scene(preset, params):
     """The preset's finite-element rotor scene (its linear part counts: components'
     linearisations included)."""
-    from rotorjax.presets._hooks import fe_rotor
+    from ._common import fe_rotor
 
     scene = build(preset, params).scene
     fe_rotor(scene)   # the kind check: a RotorScene
@@ -24,10 +23,11 @@ def _scene(preset, params):
 
 
 def cmd_static(args) -> int:
-    from rotorjax.flexible import static
+    from rotorjax.analysis import static
     from rotorjax.plot import plot_static
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "static", KINDS)
+    preset, params = preset_and_params(args, "static")
     prepare_out(args.out)
     scene = _scene(preset, params)
     res = static(scene, gravity=args.gravity, axis=args.axis)
@@ -36,9 +36,10 @@ def cmd_static(args) -> int:
     reactions = np.asarray(res.bearing_reactions)
     if not (np.all(np.isfinite(disp)) and np.all(np.isfinite(reactions))):
         raise NumericalError("static: non-finite displacements")
-    full = getattr(scene.rotor, "rotor", scene.rotor)   # a reduced rotor's full one
+    full = scene.full_rotor   # a reduced rotor's full one
     stem = out_stem(args.out, preset, "static_")
-    plot_static(res, stem + ".png", title=f"{preset.name}: static deflection under gravity ({args.axis})")
+    save_figure(plot_static(res, title=f"{preset.name}: static deflection under gravity ({args.axis})"),
+                stem + ".png")
     k_max = int(np.argmax(np.abs(disp[:, p])))
     out = {"preset": preset.name, "unit": "m, N, N m", "gravity": args.gravity, "axis": args.axis,
            "positions": np.asarray(res.positions).tolist(), "displacement": disp.tolist(),
@@ -68,10 +69,11 @@ def cmd_static(args) -> int:
 
 
 def cmd_modes(args) -> int:
-    from rotorjax.flexible import check_supported, modes
+    from rotorjax.analysis import check_supported, modes
     from rotorjax.plot import plot_mode_shapes, plot_mode_shapes_3d
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "modes", KINDS)
+    preset, params = preset_and_params(args, "modes")
     prepare_out(args.out)
     scene = _scene(preset, params)
     n = 2 * int(scene.n_shaft)
@@ -86,11 +88,11 @@ def cmd_modes(args) -> int:
     if not (np.all(np.isfinite(wd)) and np.all(np.isfinite(wn))):
         raise NumericalError("modes: non-finite natural frequencies (fewer oscillating modes than --n-modes?)")
     whirl = [str(w) for w in m.whirl]
-    full = getattr(scene.rotor, "rotor", scene.rotor)
+    full = scene.full_rotor
     stem = out_stem(args.out, preset, "modes_")
     title = f"{preset.name} at {speed:g} rad/s"
-    plot_mode_shapes(m, full, stem + "_shapes.png", title=title)
-    plot_mode_shapes_3d(m, full, stem + "_3d.png", title=title)
+    save_figure(plot_mode_shapes(m, full, title=title), stem + "_shapes.png")
+    save_figure(plot_mode_shapes_3d(m, full, title=title), stem + "_3d.png")
     rows = [{"mode": k, "damped_frequency": float(wd[k]), "damped_frequency_hz": float(wd[k] / (2 * np.pi)),
              "natural_frequency": float(wn[k]), "damping_ratio": float(zeta[k]), "log_dec": float(logdec[k]),
              "whirl": whirl[k]} for k in range(len(wd))]
@@ -117,14 +119,14 @@ def _speed(args, preset, params, option="--speed"):
     if args.speed is not None:
         return float(args.speed), option
     speed = operating_speed(preset, params)
-    return speed, ("[rotor] speed of the file" if preset.kind == "rotor" else f"{preset.name}'s speed")
+    return speed, ("[rotor] speed of the file" if is_rotor_file(preset) else f"{preset.name}'s speed")
 
 
 # ---- ucs, frf, level1 (the UCS map, frequency-response functions, API 684 level I) ----
 
 def _fe_rotor(preset, params):
     """The preset's `FlexibleRotor` (or reduced rotor)."""
-    from rotorjax.presets._hooks import fe_rotor
+    from ._common import fe_rotor
 
     return fe_rotor(build(preset, params).scene)
 
@@ -157,11 +159,13 @@ def point_spec(text):
 def cmd_ucs(args) -> int:
     import math
 
-    from rotorjax.flexible import ucs
+    from rotorjax.analysis import ucs
     from rotorjax.plot import plot_ucs
     from rotorjax.sweep import check_grid_size
 
-    preset, params = preset_and_params(args, "ucs", KINDS)
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "ucs")
     lo, hi = args.range
     text = f"--range {lo:g} {hi:g}"
     if not lo > 0:
@@ -173,7 +177,7 @@ def cmd_ucs(args) -> int:
     check_grid_size("--n", args.n, 120.0 * (args.n_modes + 1))   # the map in the JSON and the plot
     prepare_out(args.out)
     rotor = _fe_rotor(preset, params)
-    rotor = getattr(rotor, "rotor", rotor)   # a reduced rotor's full one (the basis depends on the bearings)
+    rotor = rotor.full_rotor   # a reduced rotor's full one (the basis depends on the bearings)
     n_forward = len([d for d in rotor.free_dofs if d < 4 * rotor.n_nodes]) // 2
     if args.n_modes > n_forward:
         raise InputError(f"--n-modes {args.n_modes}: the rotor has {n_forward} forward modes")
@@ -186,9 +190,10 @@ def cmd_ucs(args) -> int:
     stem = out_stem(args.out, preset, "ucs_")
     inter = [{"speed": i.speed, "k": i.k, "mode": i.mode, "bearing": i.bearing, "coefficient": i.coefficient,
               "residual": i.residual} for i in res.intersections]
-    plot_ucs(k, f, stem + ".png", np.asarray(res.bearing_speeds), np.asarray(res.bearing_k),
-             [(i["k"], i["speed"]) for i in inter],
-             title=f"{preset.name}: undamped critical speed map", synchronous=args.synchronous)
+    save_figure(plot_ucs(k, f, None, np.asarray(res.bearing_speeds), np.asarray(res.bearing_k),
+                         [(i["k"], i["speed"]) for i in inter],
+                         title=f"{preset.name}: undamped critical speed map", synchronous=args.synchronous),
+                stem + ".png")
     out = {"preset": preset.name, "unit": "rad/s, N/m", "synchronous": args.synchronous,
            "stiffness": k.tolist(), "critical_speeds": [[v if math.isfinite(v) else None for v in row]
                                                          for row in f.tolist()],
@@ -212,13 +217,13 @@ def cmd_ucs(args) -> int:
 
 
 def cmd_frf(args) -> int:
-    from rotorjax.flexible import check_supported, frf_curve
+    from rotorjax.analysis import check_supported, frf_curve
     from rotorjax.plot import plot_frf
     from rotorjax.sweep import check_grid_size
 
-    from ._common import check_range
+    from ._common import check_range, save_figure
 
-    preset, params = preset_and_params(args, "frf", KINDS)
+    preset, params = preset_and_params(args, "frf")
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     scene = _scene(preset, params)
@@ -241,7 +246,9 @@ def cmd_frf(args) -> int:
     running = "synchronous (speed = frequency)" if args.speed is None else f"at {args.speed:g} rad/s"
     title = (f"{preset.name}: {args.kind} at {args.output[0]}{args.output[1]} / force at "
              f"{args.input[0]}{args.input[1]}, {running}")
-    plot_frf(w, h, stem + "_bode.png", stem + "_polar.png", title=title, unit=unit)
+    bode, polar = plot_frf(w, h, title=title, unit=unit)
+    save_figure(bode, stem + "_bode.png")
+    save_figure(polar, stem + "_polar.png")
     mag = np.abs(h)
     out = {"preset": preset.name, "input": list(args.input), "output": list(args.output), "kind": args.kind,
            "unit": f"rad/s, {unit}", "speed": args.speed, "frequencies": w.tolist(), "magnitude": mag.tolist(),
@@ -261,10 +268,11 @@ def cmd_frf(args) -> int:
 def cmd_level1(args) -> int:
     import math
 
-    from rotorjax.flexible import check_supported, level1, mid_span_node
+    from rotorjax.analysis import check_supported, level1, mid_span_node
     from rotorjax.plot import plot_level1
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "level1", KINDS)
+    preset, params = preset_and_params(args, "level1")
     prepare_out(args.out)
     scene = _scene(preset, params)
     rotor = scene.rotor
@@ -278,7 +286,7 @@ def cmd_level1(args) -> int:
     if args.node is not None:
         _node_option("--node", str(args.node), args.node, rotor.n_nodes)
     node = mid_span_node(scene) if args.node is None else args.node
-    if args.q_max is None and not getattr(rotor, "rotor", rotor).bearing_nodes:
+    if args.q_max is None and not rotor.full_rotor.bearing_nodes:
         raise InputError(f"level1: {preset.name} has no bearings; give --q-max")
     res = level1(scene, args.speed, node=node, q_max=args.q_max, n=args.n)
     q, ld = np.asarray(res.q), np.asarray(res.log_dec)
@@ -286,8 +294,8 @@ def cmd_level1(args) -> int:
         raise NumericalError("level1: non-finite log decrements (no forward mode found?)")
     q0 = float(res.q0) if res.crossed else None
     stem = out_stem(args.out, preset, "level1_")
-    plot_level1(q, ld, stem + ".png", q0, title=f"{preset.name}: API 684 level I at {args.speed:g} rad/s, "
-                f"Q at node {node}")
+    save_figure(plot_level1(q, ld, q0=q0, title=f"{preset.name}: API 684 level I at {args.speed:g} rad/s, "
+                                        f"Q at node {node}"), stem + ".png")
     out = {"preset": preset.name, "speed": args.speed, "speed_source": speed_source, "node": node,
            "unit": "N/m, rad/s",
            "q0": q0, "check_at_q0": {"real_part": None if q0 is None else float(res.real_part_at_q0),

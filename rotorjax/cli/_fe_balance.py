@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-from ._common import InputError, build, int_list, prepare_out, preset_and_params, write_json
+from ._common import InputError, build, int_list, is_rotor_file, prepare_out, preset_and_params, write_json
 
 #: the phasor file used when --data is not given
 DEFAULT_DATA = "flexible-trials"
@@ -40,8 +40,12 @@ def cmd_fe_balance(args) -> int:
     from rotorjax.identify._fe_balance import _check_unbalance_data, balance_rotor
     from rotorjax.identify._phasor_file import read_phasors
     from rotorjax.plot import plot_fe_balance
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "balance", ("rotor",))
+    preset, params = preset_and_params(args, "balance")
+    if not is_rotor_file(preset):   # the balancing machine is balanced from its runs, without a preset
+        raise InputError(f"`balance {preset.name}`: the balancing machine is balanced without naming it: "
+                         "`rotorjax balance --runs FILE ...`; a preset named here must be a rotor file")
     planes = None if args.planes is None else int_list("--planes", args.planes)
     speeds = None if args.speeds is None else _speed_list(args.speeds)
     if args.out:
@@ -54,8 +58,7 @@ def cmd_fe_balance(args) -> int:
             raise InputError(f"--planes: {data.path} has no trial runs to take the correction planes from; name "
                              "them (FE nodes), e.g. --planes 2,4")
         args.planes = ",".join(map(str, planes))
-    rotor = build(preset, params).scene.rotor
-    rotor = getattr(rotor, "rotor", rotor)   # a reduced rotor's full one
+    rotor = build(preset, params).scene.full_rotor   # a reduced rotor's full one
     try:
         res = balance_rotor(data, planes, speeds=speeds, method=args.method, influence=args.influence, rotor=rotor,
                             rotor_mass=args.rotor_mass, service_speed=args.service_speed,
@@ -65,8 +68,8 @@ def cmd_fe_balance(args) -> int:
     out = {"preset": preset.name, **res.as_dict()}
     if args.out:
         stem = os.path.join(args.out, "balance_rotor")
-        plot_fe_balance(stem + ".png", res, f"{preset.name}: {len(planes)}-plane balancing from "
-                        f"{os.path.basename(res.path)}")
+        save_figure(plot_fe_balance(result=res, title=f"{preset.name}: {len(planes)}-plane balancing from "
+                                                      f"{os.path.basename(res.path)}"), stem + ".png")
         out["files"] = {"plot": stem + ".png", "json": stem + ".json"}
         write_json(stem + ".json", out, indent=2)
     if args.json:

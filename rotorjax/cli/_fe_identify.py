@@ -42,8 +42,9 @@ def cmd_fe_identify(args) -> int:
     from rotorjax.identify._fe_identify import identify_rotor
     from rotorjax.identify._fe_params import rotor_model
     from rotorjax.plot import plot_fe_identification
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "identify", ("rotor",))
+    preset, params = preset_and_params(args, "identify")
     path = preset.name
     model = rotor_model(path, scene=build(preset, params).scene, entries=preset.defaults)
     data = args.data or DEFAULT_DATA.get(os.path.basename(path))
@@ -66,8 +67,8 @@ def cmd_fe_identify(args) -> int:
            "fit_unbalance": fit_unbalance, "start": {k: model.parameters([k])[0].start for k in res.names},
            **res.as_dict()}
     stem = os.path.join(args.out, "identify_" + os.path.splitext(os.path.basename(path))[0])
-    plot_fe_identification(stem + ".png", res, title=f"{preset.name}: fit of {len(res.names)} parameter(s) to "
-                                                     f"{os.path.basename(res.data.path)}")
+    save_figure(plot_fe_identification(result=res, title=f"{preset.name}: fit of {len(res.names)} parameter(s) "
+                                                         f"to {os.path.basename(res.data.path)}"), stem + ".png")
     out["files"] = {"plot": stem + ".png", "json": stem + ".json"}
     write_json(stem + ".json", out)
     if not all(map(_finite, res.estimates.values())):

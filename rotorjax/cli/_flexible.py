@@ -9,7 +9,6 @@ from ._common import (InputError, NumericalError, build, check_range, out_stem, 
                       speed_warnings, write_json)
 
 #: kinds of preset with a finite-element rotor
-KINDS = ("flexible", "rotor")
 
 
 def _rotor(preset, params, n_modes, scene=False):
@@ -17,12 +16,12 @@ def _rotor(preset, params, n_modes, scene=False):
     with `scene`, its `RotorScene` (on the reduced rotor), whose linear part counts
     the components' linearisations (a rotor file's cubic bearings, internal damping)."""
     from rotorjax.models import RotorScene
-    from rotorjax.presets._hooks import fe_rotor, rotor_dofs
+    from ._common import fe_rotor
 
     sc = build(preset, params).scene
     rotor = fe_rotor(sc)
     if n_modes is not None:
-        n = rotor_dofs(rotor)
+        n = rotor.n_coordinates
         if not 1 <= n_modes <= n:
             raise InputError(f"--reduce {n_modes}: n_modes (reduction) must be in 1..{n} (the rotor's dofs)")
         rotor = rotor.reduce(n_modes)
@@ -33,7 +32,7 @@ def _rotor(preset, params, n_modes, scene=False):
 
 def _campbell_at(speeds, rotor, n_modes):
     """`campbell` with the speeds first (a batched function for `map_chunked`)."""
-    from rotorjax.flexible import campbell
+    from rotorjax.analysis import campbell
 
     return campbell(rotor, speeds, n_modes)
 
@@ -41,19 +40,20 @@ def _campbell_at(speeds, rotor, n_modes):
 def cmd_campbell(args) -> int:
     import jax
 
-    from rotorjax.flexible import check_supported, critical_speeds_1x, track_modes, track_order
+    from rotorjax.analysis import check_supported, critical_speeds_1x, track_modes, track_order
     from rotorjax.plot import plot_campbell_tracked
-    from rotorjax.presets._hooks import rotor_dofs
     from rotorjax.sweep import check_grid_size, map_chunked
 
-    preset, params = preset_and_params(args, "campbell", KINDS)
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "campbell")
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     rotor = _rotor(preset, params, args.reduce, scene=True)
     check_grid_size("--n-speeds", args.n_speeds, 800.0 * (args.modes + 4))  # tracked and plain, in the JSON
     check_supported(rotor, hi, what=preset.name)
     speed_warnings(rotor, lo, hi)
-    dofs = rotor_dofs(rotor)
+    dofs = rotor.n_coordinates
     n = 2 * dofs
     if args.modes > n:
         raise InputError(f"--modes {args.modes}: the rotor has {n} modes" + (" after --reduce" if args.reduce else ""))
@@ -71,9 +71,10 @@ def cmd_campbell(args) -> int:
     # the crossings of the diagram's own branches (its speeds are the scan), bisected
     crit = critical_speeds_1x(rotor, lo, hi, n_modes=k, scan=(speeds, camp))
     stem = out_stem(args.out, preset, "campbell_")
-    plot_campbell_tracked(speeds, t_freq, t_whirl, t_logdec, stem + ".png", critical=[s for s, _ in crit],
-                          title=f"{preset.name}: Campbell diagram (tracked modes)"
-                          + (f" (reduced to {args.reduce} modes)" if args.reduce else ""))
+    save_figure(plot_campbell_tracked(speeds, t_freq, t_whirl, t_logdec, critical=[s for s, _ in crit],
+                                      title=f"{preset.name}: Campbell diagram (tracked modes)"
+                                      + (f" (reduced to {args.reduce} modes)" if args.reduce else "")),
+                stem + ".png")
     out = {"preset": preset.name, "unit": "rad/s", "speeds": speeds.tolist(),
            "frequencies": np.asarray(camp.frequencies).tolist(),
            "forward": np.asarray(camp.forward).tolist(),
@@ -124,20 +125,19 @@ def rotor_unbalances(scene):
     file's `[[unbalance]]` tables, a preset's load case), in order."""
     from rotorjax.models import Unbalance
 
-    return [(int(c.node), float(c.magnitude), float(c.phase)) for c in getattr(scene, "components", ())
+    return [(int(c.node), float(c.magnitude), float(c.phase)) for c in scene.components
             if isinstance(c, Unbalance)]
 
 
 def default_node(scene):
     """Where a bare `--unbalance MAG` goes without `--node`: the rotor's first
     unbalance's node, else its heaviest disk's node, else the middle of its bearing span."""
-    from rotorjax.flexible import mid_span_node
-    from rotorjax.flexible._frf import full_rotor
+    from rotorjax.analysis import full_rotor, mid_span_node
 
     given = rotor_unbalances(scene)
     if given:
         return given[0][0], "the rotor's unbalance"
-    full = getattr(full_rotor(scene), "rotor", full_rotor(scene))
+    full = full_rotor(scene).full_rotor
     if len(full.disk_nodes):
         masses = np.asarray(full.disk_params)[:, 0]
         return int(full.disk_nodes[int(np.argmax(masses))]), "the heaviest disk"
@@ -183,11 +183,13 @@ def _unbalances(args, scene, n_nodes, name):
 
 
 def cmd_response(args) -> int:
-    from rotorjax.flexible import check_supported, deflected_shape, response_curve
+    from rotorjax.analysis import check_supported, deflected_shape, response_curve
     from rotorjax.plot import plot_deflected_shape, plot_response
     from rotorjax.sweep import check_grid_size
 
-    preset, params = preset_and_params(args, "response", KINDS)
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "response")
     lo, hi = check_range("--range", *args.range, positive_lo=True)
     prepare_out(args.out)
     scene = _rotor(preset, params, args.reduce, scene=True)
@@ -204,8 +206,8 @@ def cmd_response(args) -> int:
     what = ", ".join(f"{m:g} kg m at node {n} ({p:g} rad)" for n, m, p in triples)
     probe_source = "--probe" if not curve.probe_chosen else "largest response"
     stem = out_stem(args.out, preset, "response_")
-    plot_response(curve.speeds, curve.x, curve.y, stem + ".png", title=f"{preset.name}: unbalance response at "
-                  f"node {curve.probe} ({what})")
+    save_figure(plot_response(curve.speeds, curve.x, curve.y, title=f"{preset.name}: unbalance response at "
+                              f"node {curve.probe} ({what})"), stem + ".png")
     single = len(given := (args.unbalance or [])) == 1 and not isinstance(given[0], tuple)
     out = {"preset": preset.name, "node": triples[0][0], "probe": curve.probe, "probe_source": probe_source,
            "unbalance": triples[0][1] if single else None,
@@ -219,9 +221,9 @@ def cmd_response(args) -> int:
         major = np.asarray(shape.major)
         if not np.all(np.isfinite(major)):
             raise NumericalError(f"response: non-finite deflected shape at --shape-at {args.shape_at:g}")
-        plot_deflected_shape(np.asarray(shape.positions), np.asarray(shape.x), np.asarray(shape.y), major,
-                             stem + "_shape.png", title=f"{preset.name}: deflected shape at {args.shape_at:g} "
-                             f"rad/s ({what})")
+        save_figure(plot_deflected_shape(np.asarray(shape.positions), np.asarray(shape.x), np.asarray(shape.y),
+                                         major, title=f"{preset.name}: deflected shape at {args.shape_at:g} "
+                                         f"rad/s ({what})"), stem + "_shape.png")
         out["deflected_shape"] = {"speed": args.shape_at, "positions": np.asarray(shape.positions).tolist(),
                                   "major": major.tolist(), "minor": np.asarray(shape.minor).tolist(),
                                   "angle": np.asarray(shape.angle).tolist(),

@@ -2,7 +2,7 @@
 
 import json
 
-from ._common import InputError, get_preset, prepare_out
+from ._common import InputError, applicable, get_preset, prepare_out
 
 
 def cmd_presets(args) -> int:
@@ -11,12 +11,14 @@ def cmd_presets(args) -> int:
     chosen = [get_preset(args.name)] if args.name else list(presets.PRESETS.values())
     if args.json:
         print(json.dumps([{"name": p.name, "source": p.source, "kind": p.kind, "speed_key": p.speed_key,
-                           "time_unit": p.time_unit, "length_unit": p.length_unit, "parameters": p.info()}
+                           "time_unit": p.time_unit, "length_unit": p.length_unit, "commands": applicable(p),
+                           "parameters": p.info()}
                           for p in chosen], indent=2))
         return 0
     for p in chosen:
         print(f"{p.name}: {p.source}")
         print(f"  kind: {p.kind}; speed: {p.speed_key}; units: time {p.time_unit}, length {p.length_unit}")
+        print("  commands: " + ", ".join(applicable(p)))
         if args.name:
             width = max(len(k) for k in p.defaults)
             print(f"  {'key'.ljust(width)}  {'default':>12}  {'unit':14}  {'valid':24}  meaning")

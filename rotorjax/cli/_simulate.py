@@ -4,10 +4,10 @@ import json
 
 import numpy as np
 
-from ._common import InputError, build, out_stem, prepare_out, preset_and_params, write_json, wrong_kind
+from ._common import (InputError, build, out_stem, prepare_out, preset_and_params, save_figure, write_json,
+                      wrong_kind)
 
 #: kinds of preset that are simulated (rotor files included)
-KINDS = ("planar", "contact", "rotor")
 
 
 def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
@@ -30,7 +30,7 @@ def _failure_line(summary):
 def cmd_simulate(args) -> int:
     from rotorjax.analysis._summary import has_disk_motion, revolutions_of, run, saves_for
 
-    preset, params = preset_and_params(args, "simulate", KINDS, speed_option=args.speed)
+    preset, params = preset_and_params(args, "simulate", speed_option=args.speed)
     setup = build(preset, params)
     if setup.y0 is None:
         raise wrong_kind(preset, "simulate")
@@ -81,10 +81,10 @@ def _orbit(preset, params, setup, t_end, result, stem):
 
     summary = summarize(result, setup.scene, params, preset.name, t_end)
     run_up = speed_varies(setup.scene, result.ts)
-    plot_simulation(result, stem + ".png", title=f"{preset.name}: {preset.source}",
-                    speed=speeds_at(setup.scene, result.ts) if run_up else None,
-                    x_label="speed" if run_up else "time", time_unit=preset.time_unit,
-                    unit=preset.length_unit)
+    save_figure(plot_simulation(result, title=f"{preset.name}: {preset.source}",
+                                speed=speeds_at(setup.scene, result.ts) if run_up else None,
+                                x_label="speed" if run_up else "time", time_unit=preset.time_unit,
+                                unit=preset.length_unit), stem + ".png")
     return summary, {"plot": stem + ".png", "data": stem + ".npz", "summary": stem + ".json"}
 
 
@@ -105,6 +105,7 @@ def _precession(preset, params, setup, t_end, result, stem, revolutions):
     window = analysis_window(t_end, speed, setup.extras.get("analysis_revolutions", 300))
     details, prec = precession_summary(result, setup.scene, window)
     summary.update(details)
-    files["plot"] = plot_precession(result, prec, stem + ".png", clearance=setup.extras.get("clearance"),
-                                    title=f"{preset.name}: {preset.speed_key} = {params[preset.speed_key]:g}")
+    files["plot"] = save_figure(plot_precession(result, prec, clearance=setup.extras.get("clearance"),
+                                                title=f"{preset.name}: {preset.speed_key} = "
+                                                      f"{params[preset.speed_key]:g}"), stem + ".png")
     return summary, files

@@ -6,19 +6,18 @@ import sys
 
 import numpy as np
 
-from ._common import (InputError, NumericalError, Stages, check_range, grid_spec, out_stem, prepare_out,
-                      preset_and_params, wrong_kind)
+from ._common import (InputError, NumericalError, Stages, build, check_range, grid_spec, out_stem, prepare_out,
+                      preset_and_params, stability_study, wrong_kind)
 
 
 def cmd_steady(args) -> int:
     from rotorjax.plot import plot_regime_amplitudes, plot_steady_regimes
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "steady", ("planar", "modal"), speed_option=args.speed)
-    if preset.regimes is None:
-        raise wrong_kind(preset, "steady")
+    preset, params = preset_and_params(args, "steady", speed_option=args.speed)
     prepare_out(args.out)
     stages = Stages("steady", 3, enabled=not args.json)
-    rows, notes = preset.regimes(params, n_angles=args.n_angles, stage=stages)
+    rows, notes = _regimes(preset, params, args.n_angles, stages)
     stages("plot")
     stages.close()
     for note in notes:
@@ -27,10 +26,13 @@ def cmd_steady(args) -> int:
     stem = out_stem(args.out, preset, "steady_")
     planar = all("weight_angles" in r for r in rows)
     if planar:
-        plot_steady_regimes(stem + ".png", rows, title=f"{preset.name}: stationary regimes at {key} = {speed:g}")
+        save_figure(plot_steady_regimes(regimes=rows, title=f"{preset.name}: stationary regimes at {key} = {speed:g}"),
+                    stem + ".png")
         out = {"preset": preset.name, "speed": speed, "params": params, "n_regimes": len(rows), "regimes": rows}
     else:
-        plot_regime_amplitudes(stem + ".png", rows, title=f"{preset.name}: stationary regimes at {key} = {speed:g}")
+        save_figure(plot_regime_amplitudes(regimes=rows,
+                                           title=f"{preset.name}: stationary regimes at {key} = {speed:g}"),
+                    stem + ".png")
         out = {"preset": preset.name, "speed": speed, "params": params, "regimes": rows}
     out["files"] = {"plot": stem + ".png"}
     if args.json:
@@ -49,37 +51,109 @@ def cmd_steady(args) -> int:
     return 0
 
 
+def _regimes(preset, params, n_angles, stage):
+    """Every stationary regime of the preset's scene under its `steady_overrides` (e.g.
+    a zero run-up rate), as JSON rows, and notes: model 003's closed forms for its
+    modal balancer rotor, else `rotorjax.analysis.steady_states` (multi-started Newton)."""
+    from rotorjax.analysis import balancer003_regimes, steady_states
+    from rotorjax.models import ModalBalancerRotor, provides
+
+    stage("building the scene")
+    scene = build(preset, dict(params, **preset.steady_overrides)).scene
+    if isinstance(scene, ModalBalancerRotor):
+        stage("balanced and unbalanced regimes")
+        found, notes = balancer003_regimes(scene)
+        return [{"kind": r.kind, "sigma": None if r.kind == "C" else r.sigma,
+                 "disk_amplitude": float(r.disk_amplitude), "max_eigenvalue_real_part": float(r.margin),
+                 "verdict": "stable" if float(r.margin) < -1e-9 else "unstable",
+                 "residual": float(r.residual)} for r in found], notes
+    if not (provides(scene, "to_rotating") and len(scene.weight_coordinates()[0])):
+        raise wrong_kind(preset, "steady")   # stationary regimes of balancing weights, multi-started
+    stage(f"Newton from {n_angles} starts per weight angle, stability by autodiff (one compiled call)")
+    return [r.as_dict() for r in steady_states(scene, n_angles=n_angles)], []
+
+
 def cmd_critical_speeds(args) -> int:
-    preset, params = preset_and_params(args, "critical-speeds", ("planar", "modal", "flexible", "contact", "rotor"))
-    if args.exact and preset.kind != "modal":
+    from rotorjax.models import ModalBalancerRotor, provides
+
+    preset, params = preset_and_params(args, "critical-speeds")
+
+    # model 003's modal shaft: its own closed forms; a scene with a reference motion: the speeds where its
+    # stability changes; any other finite-element rotor: its Campbell diagram's 1x crossings
+    setup = build(preset, params)
+    modal = isinstance(setup.scene, ModalBalancerRotor)
+    study = None if modal else stability_study(preset, params)
+    shaft = study is None and not modal and provides(setup.scene, "shaft")
+    if args.exact and not modal:
         raise InputError(f"--exact: the closed form (17) is model 003's (flexible-abb), not {preset.name}'s")
-    if preset.critical_speeds is None and preset.margin is None:
+    if not (shaft or modal) and study is None:
         raise wrong_kind(preset, "critical-speeds")
-    lo, hi = check_range("--range", *args.range, positive_lo=preset.critical_speeds is None)
+    lo, hi = check_range("--range", *args.range, positive_lo=study is not None)
     prepare_out(args.out)
-    if preset.critical_speeds is not None:
-        return _crossings(preset, params, lo, hi, args)
-    return _margin_roots(preset, params, lo, hi, args)
+    if shaft:
+        return _crossings(preset, params, lo, hi, args, _campbell_crossings(preset, params, lo, hi, args))
+    if modal:
+        return _crossings(preset, params, lo, hi, args, _modal_crossings(preset, params, lo, hi, args))
+    return _margin_roots(preset, params, study, lo, hi, args)
 
 
-def _margin_roots(preset, params, lo, hi, args) -> int:
+def _modal_crossings(preset, params, lo, hi, args) -> dict:
+    """Model 003's critical speeds (`rotorjax.analysis.balancer003_critical_speeds`) as
+    `_crossings` presents them: the excited natural frequencies are the diagram."""
+    from rotorjax.analysis import balancer003_critical_speeds
+
+    if args.modes is not None:
+        try:
+            params = dict(params, modes=preset.check("modes", args.modes))
+        except InputError as e:
+            raise InputError(f"--modes {args.modes}: {str(e).split(': ', 1)[1]}") from None
+    res = balancer003_critical_speeds(build(preset, params).scene.shaft, lo, hi, exact=args.exact)
+    excited = np.asarray(res.excited)
+    shown = excited[excited <= 1.2 * hi] if np.any(excited <= 1.2 * hi) else excited[:1]
+    return {"params": params, "method": res.method,
+            "unit": "omega_1 (first pinned-pinned frequency of the bare shaft)",
+            "critical_speeds": list(res.critical_speeds),
+            "campbell": (np.linspace(lo, hi, 2), np.tile(shown, (2, 1)), np.ones((2, shown.size), bool)),
+            "present": {"unit": "omega_1 (dimensionless)",
+                        "title": f"natural frequencies excited by the disk's unbalance, critical speeds "
+                                 f"({res.method})"}}
+
+
+def _campbell_crossings(preset, params, lo, hi, args) -> dict:
+    """A finite-element rotor's 1x crossings (`rotorjax.analysis.campbell_critical_speeds`) as
+    `_crossings` presents them."""
+    from rotorjax.analysis import campbell_critical_speeds
+
+    scene = build(preset, params).scene
+    res = campbell_critical_speeds(scene, lo, hi, n_scan=args.n_scan, n_modes=args.modes or 8, what=preset.name)
+    out = res.as_dict()
+    out["campbell"] = (res.speeds, res.frequencies, res.forward)
+    out["present"] = {"unit": "rad/s", "title": "critical speeds (1x crossings)"}
+    return out
+
+
+def _margin_roots(preset, params, study, lo, hi, args) -> int:
     """Critical speeds as the sign changes of the preset's stability margin."""
-    from rotorjax.analysis import critical_speeds
+    from rotorjax.analysis import stability_thresholds
     from rotorjax.plot import plot_margin
+    from ._common import save_figure
 
     key = preset.speed_key
-    preset.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
-    found, (scan_x, scan_m) = critical_speeds(lambda v: preset.margin(dict(params, **{key: v})), lo, hi,
+    study.margin(dict(params, **{key: 0.5 * (lo + hi)}))  # validates the parameters
+    found, (scan_x, scan_m) = stability_thresholds(lambda v: study.margin(dict(params, **{key: v})), lo, hi,
                                               n_scan=args.n_scan, return_scan=True, progress=not args.json)
-    out = {"preset": preset.name, "regime": preset.regime, "range": [lo, hi], "params": params,
+    out = {"preset": preset.name, "regime": study.regime, "range": [lo, hi], "params": params,
            "critical_speeds": [c.as_dict() for c in found]}
-    if preset.criterion_roots is not None:
-        out["criterion_roots"] = preset.criterion_roots(params, lo, hi)
+    published = study.published[0] if study.published else None
+    if published is not None:
+        out["criterion_roots"] = published.within(lo, hi)
     stem = out_stem(args.out, preset, "critical_speeds_")
-    plot_margin(stem + ".png", scan_x, scan_m, [c.speed for c in found],
-                title=f"{preset.name}: stability of {preset.regime}", speed_label=f"{key} (dimensionless)",
-                margin_label="margin: largest Re(lambda) or Floquet exponent (dimensionless)",
-                extra_roots=out.get("criterion_roots"), extra_label=preset.criterion_label)
+    save_figure(plot_margin(speeds=scan_x, margin=scan_m, roots=[c.speed for c in found],
+                            title=f"{preset.name}: stability of {study.regime}", speed_label=f"{key} (dimensionless)",
+                            margin_label="margin: largest Re(lambda) or Floquet exponent (dimensionless)",
+                            extra_roots=out.get("criterion_roots"),
+                            extra_label=published.label if published is not None else ""),
+                stem + ".png")
     out["files"] = {"plot": stem + ".png"}
     if not np.any(np.isfinite(scan_m)):
         raise NumericalError(f"critical-speeds: the margin could not be computed at any of the {args.n_scan} scan "
@@ -89,13 +163,13 @@ def _margin_roots(preset, params, lo, hi, args) -> int:
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
-    print(f"{preset.name}: critical speeds of {preset.regime} in [{lo:g}, {hi:g}]:")
+    print(f"{preset.name}: critical speeds of {study.regime} in [{lo:g}, {hi:g}]:")
     if not found:
         print("  none (the margin keeps its sign over the range)")
     for c in found:
         print(f"  {key} = {c.speed:.6f}   stable {c.stable_side}")
     if "criterion_roots" in out:
-        print(f"  {preset.criterion_label}: "
+        print(f"  {published.label}: "
               + (", ".join(f"{r:.4f}" for r in out["criterion_roots"]) or "none in the range"))
     if "failed_scan_points" in out:
         print(f"  warning: the margin could not be computed at {out['failed_scan_points']} of {args.n_scan} "
@@ -104,19 +178,18 @@ def _margin_roots(preset, params, lo, hi, args) -> int:
     return 0
 
 
-def _crossings(preset, params, lo, hi, args) -> int:
-    """Critical speeds the preset's model computes itself (1x crossings, natural frequencies)."""
+def _crossings(preset, params, lo, hi, args, found) -> int:
+    """Critical speeds as crossings of a Campbell diagram (1x crossings, natural frequencies)."""
     from rotorjax.plot import plot_campbell
+    from ._common import save_figure
 
-    found = preset.critical_speeds(params, lo, hi, n_scan=args.n_scan, n_modes=args.modes, exact=args.exact,
-                                   progress=not args.json)
     (speeds, freqs, forward), look = found.pop("campbell"), found.pop("present")
     out = {"preset": preset.name, "range": [lo, hi], "params": found.pop("params", params), **found}
     crit = [c["speed"] if isinstance(c, dict) else c for c in out["critical_speeds"]]
     stem = out_stem(args.out, preset, "critical_speeds_")
     what = out.get("method", "1x crossings")
-    plot_campbell(speeds, freqs, forward, stem + ".png", critical=crit, unit=look["unit"],
-                  title=f"{preset.name}: {look['title']}")
+    save_figure(plot_campbell(speeds, freqs, forward, critical=crit, unit=look["unit"],
+                              title=f"{preset.name}: {look['title']}"), stem + ".png")
     out["files"] = {"plot": stem + ".png"}
     if args.json:
         print(json.dumps(out, indent=2))
@@ -141,8 +214,11 @@ def cmd_stability_map(args) -> int:
     from rotorjax.plot import plot_stability_map
     from rotorjax.sweep import sweep
 
-    preset, params = preset_and_params(args, "stability-map", ("planar", "modal", "contact"))
-    if preset.margin is None:
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "stability-map")
+    study = stability_study(preset, params)
+    if study is None:
         raise InputError(f"{preset.name!r} has no reference regime to map")
     xk, xlo, xhi, nx = grid_spec("--x", args.x, preset, params)
     yk, ylo, yhi, ny = grid_spec("--y", args.y, preset, params)
@@ -150,18 +226,18 @@ def cmd_stability_map(args) -> int:
         raise InputError(f"--x {xk} and --y {yk}: the two axes need different parameters")
     prepare_out(args.out)
     grid = {xk: np.linspace(xlo, xhi, nx), yk: np.linspace(ylo, yhi, ny)}
-    preset.margin(dict(params, **{xk: grid[xk][0], yk: grid[yk][0]}))  # validates
-    res = sweep(lambda pt: preset.margin(dict(params, **pt)), grid, chunk_size=args.chunk,
+    study.margin(dict(params, **{xk: grid[xk][0], yk: grid[yk][0]}))  # validates
+    res = sweep(lambda pt: study.margin(dict(params, **pt)), grid, chunk_size=args.chunk,
                 progress=not args.json)
     margin = np.asarray(res.values)
     ok = np.isfinite(margin)
     if not ok.any():
         raise NumericalError(f"stability-map: the margin could not be computed at any of the {nx}x{ny} points")
     stem = out_stem(args.out, preset, "stability_map_")
-    plot_stability_map(grid[xk], grid[yk], margin, stem + ".png", xk, yk,
-                       title=f"{preset.name}: stability of {preset.regime}")
+    save_figure(plot_stability_map(grid[xk], grid[yk], margin, x_label=xk, y_label=yk,
+                                   title=f"{preset.name}: stability of {study.regime}"), stem + ".png")
     np.savez(stem + ".npz", **{xk: grid[xk], yk: grid[yk]}, margin=margin)
-    out = {"preset": preset.name, "regime": preset.regime, "x": xk, "y": yk,
+    out = {"preset": preset.name, "regime": study.regime, "x": xk, "y": yk,
            "shape": [nx, ny], "stable_fraction": float(np.mean(margin[ok] < 0)),
            "failed_points": int(np.sum(~np.isfinite(margin))),
            "files": {"plot": stem + ".png", "data": stem + ".npz"}}
@@ -180,22 +256,26 @@ HOPF_RANGE = (1.0, 40.0)
 
 
 def cmd_hopf(args) -> int:
+    from rotorjax.analysis import StraightRunning
     from rotorjax.plot import plot_margin
+    from rotorjax.presets import hopf_report
+    from ._common import save_figure
 
-    preset, params = preset_and_params(args, "hopf", "contact")
-    if preset.hopf is None:
+    preset, params = preset_and_params(args, "hopf")
+    setup = build(preset, params)
+    if not isinstance(setup.reference, StraightRunning):
         raise wrong_kind(preset, "hopf")
     lo, hi = check_range("--range", *(args.range or HOPF_RANGE), positive_lo=True)
     prepare_out(args.out)
-    found = preset.hopf(params, lo, hi, n_scan=args.n_scan, progress=not args.json)
-    (scan_x, scan_m), look = found.pop("scan"), found.pop("present")
+    found, look = hopf_report(preset, params, lo, hi, n_scan=args.n_scan, progress=not args.json)
+    scan_x, scan_m = found.pop("scan")
     out = {"preset": preset.name, "params": params, "range": [lo, hi],
            "range_source": "--range" if args.range else "default", **found}
     stem = out_stem(args.out, preset, "hopf_")
-    plot_margin(stem + ".png", scan_x, scan_m, [h["speed"] for h in out["hopf_points"]],
-                title=f"{preset.name}: {look['title']}", speed_label=look["speed_label"],
-                margin_label=look["margin_label"], root_label="Hopf point", extra_roots=look["extra_roots"],
-                extra_label=look["extra_label"])
+    save_figure(plot_margin(speeds=scan_x, margin=scan_m, roots=[h["speed"] for h in out["hopf_points"]],
+                            title=f"{preset.name}: {look['title']}", speed_label=look["speed_label"],
+                            margin_label=look["margin_label"], root_label="Hopf point",
+                            extra_roots=look["extra_roots"], extra_label=look["extra_label"]), stem + ".png")
     out["files"] = {"plot": stem + ".png"}
     if args.json:
         print(json.dumps(out, indent=2))
@@ -203,13 +283,14 @@ def cmd_hopf(args) -> int:
     key = preset.speed_key
     src = "" if args.range else " (the default range; set it with --range LO HI)"
     if not out["hopf_points"]:
-        print(f"{preset.name}: {preset.regime} keeps its stability over {key} in [{lo:g}, {hi:g}]{src}")
+        print(f"{preset.name}: {setup.reference.label} keeps its stability over {key} in [{lo:g}, {hi:g}]{src}")
     else:
         print(f"{preset.name}: searched {key} in [{lo:g}, {hi:g}]{src}")
     d_key, d_label = look["sensitivity"]
     for d in out["hopf_points"]:
+        sens = f"; {d_label} = {d[d_key]:.4f}" if d_key else ""
         print(f"  Hopf point at {key} = {d['speed']:.6f} (whirl frequency {d['frequency']:.6f}, {d['whirl']} "
-              f"whirl); {d_label} = {d[d_key]:.4f}")
+              f"whirl){sens}")
     if "paper_fit" in out:
         fit = out["paper_fit"]
         print(f"  the paper's fit {fit['formula']} gives {fit[key + '_crit']:.4f}")

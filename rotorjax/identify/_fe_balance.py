@@ -22,6 +22,7 @@ import numpy as np
 from .._errors import InputError, NumericalError
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._validate import as_numpy, check_choice
+from ._phasor_file import PhasorData
 from ._balance import ISO_GRADES, grade_reached, least_squares_correction, permissible_unbalance
 
 #: speeds of two runs are the same when they differ by at most this, relative
@@ -36,19 +37,17 @@ def _same_speed(a, b):
 
 
 def _label(data):
-    return getattr(data, "path", None) or "phasor data"
+    return (data.path if isinstance(data, PhasorData) else None) or "phasor data"
 
 
 def _row(data, i):
-    row = getattr(data, "row", None)
-    return row(i) if callable(row) else f"data row {i + 1}"
+    return data.row(i) if isinstance(data, PhasorData) else f"data row {i + 1}"
 
 
 def _check_unbalance_data(data):
-    for field in ("speed", "node", "direction", "X", "run", "trial_node", "trial_magnitude", "trial_phase"):
-        if not hasattr(data, field):
-            raise InputError(f"data must be a PhasorData (read_phasors / make_phasors), got {type(data).__name__}")
-    if getattr(data, "frequency", None) is not None:
+    if not isinstance(data, PhasorData):
+        raise InputError(f"data must be a PhasorData (read_phasors / make_phasors), got {type(data).__name__}")
+    if data.frequency is not None:
         raise InputError(f"{_label(data)}: an impact-test (FRF) file has no unbalance runs to balance with; give "
                          f"a file of 1x unbalance phasors (a baseline run and trial runs)")
 
@@ -202,10 +201,10 @@ def model_influence(rotor, speeds, sensors, planes):
     (`(node, "x" | "y")`) and `speeds[i]` (rad/s) to a unit unbalance (1 kg m, phase
     0) at node `planes[p]`, by `rotorjax.flexible.unbalance_response_many` (the rows
     as `influence_from_phasor_runs` returns them). Returns `(m, n_planes)` complex."""
-    from ..flexible._frf import full_rotor, unbalance_response_many
+    from ..analysis._frf import full_rotor, unbalance_response_many
 
     model = full_rotor(rotor)
-    full = getattr(model, "rotor", model)
+    full = model.full_rotor
     planes = _check_planes(planes, full)
     speeds = np.atleast_1d(as_numpy("speeds", speeds, sign="positive"))
     sensors = [tuple(s) for s in sensors]
@@ -312,7 +311,7 @@ def total_mass(rotor):
     """Total mass of a `FlexibleRotor` (a `ReducedRotor`: its full rotor), kg: the shaft
     elements' (the consistent mass matrix's rigid translation, `sum rho A L`) plus the
     disks and point masses (pedestals are not the rotor's)."""
-    full = getattr(rotor, "rotor", rotor)
+    full = rotor.full_rotor
     M, _, _ = full.shaft_matrices()
     e = np.zeros(full.n_dofs)
     e[0:DOFS_PER_NODE * full.n_nodes:DOFS_PER_NODE] = 1.0
@@ -440,7 +439,7 @@ def _fmt(values):
 
 def _iso_12(rotor, planes, used, service):
     """`(criticals, sentences)`: ISO 21940-12's counts for the rotor model."""
-    from ..flexible import critical_speeds_1x
+    from ..analysis._linear import critical_speeds_1x
 
     if rotor is None:
         return None, ["No rotor model was given, so the critical speeds, and with them ISO 21940-12's number "
@@ -495,10 +494,10 @@ def balance_rotor(data, planes, speeds=None, method="ls", influence="trials", ro
     check_choice("influence", influence, ("trials", "model", "both"))
     full = None
     if rotor is not None:
-        from ..flexible._frf import full_rotor
+        from ..analysis._frf import full_rotor
 
         rotor = full_rotor(rotor)
-        full = getattr(rotor, "rotor", rotor)
+        full = rotor.full_rotor
     if influence in ("model", "both") and rotor is None:
         raise InputError(f"influence={influence!r} needs the rotor model (rotor=...); use influence='trials' "
                          f"without one")

@@ -41,7 +41,7 @@ from scipy.stats import chi2
 from .._errors import InputError, NumericalError
 from ._fe_model import phasor_model, receptances
 from ._fe_params import RotorModel, apply, rotor_model
-from ._fit import optax_fit, theta_covariance
+from ._fit import AbstractJacobianResidual, optax_fit, theta_covariance
 from ._phasor_file import PhasorData, read_phasors
 
 WEIGHTS = ("relative", "uniform")
@@ -51,7 +51,7 @@ RELATIVE_FLOOR = 1e-3
 BOUND = 7.0
 
 
-class FEResidual(eqx.Module):
+class FEResidual(AbstractJacobianResidual):
     """`r(theta)`: the scaled residuals (real parts, then imaginary parts) of the
     rows at rotor parameters `theta`, the fitted unbalances projected out."""
 
@@ -314,7 +314,7 @@ def _rotor_of(r, theta):
 @eqx.filter_jit
 def _critical_gradient(r, W, theta, k):
     """`(g_W, g_theta)` of `g = omega_k(W; theta) - W` (the implicit function theorem's inputs)."""
-    from ..flexible._linear import damped_frequencies
+    from ..analysis._linear import damped_frequencies
 
     def g(W, th):
         return damped_frequencies(_rotor_of(r, th), W, k + 1)[k] - W
@@ -325,7 +325,7 @@ def _critical_gradient(r, W, theta, k):
 def _critical_speeds(r, theta, cov, lo, hi):
     """The fitted rotor's forward 1x critical speeds in `[lo, hi]` with 95 % intervals
     (delta method; `dW/dtheta = -g_theta / g_W` on `omega_k(W; theta) = W`)."""
-    from ..flexible._linear import critical_speeds_1x
+    from ..analysis._linear import critical_speeds_1x
 
     rotor = eqx.filter_jit(_rotor_of)(r, jnp.asarray(theta))
     out = []

@@ -156,7 +156,7 @@ def rotor_model(path, overrides=None, *, scene=None, entries=None) -> RotorModel
         label = os.fspath(path)
     if scene is None:
         scene = load_rotor(path, overrides)
-    rotor = getattr(scene.rotor, "rotor", scene.rotor)   # a reduced rotor: its full one
+    rotor = scene.full_rotor   # a reduced rotor: its full one
     unb = tuple(c for c in scene.components if isinstance(c, Unbalance))
     other = tuple(type(c).__name__ for c in scene.components if not isinstance(c, Unbalance))
     return RotorModel(label, rotor, unb, entries, other)

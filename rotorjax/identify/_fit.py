@@ -52,6 +52,7 @@ autocorrelation or a runs test on their signs, per sensor and Re/Im): a model
 that misses a systematic effect.
 """
 
+import abc
 import dataclasses
 import functools
 
@@ -148,11 +149,23 @@ def _stacked_influence(machine, speeds, planes):
     return K.reshape(-1, planes.shape[0])
 
 
+class AbstractJacobianResidual(eqx.Module):
+    """A residual `r(theta)` that has its own (faster) `res_jac(theta) -> (r, dr/dtheta)`."""
+
+    @abc.abstractmethod
+    def __call__(self, theta):
+        """The residuals at `theta`."""
+
+    @abc.abstractmethod
+    def res_jac(self, theta):
+        """`(r(theta), dr/dtheta)`."""
+
+
 @eqx.filter_jit
 def _res_jac(r, theta):
     """The residuals and their Jacobian: `r.res_jac` where the residual has its own
     (faster) one, else forward-mode autodiff."""
-    if hasattr(r, "res_jac"):
+    if isinstance(r, AbstractJacobianResidual):
         return r.res_jac(theta)
     return r(theta), jax.jacfwd(r)(theta)
 
@@ -785,7 +798,7 @@ def response_band(result: Identification, machine: BalancingMachine, speeds, pla
     theta, known = _fitted_theta(result, unbalances)
     planes = jnp.asarray(planes, dtype=jnp.float64)
     speeds = jnp.atleast_1d(jnp.asarray(speeds, dtype=jnp.float64))
-    if covariance is None and fit_speeds is None and getattr(result, "covariance", None) is not None:
+    if covariance is None and fit_speeds is None and result.covariance is not None:
         covariance = result.covariance
     if covariance is None:
         covariance = fit_covariance(result, machine, speeds if fit_speeds is None else fit_speeds, planes,

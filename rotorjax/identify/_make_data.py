@@ -8,10 +8,15 @@ Writes into `rotorjax/identify/data/`:
   1e-4 kg m at 0 deg in plane 0, and at 90 deg in plane 1; sensor noise 1 % of the
   initial vibration (Gaussian, per sample);
 - `runup.csv`: a run-up from 20 to 400 rad/s in 20 s sampled at 1 kHz (20 000
-  samples), through the supports' resonances, simulated in the time domain
-  (diffrax Dopri8, rtol 1e-10), with 1 % noise.
+  samples), through the supports' resonances, simulated in the time domain, with 1 % noise.
 Columns as documented in `rotorjax.identify._signals`; the tacho is a 1-sample
 pulse train with one pulse per revolution at the mark (theta = 2 pi k).
+
+Every signal is model 002 as a scene, `BalancingScene(machine, planes, unbalances,
+speed)`, integrated by `rotorjax.simulate` (diffrax Dopri8, PID controller at
+rtol 1e-10, atol 1e-14: `SOLVER`): a `ConstantSpeed` for the balancing runs (from
+rest, the first 3 s of transient discarded), a `RunUp` for the run-ups (from the
+steady response at the start speed, so that no start-up transient remains).
 
 `runup_dataset(seed, ...)` makes more run-ups like the shipped one (for Monte
 Carlo studies): per seed, the rotor's angle at the start (the mark's phase against
@@ -22,15 +27,20 @@ the sensor noise are drawn anew.
 import functools
 import os
 
-import diffrax
-import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._errors import NumericalError
+from ..models._balancing_machine import BalancingScene
+from ..models._speed import ConstantSpeed, RunUp
+from ..solve._simulate import simulate as simulate_scene
 from ._datasets import RIG, machine_from, planes_from, unbalances_from
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 SEED = 20161
+
+#: How the synthetic signals are integrated (`rotorjax.simulate`'s keywords).
+SOLVER = dict(solver="dopri8", rtol=1e-10, atol=1e-14, max_steps=10**7)
 
 
 def _tacho(theta):
@@ -40,20 +50,32 @@ def _tacho(theta):
     return pulse
 
 
-def simulate(machine, planes, unbalances, t, theta_fn):
-    """Support displacements at times `t` for a rotor angle `theta_fn(t)` (the
-    unbalance force of eq. 8 with the speed profile), from rest."""
-    dtheta = jax.grad(theta_fn)
-    ddtheta = jax.grad(dtheta)
+def simulate(scene, t, y0=None):
+    """The support displacements of a `BalancingScene` at the sample times `t`.
 
-    def f(tt, y, args):
-        return machine.vector_field(tt, y, theta_fn(tt), dtheta(tt), ddtheta(tt), planes, unbalances)
+    **Arguments:** `scene` (its speed profile gives the rotor angle and the
+    unbalance force of eq. 8), the times `t` (1-D, increasing; the integration
+    runs from `t[0]` to `t[-1]`), the state `y0 = (x1, x2, x1', x2')` at `t[0]`
+    (default: at rest).
 
-    sol = diffrax.diffeqsolve(diffrax.ODETerm(f), diffrax.Dopri8(), t[0], t[-1], None, jnp.zeros(4),
-                              saveat=diffrax.SaveAt(ts=jnp.asarray(t)),
-                              stepsize_controller=diffrax.PIDController(rtol=1e-10, atol=1e-14),
-                              max_steps=10**7)
-    return np.asarray(sol.ys[:, :2])
+    **Returns:** `(x1, x2)` at `t`, a NumPy array of shape `(len(t), 2)`, from
+    `rotorjax.simulate` with `SOLVER`.
+
+    **Raises:** `NumericalError` if the integration fails (step budget, NaN).
+    """
+    t = jnp.asarray(t, dtype=jnp.float64)
+    y0 = jnp.zeros(scene.state_size) if y0 is None else y0
+    r = simulate_scene(scene, y0, (t[0], t[-1]), saveat=t, **SOLVER)
+    if not bool(r.success):
+        raise NumericalError(f"the synthetic signal of the {scene.describe()} failed: {r.message}")
+    return np.stack([np.asarray(r.outputs["x1"]), np.asarray(r.outputs["x2"])], axis=1)
+
+
+def simulate_from(scene, t, w0):
+    """`simulate(scene, t)` from the steady response at the constant speed `w0`
+    (rad/s) and angle 0 (`scene.steady_state(w0)`): for a profile that starts at
+    `w0` with `theta(t[0]) = 0`, no start-up transient."""
+    return simulate(scene, t, scene.steady_state(w0))
 
 
 def _write(path, cols):
@@ -75,10 +97,11 @@ def make_balancing_runs(p, rng):
         Ur = np.array(U, dtype=complex)
         if trial is not None:
             Ur[trial[0]] += trial[1] * np.exp(1j * np.radians(trial[2]))
-        x = simulate(machine, planes, jnp.asarray(Ur), jnp.asarray(t), lambda tt: w * tt)
+        scene = BalancingScene(machine, planes, Ur, ConstantSpeed(w))
+        x = simulate(scene, t)
         keep = t >= settle
         tt = t[keep] - settle + run * (dur + 1.0)
-        theta = w * t[keep]
+        theta = np.asarray(scene.speed.angle(t[keep]))
         cols["time"].append(tt)
         cols["tacho"].append(_tacho(theta))
         cols["x1"].append(x[keep, 0] + noise * rng.normal(size=keep.sum()))
@@ -90,54 +113,31 @@ def make_balancing_runs(p, rng):
     _write(os.path.join(DATA, "balancing_runs.csv"), {k: np.concatenate(v) for k, v in cols.items()})
 
 
+def _runup_scene(p, unbalances, duration, w0, w1):
+    """The rig `p` with `unbalances` on the run-up from `w0` to `w1` (rad/s) in
+    `duration` (s): `RunUp(w0, (w1 - w0) / duration)`, angle 0 at `t = 0`."""
+    return BalancingScene(machine_from(p), planes_from(p), unbalances, RunUp(w0, (w1 - w0) / duration))
+
+
 def make_runup(p, rng, fs=1000.0, duration=20.0, w0=20.0, w1=400.0):
-    machine, planes, U = machine_from(p), planes_from(p), unbalances_from(p)
-    alpha = (w1 - w0) / duration
+    scene = _runup_scene(p, unbalances_from(p), duration, w0, w1)
     t = np.arange(0.0, duration, 1 / fs)
-
-    def theta_fn(tt):
-        return w0 * tt + 0.5 * alpha * tt**2
-
-    # start on the steady response at w0, so that no start-up transient remains
-    X = np.asarray(machine.response(w0, planes, U))
-    x = simulate_from(machine, planes, U, t, theta_fn, X, w0)
+    x = simulate_from(scene, t, w0)
     noise = 0.01 * np.max(np.abs(x))
-    cols = {"time": t, "tacho": _tacho(np.asarray(theta_fn(t))),
+    cols = {"time": t, "tacho": _tacho(np.asarray(scene.speed.angle(t))),
             "x1": x[:, 0] + noise * rng.normal(size=t.size), "x2": x[:, 1] + noise * rng.normal(size=t.size)}
     _write(os.path.join(DATA, "runup.csv"), cols)
-
-
-def simulate_from(machine, planes, unbalances, t, theta_fn, X0, w0):
-    dtheta = jax.grad(theta_fn)
-    ddtheta = jax.grad(dtheta)
-
-    def f(tt, y, args):
-        return machine.vector_field(tt, y, theta_fn(tt), dtheta(tt), ddtheta(tt), planes, unbalances)
-
-    y0 = jnp.concatenate([jnp.real(X0), jnp.real(1j * w0 * X0)])
-    sol = diffrax.diffeqsolve(diffrax.ODETerm(f), diffrax.Dopri8(), t[0], t[-1], None, y0,
-                              saveat=diffrax.SaveAt(ts=jnp.asarray(t)),
-                              stepsize_controller=diffrax.PIDController(rtol=1e-10, atol=1e-14),
-                              max_steps=10**7)
-    return np.asarray(sol.ys[:, :2])
 
 
 @functools.lru_cache(maxsize=4)
 def _runup_clean(params, fs, duration, w0, w1):
     """`(t, x_D, x_iD)`: the noise-free run-up for the unbalances `D` and for `i D`
-    (the response is real-linear in the unbalances), simulated once per setting."""
+    (the response is real-linear in the unbalances), simulated once per setting
+    (the two scenes share one compiled integration)."""
     p = dict(params)
-    machine, planes, U = machine_from(p), planes_from(p), unbalances_from(p)
-    alpha = (w1 - w0) / duration
+    U = unbalances_from(p)
     t = np.arange(0.0, duration, 1 / fs)
-
-    def theta_fn(tt):
-        return w0 * tt + 0.5 * alpha * tt**2
-
-    out = []
-    for D in (U, 1j * U):
-        X = np.asarray(machine.response(w0, planes, D))
-        out.append(simulate_from(machine, planes, D, t, theta_fn, X, w0))
+    out = [simulate_from(_runup_scene(p, D, duration, w0, w1), t, w0) for D in (U, 1j * U)]
     return t, out[0], out[1]
 
 
@@ -146,11 +146,11 @@ def runup_dataset(seed, p=None, fs=1000.0, duration=20.0, w0=20.0, w1=400.0, noi
 
     The rotor's angle at `t = 0` is `phi`, drawn uniformly in `[0, 2 pi)`: the
     unbalance forcing is that of the unbalances `D e^{i phi}` on the sweep
-    `theta_s(t) = w0 t + alpha t^2 / 2`, so `x = cos(phi) x_D + sin(phi) x_{iD}` from
-    two simulations made once and cached (diffrax Dopri8, rtol 1e-10, from the
-    steady response at `w0`), and the tacho pulses fall at `phi + theta_s = 2 pi k`,
-    between samples in a new way for each seed. Sensor noise: Gaussian, per sample,
-    `noise` times the peak of the noise-free signal, drawn anew.
+    `theta_s(t) = w0 t + alpha t^2 / 2` (a `RunUp`), so `x = cos(phi) x_D + sin(phi) x_{iD}`
+    from two simulations made once and cached (`BalancingScene` by `rotorjax.simulate`,
+    `SOLVER`, from the steady response at `w0`), and the tacho pulses fall at
+    `phi + theta_s = 2 pi k`, between samples in a new way for each seed. Sensor noise:
+    Gaussian, per sample, `noise` times the peak of the noise-free signal, drawn anew.
 
     **Arguments:** `seed` (int), `p` (the rig's parameters, the keys of `RIG` as
     the `balancing-machine` preset's; default `RIG`), the sampling rate `fs` (Hz), the run-up's `duration`

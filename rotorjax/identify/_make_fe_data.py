@@ -95,7 +95,7 @@ def clean_phasors(rotor, unbalances, speeds, sensors):
     """Noise-free 1x phasors (m), complex `(n_speeds, n_sensors)`: the unbalance
     response of `rotor` to `unbalances` [(node, kg m, rad)] at `speeds` (rad/s),
     at `sensors` [(node, "x" or "y")]."""
-    from ..flexible import unbalance_response_many
+    from ..analysis._frf import unbalance_response_many
 
     nodes = sorted({n for n, _ in sensors})
     X, Y = (np.asarray(a) for a in unbalance_response_many(rotor, unbalances, np.asarray(speeds, float), nodes))

@@ -356,7 +356,7 @@ def _directions_arg(name, value, label):
     a = np.asarray(value)
     out = np.empty(a.shape, dtype=int)
     for i, v in enumerate(a.reshape(-1)):
-        v = v.item() if hasattr(v, "item") else v
+        v = v.item() if isinstance(v, np.generic) else v
         if isinstance(v, str) and v.strip().lower() in _DIRECTIONS:
             out.reshape(-1)[i] = _DIRECTIONS.index(v.strip().lower())
         elif not isinstance(v, (str, bool)) and v in (0, 1):

@@ -31,6 +31,7 @@ from ._fe_reduction import ReducedRotor as ReducedRotor
 from ._cantilever import CantileverRotor as CantileverRotor
 from ._limiters import Limiters as Limiters
 from ._cantilever_scene import CantileverScene as CantileverScene
+from ._cantilever_scene import cantilever_scene as cantilever_scene
 from ._cantilever_scene import energy_residual as energy_residual
 from ._contract import AbstractScene as AbstractScene
 from ._contract import LinearMatrices as LinearMatrices
@@ -43,6 +44,9 @@ from ._rotor_scene import RotorScene as RotorScene
 from ._unbalance import Unbalance as Unbalance
 from ._gravity import Gravity as Gravity
 from ._internal_damping import InternalDamping as InternalDamping
+from ._external_damping import DiskDamping as DiskDamping
+from ._external_damping import ExternalDamping as ExternalDamping
+from ._node_probe import NodeProbe as NodeProbe
 from ._nonlinear_bearings import ClearanceBearing as ClearanceBearing
 from ._nonlinear_bearings import CubicBearing as CubicBearing
 from ._node_parts import BalancerAt as BalancerAt
@@ -58,3 +62,5 @@ from ._modal_balancer import ModalBalancerRotor as ModalBalancerRotor
 from ._frequency import dynamic_stiffness as dynamic_stiffness
 from ._frequency import frequency_response as frequency_response
 from ._rotation import quarter_turn_matrix as quarter_turn_matrix
+from ._paths import leaf_at as leaf_at
+from ._paths import with_leaf as with_leaf

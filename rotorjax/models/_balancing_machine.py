@@ -20,9 +20,9 @@ damping `B`, stiffness `C`.
 
 Two classes: `BalancingMachine` is the rotor on its supports (what identification
 fits: seven parameters, vmapped); `BalancingScene` is that machine with its
-correction planes, unbalances and a speed profile, an `AbstractScene` (time
-integration of eq. 8 under the rotating unbalance force, linear matrices,
-unbalance load).
+correction planes, unbalances and a speed profile, an `AbstractScene` (eq. 8 under
+the rotating unbalance force as a vector field `f(t, y, args)` that
+`rotorjax.simulate` integrates, linear matrices, unbalance load).
 
 Phase convention (used everywhere in `rotorjax.identify`): angles are measured
 from the once-per-revolution mark in the direction of rotation; a vibration
@@ -34,7 +34,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._contract import AbstractScene, LinearMatrices
+from ._contract import AbstractLinearScene, LinearMatrices
 from ._frequency import dynamic_stiffness, frequency_response
 from ._speed import AbstractSpeedProfile, ConstantSpeed
 from ._validate import InputError, as_numpy, as_param, check_type, is_concrete
@@ -66,48 +66,45 @@ class BalancingMachine(eqx.Module):
         A = jnp.array([[p, q], [q, p]])
         return A, jnp.diag(jnp.stack([self.c1, self.c2])), jnp.diag(jnp.stack([self.k1, self.k2]))
 
-    def dynamic_stiffness(self, w):
+    def dynamic_stiffness(self, speed):
+        """`C - speed^2 A + i speed B` at the running speed `speed` (rad/s)."""
         A, B, C = self.matrices()
-        return dynamic_stiffness(A, B, C, w)
+        return dynamic_stiffness(A, B, C, speed)
 
     def lever(self, planes):
         """`(l - a_j, a_j) / l`: how a plane's force splits between the supports, `(2, n_planes)`."""
         planes = jnp.asarray(planes, dtype=jnp.float64)
         return jnp.stack([self.l - planes, planes]) / self.l
 
-    def influence(self, w, a):
+    def influence(self, speed, a):
         """Vector influence coefficients `(K_1, K_2)` of a plane at distance `a` from
-        support 1, at speed `w` (rad/s): eqs. (15), (17). Vmap over `w` and `a`."""
+        support 1, at speed `speed` (rad/s; the paper's `w`): eqs. (15), (17). Vmap over
+        `speed` and `a`."""
         A, B, C = self.matrices()
         load = jnp.stack([self.l - a, a]).astype(jnp.complex128)
-        return w**2 / self.l * frequency_response(A, B, C, load, w)
+        return speed**2 / self.l * frequency_response(A, B, C, load, speed)
 
-    def influence_matrix(self, w, planes):
+    def influence_matrix(self, speed, planes):
         """`K[i, j]`: support `i`, plane `j` at `planes[j]` (distances from support 1)."""
         _check_planes(planes)
-        return jax.vmap(lambda a: self.influence(w, a), out_axes=1)(jnp.asarray(planes, dtype=jnp.float64))
+        return jax.vmap(lambda a: self.influence(speed, a), out_axes=1)(jnp.asarray(planes, dtype=jnp.float64))
 
-    def response(self, w, planes, unbalances):
-        """Complex support amplitudes `X = K(w) D` for unbalances `D` (kg m, complex)."""
+    def response(self, speed, planes, unbalances):
+        """Complex support amplitudes `X = K(speed) D` for unbalances `D` (kg m, complex)."""
         n = _check_planes(planes)
         if is_concrete(unbalances):
             as_numpy("unbalances", unbalances, shape=(n,), dtype=np.complex128)
-        return self.influence_matrix(w, planes) @ jnp.asarray(unbalances, dtype=jnp.complex128)
+        return self.influence_matrix(speed, planes) @ jnp.asarray(unbalances, dtype=jnp.complex128)
 
-    def vector_field(self, t, y, theta, theta_d, theta_dd, planes, unbalances):
-        """Time domain: `A x'' + B x' + C x = sum_j Re(D_j (theta'^2 - i theta'') e^{i theta})
-        (l - a_j, a_j) / l` at the rotor angle `theta(t)` (the unbalance force of a
-        speed profile, including its tangential part in a run-up)."""
-        A, B, C = self.matrices()
-        x, v = y[:2], y[2:]
-        planes = jnp.asarray(planes)
-        lever = jnp.stack([self.l - planes, planes]) / self.l          # (2, n_planes)
+    def unbalance_force(self, theta, theta_d, theta_dd, planes, unbalances):
+        """The support forces of eq. (8) at the rotor angle `theta` with speed `theta_d`
+        and acceleration `theta_dd`: `sum_j Re(D_j (theta_d^2 - i theta_dd) e^{i theta})
+        (l - a_j, a_j) / l` (N, shape `(2,)`; the tangential part is that of a run-up)."""
         amp = jnp.real(jnp.asarray(unbalances) * (theta_d**2 - 1j * theta_dd) * jnp.exp(1j * theta))
-        f = lever @ amp
-        return jnp.concatenate([v, jnp.linalg.solve(A, f - B @ v - C @ x)])
+        return self.lever(planes) @ amp
 
 
-class BalancingScene(AbstractScene):
+class BalancingScene(AbstractLinearScene):
     """A `BalancingMachine` with unbalances `D_j` (kg m, complex, angles from the
     mark) in correction planes at `a_j` (m from support 1), spun by a speed
     profile: model 002 as a scene.
@@ -163,9 +160,15 @@ class BalancingScene(AbstractScene):
         return f"balancing machine, {self.planes.shape[0]} correction plane(s)"
 
     def vector_field(self, t, y, args=None):
+        """`y' = f(t, y, args)` (the diffrax convention; `args` unused): eq. (8),
+        `A x'' + B x' + C x = F(theta, theta', theta'')`, the unbalance force
+        (`BalancingMachine.unbalance_force`) at the angle, speed and acceleration
+        of the scene's speed profile at `t`."""
         s = self.speed
-        return self.machine.vector_field(t, y, s.angle(t), s.speed(t), s.acceleration(t), self.planes,
-                                         self.unbalances)
+        A, B, C = self.machine.matrices()
+        x, v = y[:2], y[2:]
+        f = self.machine.unbalance_force(s.angle(t), s.speed(t), s.acceleration(t), self.planes, self.unbalances)
+        return jnp.concatenate([v, jnp.linalg.solve(A, f - B @ v - C @ x)])
 
     def outputs(self, t, y) -> dict:
         return {"x1": y[0], "x2": y[1]}
@@ -177,11 +180,12 @@ class BalancingScene(AbstractScene):
     def unbalance_load(self, speed) -> jax.Array:
         return speed**2 * (self.machine.lever(self.planes) @ self.unbalances)
 
-    def steady_state(self, w):
-        """The state on the steady response at constant speed `w` and angle 0."""
-        lm = self.linear_matrices(w)
-        X = frequency_response(lm.M, lm.C + lm.G, lm.K, self.unbalance_load(w), w)
-        return jnp.concatenate([jnp.real(X), jnp.real(1j * w * X)])
+    def steady_state(self, speed):
+        """The state on the steady response at constant speed `speed` and angle 0 (an
+        initial state for runs that start on it)."""
+        lm = self.linear_matrices(speed)
+        X = frequency_response(lm.M, lm.C + lm.G, lm.K, self.unbalance_load(speed), speed)
+        return jnp.concatenate([jnp.real(X), jnp.real(1j * speed * X)])
 
 
 def _check_planes(planes):

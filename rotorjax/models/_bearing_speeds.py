@@ -4,21 +4,14 @@ it reads rotors and scenes)."""
 
 import numpy as np
 
-from ._fe_reduction import ReducedRotor
-from ._fe_rotor import FlexibleRotor
+from ._contract import AbstractShaftModel
 from ._plausibility import number, warn
-from ._rotor_scene import RotorScene
 from ._validate import is_concrete
 
 
 def _flexible_rotor(scene_or_rotor):
     """The `FlexibleRotor` inside a scene or a reduced rotor, or `None`."""
-    x = scene_or_rotor
-    if isinstance(x, RotorScene):
-        x = x.rotor
-    if isinstance(x, ReducedRotor):
-        x = x.rotor
-    return x if isinstance(x, FlexibleRotor) else None
+    return scene_or_rotor.full_rotor if isinstance(scene_or_rotor, AbstractShaftModel) else None
 
 
 def check_speeds(scene_or_rotor, speeds) -> list:

@@ -114,6 +114,11 @@ class CantileverRotor(eqx.Module):
         return self.n_elements + 1
 
     @property
+    def disk_node(self) -> int:
+        """The disk's node (the free end; node 0 is clamped)."""
+        return self.n_elements
+
+    @property
     def disk_dofs(self) -> np.ndarray:
         """Indices of the disk's `(x, y, sx, sy)` among the free dofs."""
         return DOFS_PER_NODE * (self.n_elements - 1) + np.arange(DOFS_PER_NODE)
@@ -128,6 +133,26 @@ class CantileverRotor(eqx.Module):
                              disks=disks, theory=theory,
                              fixed_dofs=tuple((0, k) for k in range(DOFS_PER_NODE)),
                              plausibility=False)   # nondimensional units: no SI ranges apply
+
+    def scene_rotor(self, n_modes=None):
+        """The shaft as a `RotorScene` rotor: `shaft()` (all free dofs), or reduced to
+        its `n_modes` lowest undamped modes (`ReducedRotor`, the basis of
+        `modal_basis(n_modes)`)."""
+        shaft = self.shaft()
+        if n_modes is None:
+            return shaft
+        n_modes = as_count("n_modes", n_modes, minimum=1, maximum=DOFS_PER_NODE * self.n_elements)
+        return shaft.reduce(n_modes)
+
+    def damping_components(self) -> tuple:
+        """The damping of `matrices()` as `RotorScene` components: `InternalDamping`
+        (`T_V = 2 eta_i`, so `C_i = 2 eta_i K`), `ExternalDamping(2 eta_e)` (`2 eta_e M_1`)
+        and `DiskDamping` at the disk (`2 eta_Dxi`, `2 eta_Dtheta`)."""
+        from ._external_damping import DiskDamping, ExternalDamping
+        from ._internal_damping import InternalDamping
+
+        return (InternalDamping(2 * self.eta_i), ExternalDamping(2 * self.eta_e),
+                DiskDamping(self.disk_node, 2 * self.eta_Dxi, 2 * self.eta_Dtheta))
 
     def matrices(self):
         """`(M, C, G1, K, Ci, J)` on the free dofs (see the module docstring)."""

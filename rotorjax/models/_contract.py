@@ -1,21 +1,23 @@
 """The scene contract: what `solve/` and `analysis/` may rely on.
 
-Every model in rotorjax is an `AbstractScene`. The required part is what time
-integration needs; the optional parts are capabilities an analysis asks for and
-a scene provides only where they make sense:
+Every model in rotorjax is an `AbstractScene`: the required part is what time
+integration needs. What else a scene can do it declares by type, subclassing the
+abstract capability classes (equinox's abstract/final pattern; nothing is probed
+by attribute):
 
-| capability              | methods                                  | used by                              |
+| capability class        | methods                                  | used by                              |
 |-------------------------|------------------------------------------|--------------------------------------|
-| time integration        | `state_size`, `vector_field`, `outputs`, | `simulate`, `sweep`, Floquet         |
+| `AbstractScene`         | `state_size`, `vector_field`, `outputs`, | `simulate`, `sweep`, Floquet         |
 |                         | `describe`, `speed`                      |                                      |
-| linear(ised) matrices   | `linear_matrices(speed)`                 | modes, Campbell, critical speeds,    |
-|                         |                                          | Hopf points, stability margins       |
-| unbalance response      | `unbalance_load(speed)`, `linear_matrices`| frequency response                   |
-| rotating frame          | `n_dof`, `to_rotating`, `to_fixed`       | stationary regimes, their stability, |
+| `AbstractLinearScene`   | `linear_matrices(speed)`,                | modes, Campbell, critical speeds,    |
+|                         | `unbalance_load(speed)`                  | Hopf points, margins, responses      |
+| `AbstractShaftModel`    | nodes, `expand`, `project`, `full_rotor` | mode shapes, responses at nodes, UCS,|
+|                         | (also `FlexibleRotor`, `ReducedRotor`)   | level I, static deflection           |
+| `AbstractRotatingScene` | `n_dof`, `to_rotating`, `to_fixed`       | stationary regimes, their stability, |
 |                         |                                          | continuation                         |
-| contacts                | `n_contacts`, `contact_indicator`,       | `simulate_events`                    |
+| `AbstractContactScene`  | `contact_indicator`,                     | `simulate_events`                    |
 |                         | `vector_field(t, y, active)`             |                                      |
-| energy                  | `energy(y)` (+ a work state)             | energy-balance checks                |
+| `AbstractEnergyScene`   | `energy(y)` (+ a work state)             | energy-balance checks                |
 
 A missing capability raises `MissingCapability` (an `InputError`) naming the
 scene and what the analysis needed, never an `AttributeError` deep inside.
@@ -57,12 +59,14 @@ class LinearMatrices(NamedTuple):
 
 
 class AbstractScene(eqx.Module):
-    """A rotor model: its state, equations, outputs and prescribed speed (see the
-    module docstring for the optional capabilities)."""
+    """A rotor model: its state, equations, outputs and prescribed speed. What it can
+    do beyond time integration it declares by subclassing the capability classes
+    below (`AbstractLinearScene`, `AbstractRotatingScene`, `AbstractContactScene`,
+    `AbstractEnergyScene`); an analysis names the capability it needs and
+    `require` refuses a scene that is not one with `MissingCapability`."""
 
     speed: eqx.AbstractVar[AbstractSpeedProfile]
 
-    # --- required -------------------------------------------------------------------
     @property
     @abc.abstractmethod
     def state_size(self) -> int:
@@ -80,28 +84,10 @@ class AbstractScene(eqx.Module):
     def describe(self) -> str:
         """One line for logs and reports."""
 
-    # --- optional capabilities ---------------------------------------------------------
-    def linear_matrices(self, speed) -> LinearMatrices:
-        """The linear(ised) equations about the reference motion at `speed`."""
-        raise _missing(self, "linear_matrices", "a linear or linearisable part")
-
-    def unbalance_load(self, speed) -> jax.Array:
-        """Complex load `F` of the scene's unbalance at `speed` on the coordinates of
-        `linear_matrices`: the synchronous force is `Re(F e^{i speed t})`."""
-        raise _missing(self, "unbalance_load", "an unbalance on a linear part")
-
     @property
-    def n_dof(self) -> int:
-        """Number of generalised coordinates `q` (the state starts `(q, q')`)."""
-        raise _missing(self, "n_dof", "a rotating-frame state layout")
-
-    def to_rotating(self, t, y) -> jax.Array:
-        """The state seen in the frame spinning with the rotor."""
-        raise _missing(self, "to_rotating", "a rotating frame")
-
-    def to_fixed(self, t, z) -> jax.Array:
-        """Inverse of `to_rotating`."""
-        raise _missing(self, "to_fixed", "a rotating frame")
+    def n_contacts(self) -> int:
+        """Number of contacts (`AbstractContactScene`); none here."""
+        return 0
 
     def weight_coordinates(self):
         """`(indices, identical)`: the positions in `q` of coordinates that are
@@ -111,17 +97,116 @@ class AbstractScene(eqx.Module):
 
         return np.zeros(0, dtype=int), True
 
-    @property
-    def n_contacts(self) -> int:
-        return 0
 
+# --- capabilities -----------------------------------------------------------------------
+
+class AbstractLinearSystem(eqx.Module):
+    """Anything with linear(ised) equations `M q'' + (C + G) q' + K q = f` at each
+    speed: a finite-element rotor, a reduced one, a linear scene."""
+
+    @abc.abstractmethod
+    def linear_matrices(self, speed) -> LinearMatrices:
+        """The linear(ised) equations about the reference motion at `speed`."""
+
+    @property
+    def n_coordinates(self) -> int:
+        """Length of `q` in `linear_matrices`."""
+        return self.linear_matrices(0.0).M.shape[0]
+
+
+class AbstractShaftModel(AbstractLinearSystem):
+    """A finite-element shaft layout: `n_nodes` nodes of four dofs `(x, y, sx, sy)`
+    (then the supports' pedestals), the free dofs, and the coordinates the linear
+    matrices are written in (the free dofs, or modal amplitudes). `FlexibleRotor`,
+    `ReducedRotor` and `RotorScene` are shaft models: the node-based analyses
+    (mode shapes, whirl, responses at nodes, UCS, level I, static deflection) need
+    this capability."""
+
+    @property
+    @abc.abstractmethod
+    def full_rotor(self):
+        """The `FlexibleRotor` behind the coordinates (nodes, bearings, supports)."""
+
+    @property
+    @abc.abstractmethod
+    def n_coordinates(self) -> int:
+        """Length of `q` in `linear_matrices` (free dofs, or modes)."""
+
+    @abc.abstractmethod
+    def reduced_matrices(self, speed=0.0):
+        """The bare shaft's `(M, C, G1, K)` in the coordinates (bearings at `speed`)."""
+
+    @abc.abstractmethod
+    def expand(self, q):
+        """Coordinates (vector or columns) to all dofs, fixed dofs zero."""
+
+    @abc.abstractmethod
+    def project(self, f):
+        """A load on the free dofs to a load on the coordinates."""
+
+    @property
+    def n_nodes(self) -> int:
+        return self.full_rotor.n_nodes
+
+    @property
+    def n_dofs(self) -> int:
+        return self.full_rotor.n_dofs
+
+    @property
+    def free_dofs(self):
+        return self.full_rotor.free_dofs
+
+    @property
+    def speed_dependent(self) -> bool:
+        """Whether any bearing's coefficients are tabulated against speed."""
+        return self.full_rotor.speed_dependent
+
+
+class AbstractLinearScene(AbstractScene, AbstractLinearSystem):
+    """A scene with linear(ised) equations and an unbalance load on them: modes,
+    Campbell diagrams, critical speeds, Hopf points, stability margins, unbalance
+    and frequency responses."""
+
+    @abc.abstractmethod
+    def unbalance_load(self, speed) -> jax.Array:
+        """Complex load `F` of the scene's unbalance at `speed` on the coordinates of
+        `linear_matrices`: the synchronous force is `Re(F e^{i speed t})`."""
+
+
+class AbstractRotatingScene(AbstractScene):
+    """A scene whose state can be seen in the frame spinning with the rotor:
+    stationary regimes, their stability, continuation."""
+
+    @property
+    @abc.abstractmethod
+    def n_dof(self) -> int:
+        """Number of generalised coordinates `q` (the state starts `(q, q')`)."""
+
+    @abc.abstractmethod
+    def to_rotating(self, t, y) -> jax.Array:
+        """The state seen in the frame spinning with the rotor."""
+
+    @abc.abstractmethod
+    def to_fixed(self, t, z) -> jax.Array:
+        """Inverse of `to_rotating`."""
+
+
+class AbstractContactScene(AbstractScene):
+    """A scene with contacts: `vector_field(t, y, active)` smooth for a fixed contact
+    set, and `contact_indicator` (event-located runs, `simulate_events`)."""
+
+    @abc.abstractmethod
     def contact_indicator(self, t, y) -> jax.Array:
         """One value per contact, positive exactly where it acts."""
-        raise _missing(self, "contact_indicator", "contacts")
 
+
+class AbstractEnergyScene(AbstractScene):
+    """A scene with an energy balance: `energy(y)`, whose change equals the work
+    state's."""
+
+    @abc.abstractmethod
     def energy(self, y) -> jax.Array:
-        """Mechanical energy of state `y` (its change equals the work state's)."""
-        raise _missing(self, "energy", "an energy balance")
+        """Mechanical energy of state `y`."""
 
 
 def rotating_field(scene, t, z):
@@ -134,29 +219,45 @@ def rotating_field(scene, t, z):
     return jax.jvp(scene.to_rotating, (t, y), (jnp.ones_like(t), scene.vector_field(t, y)))[1]
 
 
-def _missing(scene, name, what):
-    return MissingCapability(f"{type(scene).__name__} ({scene.describe()}) has no {what} "
-                             f"(`{name}`)")
+#: each capability (by the method an analysis calls) and the class that declares it
+CAPABILITIES = {
+    "linear_matrices": AbstractLinearScene, "unbalance_load": AbstractLinearScene,
+    "n_dof": AbstractRotatingScene, "to_rotating": AbstractRotatingScene, "to_fixed": AbstractRotatingScene,
+    "contact_indicator": AbstractContactScene, "energy": AbstractEnergyScene,
+    "shaft": AbstractShaftModel, "linear_system": AbstractLinearSystem,
+}
 
-
-_OPTIONAL = ("linear_matrices", "unbalance_load", "to_rotating", "to_fixed", "contact_indicator", "energy")
+_WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an AbstractLinearScene)",
+         AbstractRotatingScene: "no rotating frame (it is not an AbstractRotatingScene)",
+         AbstractContactScene: "no contacts (it is not an AbstractContactScene)",
+         AbstractEnergyScene: "no energy balance (it is not an AbstractEnergyScene)",
+         AbstractLinearSystem: "no linear equations (it is not an AbstractLinearSystem: a linear scene, a "
+                               "FlexibleRotor or a ReducedRotor)",
+         AbstractShaftModel: "no finite-element shaft layout (it is not an AbstractShaftModel: a FlexibleRotor, "
+                             "ReducedRotor or RotorScene)"}
 
 
 def provides(scene, capability: str) -> bool:
-    """Whether `scene` implements the optional method `capability` (one of
-    `linear_matrices`, `unbalance_load`, `to_rotating`, `to_fixed`,
-    `contact_indicator`, `energy`)."""
-    if capability not in _OPTIONAL:
+    """Whether `scene` is an instance of the class that declares `capability` (one
+    of `CAPABILITIES`'s keys)."""
+    if capability not in CAPABILITIES:
         raise ValueError(f"unknown capability {capability!r}")
-    method = getattr(type(scene), capability, None)
-    return method is not None and method is not getattr(AbstractScene, capability)
+    return isinstance(scene, CAPABILITIES[capability])
+
+
+def _name(obj) -> str:
+    try:
+        return f"{type(obj).__name__} ({obj.describe()})"
+    except Exception:  # not a scene: its type names it
+        return type(obj).__name__
 
 
 def require(scene, capability: str, needed_by: str):
-    """Raise `MissingCapability` unless `scene` is a scene that provides `capability`."""
-    if not isinstance(scene, AbstractScene):
+    """Raise `MissingCapability` unless `scene` provides `capability`: the message
+    names the scene, the analysis and the capability class it needs."""
+    if capability not in ("shaft", "linear_system") and not isinstance(scene, AbstractScene):
         raise InputError(f"{needed_by} needs a rotorjax scene (rotorjax.models.AbstractScene), got "
                          f"{type(scene).__name__}")
     if not provides(scene, capability):
-        raise MissingCapability(f"{needed_by} needs a scene with `{capability}`; {type(scene).__name__} "
-                                f"({scene.describe()}) does not provide it")
+        raise MissingCapability(f"{needed_by} needs a scene with `{capability}`; {_name(scene)} has "
+                                f"{_WHAT[CAPABILITIES[capability]]}")

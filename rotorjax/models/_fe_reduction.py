@@ -17,8 +17,8 @@ derivative only at the order of the reduction error.
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 
+from ._contract import AbstractShaftModel, LinearMatrices
 from ._validate import InputError, as_count
 
 
@@ -31,7 +31,7 @@ def undamped_modes(M, K):
     return w2, Linv.T @ V
 
 
-class ReducedRotor(eqx.Module):
+class ReducedRotor(AbstractShaftModel):
     """A `FlexibleRotor` reduced to its `n_modes` lowest undamped modes (see the
     module docstring); `rotor.reduce(n_modes)` builds one."""
 
@@ -39,7 +39,7 @@ class ReducedRotor(eqx.Module):
     basis: jax.Array  # (n_free_dofs, n_modes)
 
     def __init__(self, rotor, n_modes):
-        if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand")):
+        if not (isinstance(rotor, AbstractShaftModel) and rotor.full_rotor is rotor):  # a FlexibleRotor
             raise InputError(f"rotor must be a FlexibleRotor, got {type(rotor).__name__}")
         n_free = len(rotor.free_dofs)
         n_modes = as_count("n_modes (reduction)", n_modes, minimum=1, maximum=n_free)
@@ -53,20 +53,17 @@ class ReducedRotor(eqx.Module):
         return self.basis.shape[1]
 
     @property
-    def n_nodes(self) -> int:
-        return self.rotor.n_nodes
+    def full_rotor(self):
+        return self.rotor
 
     @property
-    def n_dofs(self) -> int:
-        return self.rotor.n_dofs
+    def n_coordinates(self) -> int:
+        return self.n_modes
 
-    @property
-    def free_dofs(self) -> np.ndarray:
-        return self.rotor.free_dofs
-
-    @property
-    def speed_dependent(self) -> bool:
-        return getattr(self.rotor, "speed_dependent", False)
+    def linear_matrices(self, speed) -> LinearMatrices:
+        """`Phi^T (M, C, speed G1, K) Phi`, bearings at `speed`."""
+        M, C, G1, K = self.reduced_matrices(speed)
+        return LinearMatrices(M=M, C=C, G=speed * G1, K=K)
 
     def reduced_matrices(self, speed=0.0):
         """`Phi^T (M, C, G1, K) Phi` in the modal coordinates (bearings at `speed`;

@@ -8,6 +8,7 @@ import numpy as np
 
 from ._validate import (InputError, as_param, as_vector, check, check_choice, check_node,
                                is_concrete, show)
+from ._contract import AbstractShaftModel, LinearMatrices
 from ._fe_elements import element_matrices
 from ._interpolate import spline
 from ._plausibility import disk_warnings, shaft_warnings, warn
@@ -197,7 +198,7 @@ def _support_entry(i, s, n_bearings):
     return int(bearing), row
 
 
-class FlexibleRotor(eqx.Module):
+class FlexibleRotor(AbstractShaftModel):
     """Shaft of `n` beam elements between `n + 1` nodes, rigid disks, point masses,
     linear bearings at nodes and pedestal supports, assembled into
     `M q'' + (C + Omega G1) q' + K q = F` (bearing coefficients at the speed `Omega`).
@@ -494,10 +495,26 @@ class FlexibleRotor(eqx.Module):
         """`(M, C, G1, K)` on the free dofs only, bearing coefficients at `speed`."""
         return _reduced_matrices(self, jnp.asarray(speed, dtype=jnp.float64))
 
+    @property
+    def full_rotor(self) -> "FlexibleRotor":
+        return self
+
+    @property
+    def n_coordinates(self) -> int:
+        return len(self.free_dofs)
+
+    def linear_matrices(self, speed) -> LinearMatrices:
+        """`(M, C, speed G1, K)` on the free dofs, bearings at `speed`."""
+        M, C, G1, K = self.reduced_matrices(speed)
+        return LinearMatrices(M=M, C=C, G=speed * G1, K=K)
+
     def expand(self, q):
         """Free-dof vector (or columns) to all dofs, fixed dofs zero."""
         q = jnp.asarray(q)
-        return jnp.zeros((self.n_dofs,) + q.shape[1:], dtype=q.dtype).at[self.free_dofs].set(q)
+        f = self.free_dofs
+        if f.size and f[-1] - f[0] == f.size - 1:   # contiguous (a clamped end): a pad, cheaper than a scatter
+            return jnp.pad(q, [(int(f[0]), self.n_dofs - 1 - int(f[-1]))] + [(0, 0)] * (q.ndim - 1))
+        return jnp.zeros((self.n_dofs,) + q.shape[1:], dtype=q.dtype).at[f].set(q)
 
     def project(self, f):
         """A load on the free dofs, in this rotor's coordinates (the identity here;

@@ -10,12 +10,23 @@ imbalance `m0` sits at radius 1 and angle `theta0`. With `V = a^T v` the disk ce
     theta_j'' + Im[V'' e^{-i theta_j}] / r_j + d_j (theta_j' - theta0') = 0
 
 (`m` is disk + imbalance + balls, `g = 2` reproduces the paper's `J = Jt + 2 Jp`,
-`g = -1` the standard `Jt - Jp`). The accelerations enter linearly; they are found
-from the residual's Jacobian (autodiff) and one linear solve.
+`g = -1` the standard `Jt - Jp`).
+
+These equations are not coded by hand: the disk's parts are the shared planar
+components, seen at the disk centre `V = a^T v` (`ModalBalancerRotor.components`):
+the imbalance is a `RigidRotor` of mass `m0` with eccentricity 1, each ball an
+`AutoBalancer` with one pendulum-type weight (`K = 1`) on a circular race of radius
+`r_j` and drag `d_j m_j` (its coordinate `psi_j = theta_j - theta0`). Their energies
+give, by Lagrange's equations (autodiff, `lagrange_terms`), the balls' equations and
+their and the imbalance's forces and inertia on the shaft; the modal shaft adds its
+own linear part (the disk's mass less the imbalance and the balls, `Jt`, damping,
+gyroscopic terms, `diag k^4`), and one linear solve gives the accelerations. A test
+(`tests/models/test_model003_composition.py`) checks this against the hand-written
+eq. (24) above at random states.
 
 In the rotating frame (`w = v e^{-i theta0}`, `alpha_j = theta_j - theta0`; at constant
 speed `theta0 = omega t`) the stationary regimes are (eqs. 25-30; analyses in
-`rotorjax.flexible`): balanced C (`w = 0`, balls cancel the imbalance),
+`rotorjax.analysis`): balanced C (`w = 0`, balls cancel the imbalance),
 pseudo-balanced PS (`a^T w = 0` with a bent shaft, only for `d = 0`), and unbalanced
 NS1/NS2/NS3 by the balancing coefficient `sigma = sum_j m_j r_j (-1)^{delta_j} / m0`.
 """
@@ -23,19 +34,25 @@ NS1/NS2/NS3 by the balancing coefficient `sigma = sum_j m_j r_j (-1)^{delta_j} /
 import jax
 import jax.numpy as jnp
 
-from ._contract import AbstractScene, rotating_field
+from ._balancer import AutoBalancer, Race
+from ._base import Kinematics
+from ._contract import AbstractRotatingScene, rotating_field
+from ._lagrange import lagrange_terms
 from ._modal import ModalShaft
+from ._rotor import RigidRotor
 from ._rotation import to_fixed_pair, to_rotating_pair
 from ._speed import AbstractSpeedProfile
-from ._validate import InputError, as_param, check_type, per_item
+from ._validate import InputError, as_param, check_type, is_concrete, per_item
 
 
-class ModalBalancerRotor(AbstractScene):
+class ModalBalancerRotor(AbstractRotatingScene):
     """Model 003's shaft + disk (`shaft`, whose `m` must include the balls' mass)
     with balls of masses `ball_mass` (N,), radii `ball_radius` and drags `ball_drag`
     (units `m_S`, `r0`, `m_j r_j^2 omega_1`), spun by `speed` (a speed profile). A
     scene (state `(Re v, Im v, theta, d/dt ...)`) with a rotating frame
-    (`to_rotating`, `to_fixed`)."""
+    (`to_rotating`, `to_fixed`). The imbalance and the balls are the shared
+    components `RigidRotor` and `AutoBalancer` (`components`); their energies give
+    their equations (see the module docstring)."""
 
     shaft: ModalShaft
     ball_mass: jax.Array
@@ -75,30 +92,81 @@ class ModalBalancerRotor(AbstractScene):
         q, qd = y[: 2 * n + N], y[2 * n + N:]
         return q[:n] + 1j * q[n:2 * n], q[2 * n:], qd[:n] + 1j * qd[n:2 * n], qd[2 * n:]
 
-    def _residual(self, t, y, acc):
+    @property
+    def components(self):
+        """The disk's parts, as the shared planar components (`rotorjax.models`) seen at
+        the disk centre: the imbalance, `RigidRotor(m0, eccentricity=1)` (absent when
+        `m0` is a concrete 0), then one `AutoBalancer` per ball (one pendulum-type
+        weight of mass `m_j` on a circular `Race` of radius `r_j`, drag `d_j m_j`, so
+        that its torque is `d_j m_j r_j^2 (theta_j' - theta0')`). Built from the
+        rotor's fields, so they follow any change of them (`eqx.tree_at`, tracing)."""
+        parts = []
+        m0 = self.shaft.m0
+        if not (is_concrete(m0) and float(m0) == 0.0):
+            parts.append(RigidRotor(m0, 1.0))
+        for j in range(self.n_balls):
+            parts.append(AutoBalancer(self.ball_mass[j:j + 1], Race.circular(self.ball_radius[j]),
+                                      self.ball_drag[j] * self.ball_mass[j], kind="pendulum"))
+        return tuple(parts)
+
+    def _shaft_terms(self, t, q, qd):
+        """The modal shaft's own part, `(M, f)` with `M q'' = f` over all coordinates:
+        the disk's mass without the imbalance and the balls (their inertia comes with
+        their energies), `Jt`, the external damping, the gyroscopic terms and the
+        stiffness `diag k^4`."""
         s = self.shaft
-        n = s.n_modes
-        v, th, vd, thd = self._split(y)
-        vdd, thdd = acc[:n] + 1j * acc[n:2 * n], acc[2 * n:]
+        n, N = s.n_modes, self.n_balls
         a, b, k = s.mode_vectors()
-        th0, th0d, th0dd = self.speed.angle(t), self.speed.speed(t), self.speed.acceleration(t)
         g = self._g()
+        th0d, th0dd = self.speed.speed(t), self.speed.acceleration(t)
         B = jnp.outer(b, b)
-        shaft = (vdd + s.Jt * b * (b @ vdd) + s.m * a * (a @ vdd) + s.d * vd
-                 + 1j * g * s.Jp * th0d * (B @ vd) + k**4 * v + 1j * 0.5 * g * s.Jp * th0dd * (B @ v)
-                 - s.m0 * (th0d**2 - 1j * th0dd) * jnp.exp(1j * th0) * a
-                 - jnp.sum(self.ball_mass * self.ball_radius * (thd**2 - 1j * thdd) * jnp.exp(1j * th)) * a)
-        ball = thdd + jnp.imag((a @ vdd) * jnp.exp(-1j * th)) / self.ball_radius + self.ball_drag * (thd - th0d)
-        return jnp.concatenate([jnp.real(shaft), jnp.imag(shaft), ball])
+        own_mass = s.m - s.m0 - jnp.sum(self.ball_mass)
+        Mc = jnp.eye(n) + s.Jt * B + own_mass * jnp.outer(a, a)
+        v, vd = q[:n] + 1j * q[n:2 * n], qd[:n] + 1j * qd[n:2 * n]
+        f = -(s.d * vd + 1j * g * s.Jp * th0d * (B @ vd) + k**4 * v + 0.5j * g * s.Jp * th0dd * (B @ v))
+        mass = jnp.zeros((self.n_dof, self.n_dof)).at[:n, :n].set(Mc).at[n:2 * n, n:2 * n].set(Mc)
+        return mass, jnp.concatenate([jnp.real(f), jnp.imag(f), jnp.zeros(N)])
+
+    def _disk_terms(self, t, q, qd, parts):
+        """The disk's parts by Lagrange's equations of their summed energies in the
+        local coordinates `r = (Re V, Im V, psi)`, `V = a^T v`, `psi = theta - theta0(t)`
+        (as `RotorScene` does at a node), carried to `(v, theta)` by `r = A q - e theta0`:
+        `M += A^T M_r A`, `f += A^T (f_r + M_r e theta0'')`."""
+        n, N = self.shaft.n_modes, self.n_balls
+        a, _, _ = self.shaft.mode_vectors()
+        A = jnp.zeros((2 + N, self.n_dof)).at[0, :n].set(a).at[1, n:2 * n].set(a)
+        A = A.at[2:, 2 * n:].set(jnp.eye(N))
+        e = jnp.zeros(2 + N).at[2:].set(1.0)
+        r, rd = A @ q - e * self.speed.angle(t), A @ qd - e * self.speed.speed(t)
+        slices, start = [], 2
+        for c in parts:
+            slices.append(slice(start, start + c.n_coords))
+            start += c.n_coords
+
+        def kinematics(r, rd, tt):
+            return Kinematics(t=tt, theta=self.speed.angle(tt), theta_dot=self.speed.speed(tt), x=r[0], y=r[1],
+                              xd=rd[0], yd=rd[1])
+
+        def lagrangian(r, rd, tt):
+            kin = kinematics(r, rd, tt)
+            return sum(c.kinetic(kin, r[sl], rd[sl]) - c.potential(kin, r[sl]) for c, sl in zip(parts, slices))
+
+        def dissipation(r, rd, tt):
+            kin = kinematics(r, rd, tt)
+            return sum(c.dissipation(kin, r[sl], rd[sl]) for c, sl in zip(parts, slices))
+
+        m_r, f_r = lagrange_terms(lagrangian, dissipation, r, rd, t)
+        return A.T @ m_r @ A, A.T @ (f_r + (m_r @ e) * self.speed.acceleration(t))
 
     def vector_field(self, t, y, args=None):
         t = jnp.asarray(t, dtype=jnp.float64)
-        zero = jnp.zeros(2 * self.shaft.n_modes + self.n_balls)
-        r0 = self._residual(t, y, zero)
-        jac = jax.jacfwd(lambda acc: self._residual(t, y, acc))(zero)
-        acc = -jnp.linalg.solve(jac, r0)
-        half = y.shape[0] // 2
-        return jnp.concatenate([y[half:], acc])
+        q, qd = y[: self.n_dof], y[self.n_dof:]
+        mass, rhs = self._shaft_terms(t, q, qd)
+        parts = self.components
+        if parts:
+            m_d, f_d = self._disk_terms(t, q, qd, parts)
+            mass, rhs = mass + m_d, rhs + f_d
+        return jnp.concatenate([qd, jnp.linalg.solve(mass, rhs)])
 
     def outputs(self, t, y):
         v, th, _, _ = self._split(y)

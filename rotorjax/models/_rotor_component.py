@@ -6,8 +6,8 @@ states, once, only what it adds:
 - `linear_part(rotor)`: its contribution to the linear equations about the
   straight, resting shaft, as full-dof matrices `(C, K, K_speed)` (the last times
   the speed: circulatory terms) or `None`;
-- `force(s, q, qd, active)`: the rest of its force, on all dofs of the shaft
-  (`s` the shaft's state, `q, qd` the component's own coordinates, `active` its
+- `force(s, q, qd, active)`: the rest of its force, a `NodeLoad` at its node
+  (`s.place(node, f)`) or an all-dof load (`s` the shaft's state, `q, qd` the component's own coordinates, `active` its
   contact set for event-located integration, or `None` for a smooth law);
 - `static_load(rotor)`: a constant load (weight), or `None`;
 - `kinetic`, `potential`, `dissipation`: energies, for components with
@@ -29,35 +29,59 @@ from ._fe_rotor import DOFS_PER_NODE
 from ._validate import InputError, is_concrete, show
 
 
+class NodeLoad(eqx.Module):
+    """A force `f = (f_x, f_y)` at `node` (what `ShaftState.place` returns): the scene
+    maps it onto its coordinates through the node's rows, without an all-dof vector."""
+
+    node: int = eqx.field(static=True)
+    f: jax.Array
+
+    def on_dofs(self, n_dofs: int) -> jax.Array:
+        """The load as an all-dof vector."""
+        b = DOFS_PER_NODE * self.node
+        return jnp.zeros(n_dofs, dtype=self.f.dtype).at[b:b + 2].set(self.f)
+
+
 class ShaftState(eqx.Module):
-    """The shaft at one instant: all-dof displacements `x` and velocities `v`
-    (node order `(x, y, sx, sy)`), the spin angle, speed and acceleration."""
+    """The shaft at one instant: the shaft coordinates `q`, `qd` and the map `E` from
+    them to all dofs (node order `(x, y, sx, sy)`), the spin angle, speed and
+    acceleration. `x`, `v` are the all-dof displacements and velocities; a node's
+    are read through its rows of `E` alone (two rows, not the whole shaft)."""
 
     t: jax.Array
     theta: jax.Array
     theta_dot: jax.Array
     theta_ddot: jax.Array
-    x: jax.Array
-    v: jax.Array
+    q: jax.Array
+    qd: jax.Array
+    E: jax.Array
+
+    @property
+    def x(self) -> jax.Array:
+        return self.E @ self.q
+
+    @property
+    def v(self) -> jax.Array:
+        return self.E @ self.qd
+
+    def _rows(self, node, n=2):
+        b = DOFS_PER_NODE * node
+        return self.E[b:b + n]
 
     def at(self, node: int) -> Kinematics:
         """The kinematic context of `node`'s centre (for planar components)."""
-        b = DOFS_PER_NODE * node
-        return Kinematics(t=self.t, theta=self.theta, theta_dot=self.theta_dot, x=self.x[b], y=self.x[b + 1],
-                          xd=self.v[b], yd=self.v[b + 1])
+        x, v = self._rows(node) @ self.q, self._rows(node) @ self.qd
+        return Kinematics(t=self.t, theta=self.theta, theta_dot=self.theta_dot, x=x[0], y=x[1], xd=v[0], yd=v[1])
 
     def position(self, node: int) -> jax.Array:
-        b = DOFS_PER_NODE * node
-        return self.x[b:b + 2]
+        return self._rows(node) @ self.q
 
     def velocity(self, node: int) -> jax.Array:
-        b = DOFS_PER_NODE * node
-        return self.v[b:b + 2]
+        return self._rows(node) @ self.qd
 
-    def place(self, node: int, f2) -> jax.Array:
-        """A force `f2 = (f_x, f_y)` at `node`, as an all-dof load."""
-        b = DOFS_PER_NODE * node
-        return jnp.zeros_like(self.x).at[b:b + 2].set(f2)
+    def place(self, node: int, f2) -> NodeLoad:
+        """A force `f2 = (f_x, f_y)` at `node` (a `NodeLoad`)."""
+        return NodeLoad(node, jnp.asarray(f2))
 
 
 class AbstractRotorComponent(eqx.Module):

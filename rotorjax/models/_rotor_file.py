@@ -76,6 +76,7 @@ import pathlib
 import re
 import tomllib
 
+import jax
 import numpy as np
 
 from .._errors import InputError
@@ -404,7 +405,7 @@ def _parse_override_key(ctx, okey):
 
 def _override_value(ctx, okey, spec, value):
     """An override's value as the file would hold it (strings parsed for numeric keys)."""
-    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+    if isinstance(value, (np.ndarray, np.generic, jax.Array)):
         if not is_concrete(value):
             ctx.fail(f"override {okey}: a traced value cannot be written into a rotor file; "
                      f"overrides are concrete")
@@ -1044,7 +1045,7 @@ def rotor_file_text(scene, name="rotor") -> str:
                          f"this scene's speed is {type(sp).__name__}"
                          + ("" if not isinstance(sp, ConstantSpeed) else f" with theta0 = {_f(sp.theta0)}"))
     lines = ["# A rotorjax rotor file (SI units), written by rotorjax.models.save_rotor.", "",
-             "[rotor]", f"name = {_s(name)}", f"theory = {_s(rotor.theory)}", f"speed = {_f(sp.omega)}"]
+             "[rotor]", f"name = {_s(name)}", f"theory = {_s(rotor.theory)}", f"speed = {_f(sp.constant)}"]
     if n_modes is not None:
         lines.append(f"n_modes = {n_modes}")
 

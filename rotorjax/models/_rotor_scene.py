@@ -23,19 +23,16 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._contract import AbstractScene, LinearMatrices, MissingCapability
+from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinearScene, AbstractRotatingScene,
+                        AbstractShaftModel, LinearMatrices, MissingCapability)
 from ._fe_reduction import ReducedRotor
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._base import Kinematics
 from ._lagrange import lagrange_terms
 from ._rotation import to_fixed_pair, to_rotating_pair
-from ._rotor_component import AbstractRotorComponent, ShaftState
+from ._rotor_component import AbstractRotorComponent, NodeLoad, ShaftState
 from ._speed import AbstractSpeedProfile, ConstantSpeed
 from ._validate import InputError, as_components
-
-
-def _full_rotor(rotor):
-    return rotor.rotor if isinstance(rotor, ReducedRotor) else rotor
 
 
 def _coords(rotor, a_full):
@@ -49,7 +46,10 @@ def _coords(rotor, a_full):
 
 def _load(rotor, f_full):
     """A full-dof load in the rotor's coordinates."""
-    return rotor.project(f_full[rotor.free_dofs])
+    f = rotor.free_dofs
+    if f.size and f[-1] - f[0] == f.size - 1:   # contiguous: a slice, cheaper than a gather per step
+        return rotor.project(f_full[int(f[0]):int(f[-1]) + 1])
+    return rotor.project(f_full[f])
 
 
 @eqx.filter_jit
@@ -58,7 +58,7 @@ def _assemble(rotor, table_speed, components):
     `table_speed` with each component's linearisation and static load added. One
     compiled program per rotor layout (and kept by the persistent compilation
     cache), instead of hundreds of small operations dispatched one by one."""
-    full = _full_rotor(rotor)
+    full = rotor.full_rotor
     M, C, G1, K = rotor.reduced_matrices(table_speed)
     n_full = full.n_dofs
     Cf, Kf, Ksf = (jnp.zeros((n_full, n_full)) for _ in range(3))
@@ -71,10 +71,11 @@ def _assemble(rotor, table_speed, components):
         if load is not None:
             F0 = F0 + load
     return (M, jnp.linalg.inv(M), C + _coords(rotor, Cf), G1, K + _coords(rotor, Kf), _coords(rotor, Ksf),
-            _load(rotor, F0))
+            _load(rotor, F0), rotor.expand(jnp.eye(M.shape[0])))
 
 
-class RotorScene(AbstractScene):
+class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene, AbstractContactScene,
+                 AbstractEnergyScene):
     """A finite-element rotor scene (see the module docstring).
 
     **Arguments:**
@@ -97,6 +98,8 @@ class RotorScene(AbstractScene):
     K: jax.Array
     Ks: jax.Array          # per unit speed (circulatory)
     F0: jax.Array          # static load, in the coordinates
+    E: jax.Array           # shaft coordinates -> all dofs (the basis, padded with the fixed dofs)
+    Ksym: jax.Array        # the symmetric part of K (the potential energy)
 
     def __init__(self, rotor, speed=0.0, components=(), track_work=False):
         if not isinstance(rotor, (FlexibleRotor, ReducedRotor)):
@@ -105,7 +108,7 @@ class RotorScene(AbstractScene):
             speed = ConstantSpeed(speed)
         components = as_components(components, AbstractRotorComponent, "rotor component",
                                    "Unbalance, BalancerAt, LimitersAt, ...")
-        full = _full_rotor(rotor)
+        full = rotor.full_rotor
         for i, c in enumerate(components):
             if c.node is not None and not c.node < full.n_nodes:
                 raise InputError(f"components[{i}] ({c.describe()}): the shaft has nodes 0..{full.n_nodes - 1}")
@@ -115,8 +118,9 @@ class RotorScene(AbstractScene):
         self.rotor, self.speed, self.components, self.track_work = rotor, speed, components, bool(track_work)
         # tabulated bearings: the time-domain equations use the coefficients at the
         # profile's initial speed; `linear_matrices(speed)` re-evaluates them
-        self.M, self.Minv, self.C, self.G1, self.K, self.Ks, self.F0 = _assemble(
+        self.M, self.Minv, self.C, self.G1, self.K, self.Ks, self.F0, self.E = _assemble(
             rotor, jnp.asarray(self._table_speed(), dtype=jnp.float64), components)
+        self.Ksym = 0.5 * (self.K + self.K.T)
 
     # --- coordinates -------------------------------------------------------------------
     def _coords(self, a_full):
@@ -139,8 +143,22 @@ class RotorScene(AbstractScene):
         return 2 * self.n_dof + (1 if self.track_work else 0)
 
     @property
-    def n_nodes(self) -> int:
-        return _full_rotor(self.rotor).n_nodes
+    def full_rotor(self):
+        """The `FlexibleRotor` of the shaft (a reduced one's full rotor)."""
+        return self.rotor.full_rotor
+
+    @property
+    def n_coordinates(self) -> int:
+        return self.n_shaft
+
+    def reduced_matrices(self, speed=0.0):
+        """The bare shaft's `(M, C, G1, K)` in the shaft coordinates (no component's
+        linearisation: that is `linear_matrices`)."""
+        return self.rotor.reduced_matrices(speed)
+
+    def project(self, f):
+        """A load on the free dofs to the shaft coordinates."""
+        return self.rotor.project(f)
 
     @property
     def n_contacts(self) -> int:
@@ -165,8 +183,7 @@ class RotorScene(AbstractScene):
         t = jnp.asarray(t, dtype=jnp.float64)
         ns = self.n_shaft
         return ShaftState(t=t, theta=self.speed.angle(t), theta_dot=self.speed.speed(t),
-                          theta_ddot=self.speed.acceleration(t), x=self.rotor.expand(q[:ns]),
-                          v=self.rotor.expand(qd[:ns]))
+                          theta_ddot=self.speed.acceleration(t), q=q[:ns], qd=qd[:ns], E=self.E)
 
     def split(self, y):
         n = self.n_dof
@@ -177,17 +194,24 @@ class RotorScene(AbstractScene):
         """Generalised force on the shaft coordinates: linear part and components."""
         ns = self.n_shaft
         s = self.shaft_state(t, q, qd)
-        f_full = jnp.zeros_like(s.x)
+        at_nodes, f_full = {}, None
         for c, sl, cs in zip(self.components, self._own_slices(), self._contact_slices()):
             f = c.force(s, q[sl], qd[sl], None if active is None else active[cs])
-            if f is not None:
-                f_full = f_full + f
+            if isinstance(f, NodeLoad):   # summed per node, then through the node's two rows
+                at_nodes[f.node] = f.f if f.node not in at_nodes else at_nodes[f.node] + f.f
+            elif f is not None:
+                f_full = f if f_full is None else f_full + f
+        gen = self.F0
+        for node, f2 in at_nodes.items():
+            gen = gen + self._node_rows(node).T @ f2
+        if f_full is not None:
+            gen = gen + self._load(f_full)
         qs, qsd = q[:ns], qd[:ns]
         w = s.theta_dot
         # matrix-vector products, not `(C + w G1) @ qd`: under vmap each lane has its
         # own speed, and summing matrices per lane costs more than the products
         lin = self.C @ qsd + w * (self.G1 @ qsd) + self.K @ qs + w * (self.Ks @ qs)
-        return self.F0 + self._load(f_full) - lin, s
+        return gen - lin, s
 
     def vector_field(self, t, y, args=None):
         """`dy/dt`; `args` is the contact set (booleans, one per contact) for
@@ -206,12 +230,12 @@ class RotorScene(AbstractScene):
         return jnp.concatenate(out)
 
     def _Ksym(self):
-        return 0.5 * (self.K + self.K.T)
+        return self.Ksym
 
     def _node_rows(self, node):
         """`P_k`: the node's `(x, y)` as a linear map of the shaft coordinates."""
         b = DOFS_PER_NODE * node
-        return self.rotor.expand(jnp.eye(self.n_shaft))[b:b + 2]
+        return self.E[b:b + 2]
 
     def _with_own_coordinates(self, t, q, qd, f):
         """Accelerations with components that own coordinates: each one's Lagrange
@@ -248,19 +272,19 @@ class RotorScene(AbstractScene):
         """About the straight, resting shaft (weights of an auto-balancer frozen):
         the shaft coordinates only (tabulated bearings at `speed`)."""
         M, C, K = self.M, self.C, self.K
-        if getattr(self.rotor, "speed_dependent", False):
+        if self.rotor.speed_dependent:
             now, then = self.rotor.reduced_matrices(speed), self.rotor.reduced_matrices(self._table_speed())
             M, C, K = M + now[0] - then[0], C + now[1] - then[1], K + now[3] - then[3]
         return LinearMatrices(M=M, C=C, G=speed * self.G1, K=K + speed * self.Ks)
 
     def _table_speed(self):
         """The speed at which the time-domain equations take tabulated bearings' coefficients."""
-        if not getattr(self.rotor, "speed_dependent", False):
+        if not self.rotor.speed_dependent:
             return 0.0
         return self.speed.speed(jnp.zeros(()))
 
     def unbalance_load(self, speed):
-        full = _full_rotor(self.rotor)
+        full = self.rotor.full_rotor
         total = jnp.zeros(full.n_dofs, dtype=jnp.complex128)
         found = False
         for c in self.components:
@@ -369,6 +393,6 @@ class RotorScene(AbstractScene):
         return out
 
     def describe(self) -> str:
-        full = _full_rotor(self.rotor)
+        full = self.rotor.full_rotor
         base = f"FE rotor ({full.lengths.shape[0]} elements, {self.n_shaft} coordinates)"
         return ", ".join([base] + [c.describe() for c in self.components])

@@ -7,7 +7,7 @@ import numpy as np
 
 from ._balancer import AutoBalancer
 from ._base import AbstractComponent, Kinematics
-from ._contract import AbstractScene
+from ._contract import AbstractRotatingScene
 from ._fastpath import planar_balancer_field
 from ._lagrange import lagrange_accelerations
 from ._rotation import to_fixed_pair, to_rotating_pair
@@ -17,7 +17,7 @@ from ._supports import Supports
 from ._validate import InputError, as_components, as_numpy, check_choice, is_concrete
 
 
-class Scene(AbstractScene):
+class Scene(AbstractRotatingScene):
     """A planar rotor scene.
 
     Generalised coordinates `q = (x, y, <each component's own coordinates>)`, in

@@ -40,39 +40,45 @@ def speed_alias(speed, alias, alias_name: str, owner: str):
 class ConstantSpeed(AbstractSpeedProfile):
     """`theta(t) = theta0 + speed * t` (rad/s, or the dimensionless `nu`, `n`).
 
-    **Arguments:** `speed` (alias `omega`, the field's name: `profile.omega`),
-    `theta0`. `ConstantSpeed(2.0)`, `ConstantSpeed(speed=2.0)` and
-    `ConstantSpeed(omega=2.0)` are the same profile. (`profile.speed(t)` is the
-    speed at time `t`, as for every profile.)"""
+    **Arguments:** `speed` (alias `omega`), `theta0`. `ConstantSpeed(2.0)`,
+    `ConstantSpeed(speed=2.0)` and `ConstantSpeed(omega=2.0)` are the same profile.
+    The constant is the field `constant` (a leaf for `eqx.tree_at`); `profile.speed(t)`
+    is the speed at time `t`, as for every profile (`profile.omega`: deprecated)."""
 
-    omega: jax.Array
+    constant: jax.Array
     theta0: jax.Array
 
     def __init__(self, speed=None, theta0=0.0, *, omega=None):
         name = "omega (speed)" if omega is not None else "speed"
-        self.omega = as_param(name, speed_alias(speed, omega, "omega", "ConstantSpeed"), shape=())
+        self.constant = as_param(name, speed_alias(speed, omega, "omega", "ConstantSpeed"), shape=())
         self.theta0 = as_param("theta0", theta0, shape=())
 
+    @property
+    def omega(self):
+        """Deprecated: the constant speed (`constant`)."""
+        return self.constant
+
     def angle(self, t):
-        return self.theta0 + self.omega * t
+        return self.theta0 + self.constant * t
 
     def speed(self, t):
-        return self.omega + 0.0 * t
+        return self.constant + 0.0 * t
 
 
 class RunUp(AbstractSpeedProfile):
     """Constant angular acceleration: `theta = theta0 + speed0 t + alpha t^2 / 2`.
 
-    **Arguments:** the initial speed `speed0` (alias `omega0`, the field's name:
-    `profile.omega0`), `acceleration` (a negative one is a run-down), `theta0`."""
+    **Arguments:** the initial speed `speed0` (alias `omega0`; the field
+    `initial_speed`), `acceleration` (a negative one is a run-down; the field
+    `acceleration_rate`), `theta0`."""
 
-    omega0: jax.Array
+    initial_speed: jax.Array
     acceleration_rate: jax.Array
     theta0: jax.Array
 
     def __init__(self, speed0=None, acceleration=None, theta0=0.0, *, omega0=None):
         name = "omega0 (initial speed)" if omega0 is not None else "speed0 (initial speed)"
-        self.omega0 = as_param(name, speed_alias(speed0, omega0, "omega0", "RunUp"), shape=())
+        self.initial_speed = as_param(name, speed_alias(speed0, omega0, "omega0", "RunUp"), shape=())
         if acceleration is None:
             raise InputError("RunUp: acceleration is required")
         self.acceleration_rate = as_param("acceleration", acceleration, shape=())
@@ -80,14 +86,19 @@ class RunUp(AbstractSpeedProfile):
 
     @property
     def speed0(self):
-        """The initial speed (`omega0`)."""
-        return self.omega0
+        """The initial speed (`initial_speed`)."""
+        return self.initial_speed
+
+    @property
+    def omega0(self):
+        """Deprecated: the initial speed (`initial_speed`)."""
+        return self.initial_speed
 
     def angle(self, t):
-        return self.theta0 + self.omega0 * t + 0.5 * self.acceleration_rate * t**2
+        return self.theta0 + self.initial_speed * t + 0.5 * self.acceleration_rate * t**2
 
     def speed(self, t):
-        return self.omega0 + self.acceleration_rate * t
+        return self.initial_speed + self.acceleration_rate * t
 
     def acceleration(self, t):
         return self.acceleration_rate + 0.0 * t

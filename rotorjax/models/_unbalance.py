@@ -14,9 +14,11 @@ class Unbalance(AbstractRotorComponent):
     rotor's reference mark. With the spin angle `theta(t)` and `a = theta + phase`,
     its force on the node is
 
-        U (theta'^2 (cos a, sin a) + theta'' (-sin a, cos a)),
+        U (theta'^2 (cos a, sin a) + theta'' (sin a, -cos a)),
 
-    the centrifugal and the tangential (run-up) parts; at constant speed `w` it is
+    the centrifugal and the tangential (run-up) parts: minus the mass times the
+    acceleration of its offset `e (cos a, sin a)` (a run-up's tangential force lags the
+    offset by 90 degrees, as the energy of a `RigidRotor`'s eccentric mass gives it); at constant speed `w` it is
     `Re(F e^{i w t})` with `F_x = U w^2 e^{i phase}`, `F_y = -i F_x`, the load of
     the linear unbalance response. (The unbalance mass's own inertia is neglected,
     as in every unbalance-response calculation.)"""
@@ -37,7 +39,7 @@ class Unbalance(AbstractRotorComponent):
     def force(self, s, q, qd, active=None):
         a = s.theta + self.phase
         f = self.magnitude * (s.theta_dot**2 * jnp.stack([jnp.cos(a), jnp.sin(a)])
-                              + s.theta_ddot * jnp.stack([-jnp.sin(a), jnp.cos(a)]))
+                              + s.theta_ddot * jnp.stack([jnp.sin(a), -jnp.cos(a)]))
         return s.place(self.node, f)
 
     def unbalance_load(self, rotor, speed):

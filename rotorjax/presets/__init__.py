@@ -8,7 +8,9 @@ from . import _jeffcott_abb as jeffcott_abb
 from . import _ross_compare as ross_compare
 from .._errors import InputError
 from ._base import Preset as Preset
+from ._base import PublishedSpeeds as PublishedSpeeds
 from ._base import Setup as Setup
+from ._base import hopf_report as hopf_report
 
 PRESETS = {p.name: p for p in (jeffcott_abb.PRESET, anisotropic_abb.PRESET, ross_compare.PRESET,
                                 flexible_abb.PRESET, cantilever_limiters.PRESET,

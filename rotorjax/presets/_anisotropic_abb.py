@@ -28,10 +28,16 @@ import numpy as np
 from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports
 from ..models import balancing_angles
-from ._base import Preset, Setup
-from ._hooks import scene_regimes
+from ._base import Preset, PublishedSpeeds, Setup
+from ..models._validate import is_concrete
 
 GROUPS = ("n_eta", "mu_xi", "mu_eta", "sigma", "c", "eps", "mu_w")
+
+
+#: the reference motion of stability maps, critical speeds and boundaries
+REGIME = "the main motion (largest Floquet exponent)"
+#: the paper's own estimate, drawn beside the computed critical speeds
+CRITERION = "paper's criterion p(n) = 0 (eq. 18)"
 
 
 def scene_si(rotor_mass, imbalance_mass, radius, n_weights, weight_mass, kx, ky, bx, by,
@@ -121,16 +127,25 @@ def criterion_polynomial(n, n_eta, mu_xi, mu_eta):
     )
 
 
-def main_motion_floquet(groups, n, K=1.0, rtol=1e-10, atol=1e-12):
-    """Floquet analysis of the main motion at speed `n` (pure, traceable in `n` and
-    in the groups). In the fixed frame with the weights' angles relative to the
-    rotor, the main motion is a constant state of a system with period `2 pi / n`."""
-    from ..analysis import floquet
+def main_motion_reference(groups, n, K=1.0, rtol=1e-10, atol=1e-12):
+    """The main motion at constant speed `n` as the preset's reference motion (a
+    `PeriodicOrbit`, traceable in `n` and in the groups). In the fixed frame with the
+    weights' angles relative to the rotor, the main motion is a constant state of a
+    system with period `2 pi / n`."""
+    from ..analysis import PeriodicOrbit
 
     scene = scene_from_groups(**groups, n=n, K=K)
     N = n_weights_from_sigma(groups["sigma"])
     y0 = scene.rest_state(main_motion_angles(N, groups["c"]))
-    return floquet(scene, y0, 2 * np.pi / n, rtol=rtol, atol=atol)
+    return PeriodicOrbit(scene, y0, 2 * np.pi / n, label=REGIME, rtol=rtol, atol=atol)
+
+
+def main_motion_floquet(groups, n, K=1.0, rtol=1e-10, atol=1e-12):
+    """Floquet analysis of the main motion at speed `n` (pure, traceable in `n` and
+    in the groups; see `main_motion_reference`)."""
+    from ..analysis import floquet_of
+
+    return floquet_of(main_motion_reference(groups, n, K, rtol, atol))
 
 
 def criterion_roots(n_eta, mu_xi, mu_eta, lo=0.0, hi=None):
@@ -148,35 +163,31 @@ def criterion_roots(n_eta, mu_xi, mu_eta, lo=0.0, hi=None):
     return [float(x) for x in n if lo <= x <= hi]
 
 
-def floquet_family(p, key):
-    """`value -> FloquetResult`: the main motion's Floquet analysis at `p` with the
-    parameter `key` at `value` (one-parameter continuation of its multipliers)."""
-
-    def fl(v):
-        q = dict(p, **{key: v})
-        return main_motion_floquet({k: q[k] for k in GROUPS}, q["n"], q["K"])
-
-    return fl
-
-
 def build(p) -> Setup:
     """The scene at `p` (a run-up where `n_dot != 0`), the weights near the main
     motion (deviated by `perturbation`), and the run's length (to `n_end` for a
     run-up, else 200)."""
     N = n_weights_from_sigma(p["sigma"])
+    # traced parameters (a map or a boundary sweeping them) build the reference only
+    run_up = is_concrete(p["n_dot"]) and p["n_dot"] != 0
     scene = scene_from_groups(
         p["n_eta"], p["mu_xi"], p["mu_eta"], p["sigma"], p["c"], p["eps"], p["mu_w"],
-        n=p["n"], n_dot=p["n_dot"], n0=p["n0"], K=p["K"],
+        n=p["n"], n_dot=p["n_dot"] if run_up else 0.0, n0=p["n0"], K=p["K"],
     )
     angles = main_motion_angles(N, p["c"]) + p["perturbation"] * np.cos(np.arange(N) + 1.0)
     y0 = scene.rest_state(angles)
-    if p["n_dot"] != 0:
-        t_end = (p["n_end"] - p["n0"]) / p["n_dot"]
-        if t_end <= 0:
-            raise InputError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
-    else:
+    t_end = None
+    if all(is_concrete(p[k]) for k in ("n_end", "n0")):
         t_end = 200.0
-    return Setup(scene, y0, t_end)
+        if run_up:
+            t_end = (p["n_end"] - p["n0"]) / p["n_dot"]
+            if t_end <= 0:
+                raise InputError(f"n_end ({p['n_end']}) must be beyond n0 ({p['n0']}) along n_dot")
+    published = ()
+    if all(is_concrete(p[k]) for k in ("n_eta", "mu_xi", "mu_eta")):
+        published = (PublishedSpeeds(CRITERION, tuple(criterion_roots(p["n_eta"], p["mu_xi"], p["mu_eta"]))),)
+    return Setup(scene, y0, t_end, reference=main_motion_reference({k: p[k] for k in GROUPS}, p["n"], p["K"]),
+                 published=published)
 
 
 def _build(p):
@@ -210,15 +221,8 @@ PRESET = Preset(
              "perturbation": "any"},
     time_unit="1/wx", length_unit="L = N m R / Ms",
     speed_key="n",
-    margin=lambda p: main_motion_floquet({k: p[k] for k in GROUPS}, p["n"], p["K"]).margin,
-    regime="the main motion (largest Floquet exponent)",
     topology_keys=("sigma",),
     # the paper's speed range and weight damping from nearly none to twice the default: three boundaries
     box={"n": (0.5, 10.0), "mu_w": (0.05, 1.0)},
-    # Floquet margins come from an adaptive integration: tangents by central differences
-    margin_gradient="fd",
-    floquet_family=floquet_family,
-    criterion_roots=lambda p, lo, hi: criterion_roots(p["n_eta"], p["mu_xi"], p["mu_eta"], lo, hi),
-    criterion_label="paper's criterion p(n) = 0 (eq. 18)",
-    regimes=scene_regimes(build, {"n_dot": 0.0}),
+    steady_overrides={"n_dot": 0.0},
 )

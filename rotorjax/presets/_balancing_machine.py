@@ -10,6 +10,7 @@ and 3e-4 kg m at 200 deg (20 and 30 g at 10 mm).
 
 from ..identify._datasets import RIG, machine_from, planes_from, unbalances_from
 from ..models._balancing_machine import BalancingMachine, BalancingScene
+from ..models._speed import ConstantSpeed
 from ._base import Preset, Setup
 
 
@@ -27,9 +28,12 @@ def unbalances(p):
 
 def build(p) -> Setup:
     """The machine with its planes and unbalances at the balancing speed, as a scene
-    (`BalancingScene`: `scene.machine`, `scene.planes`, `scene.unbalances`). Not
-    simulated from the CLI: no initial state."""
-    return Setup(BalancingScene(build_machine(p), planes(p), unbalances(p), p["speed"]))
+    (`BalancingScene`: `scene.machine`, `scene.planes`, `scene.unbalances`, and the
+    speed profile `scene.speed`, a `ConstantSpeed`). `rotorjax.simulate` integrates
+    it (from rest, or from `scene.steady_state(p["speed"])`; the shipped signals are
+    made that way, `rotorjax.identify._make_data`), but the CLI does not simulate it
+    (`balance`, `identify`): no initial state."""
+    return Setup(BalancingScene(build_machine(p), planes(p), unbalances(p), ConstantSpeed(p["speed"])))
 
 
 PRESET = Preset(

@@ -2,7 +2,6 @@
 valid ranges."""
 
 import dataclasses
-import functools
 import re
 from typing import Callable
 
@@ -84,6 +83,11 @@ class Setup:
     - `extras`: preset-specific data, e.g. `events` (runs locate the contacts exactly),
       `saves_per_revolution` and `revolutions` (run lengths measured in revolutions),
       `clearance` (drawn on plots).
+    - `reference`: the motion whose stability the maps, critical speeds, Hopf points
+      and boundaries are about (`rotorjax.analysis.StationaryRegime`, `PeriodicOrbit`,
+      `StraightRunning`, or `NoReference` with the reason), or None; every stability
+      analysis takes it (`rotorjax.analysis.stability_margin(setup.reference)`).
+    - `published`: the paper's own estimates to compare with (`PublishedSpeeds`).
 
     For the scripts written when `build` returned a tuple, `scene, y0, t_end = setup`
     still works (deprecated: use the fields).
@@ -93,6 +97,54 @@ class Setup:
     y0: object = None
     t_end: object = None
     extras: dict = dataclasses.field(default_factory=dict)
+    reference: object = None
+    published: tuple = ()
+
+    def __iter__(self):
+        # `scene, y0, t_end = setup` (deprecated: the tuple `build` returned before `Setup`)
+        return iter((self.scene, self.y0, self.t_end))
+
+
+@dataclasses.dataclass(frozen=True)
+class PublishedSpeeds:
+    """Speeds a paper's own formula gives (an empirical criterion's roots, an
+    estimated threshold), drawn and reported beside the computed ones: `label` names
+    it on plots, `formula` writes it out, `details` the groups it was evaluated at."""
+
+    label: str
+    speeds: tuple
+    formula: str = ""
+    details: dict = dataclasses.field(default_factory=dict)
+
+    def within(self, lo, hi) -> list:
+        return [float(s) for s in self.speeds if lo <= s <= hi]
+
+
+def hopf_report(preset, params, lo, hi, n_scan=80, progress=True):
+    """`(out, look)`: the Hopf points of the preset's reference motion at `params` in
+    `[lo, hi]` (`rotorjax.analysis.reference_hopf_points`, with the derivative of each
+    Hopf speed with respect to `preset.hopf_sensitivity`) as JSON, the paper's
+    estimate beside them (`Setup.published`) and the scan (`out["scan"]`); `look`
+    holds the plot's labels."""
+    from ..analysis import reference_hopf_points
+
+    setup = preset.build(params)
+    key, sens = preset.speed_key, preset.hopf_sensitivity
+    sensitivity = (params[sens], lambda v: preset.build(dict(params, **{sens: v})).reference) if sens else None
+    res = reference_hopf_points(setup.reference, lo, hi, n_scan=n_scan, sensitivity=sensitivity, progress=progress)
+    out = {"unit": f"speed {key} and whirl frequency in 1/({preset.time_unit})", **res.as_dict(key, sens)}
+    published = setup.published[0] if setup.published else None
+    if published is not None:
+        out.update(published.details)
+        out["paper_fit"] = {f"{key}_crit": published.speeds[0], "formula": published.formula}
+    out["scan"] = (res.speeds, res.margins)
+    look = {"title": setup.reference.label,
+            "speed_label": f"spin speed {key} ({preset.units[key]})",
+            "margin_label": "largest Re(lambda)",
+            "extra_roots": list(published.speeds) if published is not None else None,
+            "extra_label": published.label if published is not None else "",
+            "sensitivity": (f"d{key}_crit_d_{sens}", f"d{key}/d {sens}") if sens else ("", "")}
+    return out, look
 
 
 def _halved_and_doubled(v):
@@ -101,51 +153,43 @@ def _halved_and_doubled(v):
 
 @dataclasses.dataclass(frozen=True)
 class Preset:
-    """A published scene.
+    """A published scene, as data: nothing in it is callable but `build`.
 
     - `name`: the CLI name (`elliptic-abb`, ...).
     - `source`: the publication.
     - `defaults`: the published parameter set; these names are the `--set` keys.
     - `build(params) -> Setup`: the scene (in the paper's dimensionless units), its
-      initial state and default end time where it is simulated, and extras.
+      initial state and default end time where it is simulated, its reference motion
+      (`Setup.reference`: what stability maps, critical speeds and boundaries are
+      about), the paper's own estimates (`Setup.published`), and extras. Traceable in
+      the parameters a map or a boundary sweeps.
     - `describe_params`, `units`, `domains`: per key, its meaning, its unit
       (`"dimensionless"`, `"rad"`, `"N/m"`, ...) and its valid values (`"any"`,
       `">0"`, `">=0"`, `"int>=1"`, `"{0,1}"`, `"(0,1]"`); `params` checks every
       value against its domain before anything is built.
     - `time_unit`, `length_unit`: what one dimensionless unit is.
     - `speed_key`: the parameter that is the (dimensionless) speed.
-    - `margin(params) -> scalar`: stability margin of the preset's reference regime
-      (`regime` says which), traceable in the parameters (for maps and critical
-      speeds); < 0 is stable.
     - `topology_keys`: parameters that change the scene's structure (not sweepable).
     - `box`: `{key: (lo, hi)}`, the default parameter range of those keys for
       tracing stability boundaries (`rotorjax continue --param2` without `--box`).
-    - `kind`: which commands apply (`"planar"`, `"flexible"`, `"modal"`, `"contact"`,
-      `"machine"`, `"rotor"` for rotor files).
+    - `kind`: a word for what the preset is (`"planar"`, `"flexible"`, `"modal"`,
+      `"contact"`, `"machine"`, `"rotor"` for rotor files), listed by `rotorjax
+      presets`; which commands apply is found from the built scene's capabilities and
+      reference motion, not from it.
+    - `steady_overrides`: parameter values under which the stationary regimes are
+      sought (`rotorjax steady`: e.g. a zero run-up rate).
+    - `sweepable`: `{key: path}` for vmapped sweeps (`rotorjax bifurcation`): the
+      scene's leaf each key sets, as a path (`rotorjax.models.leaf_at`, e.g.
+      `"components[LimitersAt].limiters.clearance"`).
+    - `hopf_sensitivity`: the parameter whose derivative of each Hopf speed
+      `rotorjax hopf` reports (implicit function theorem), e.g. `"eta_e"`.
 
-    What the preset's model offers beyond `margin` (None where it does not):
-
-    - `margin_gradient`: how boundary tangents of `margin` are computed, `"autodiff"`
-      or `"fd"` (central differences, for Floquet margins).
-    - `branch_problem(params, key) -> (F, u0)`: the stationary reference regime as a
-      root `F(u, value) = 0` in the rotating frame, for one-parameter continuation in
-      `key`.
-    - `floquet_family(params, key) -> (value -> FloquetResult)`: the periodic
-      reference motion's Floquet analysis as a function of `key`.
-    - `criterion_roots(params, lo, hi) -> list`: the roots of a published empirical
-      stability criterion in the speed range (`criterion_label` names it).
-    - `regimes(params, n_angles, stage) -> (rows, notes)`: every stationary regime at
-      the preset's speed, as JSON rows, and notes for the user.
-    - `critical_speeds(params, lo, hi, n_scan, n_modes, exact, progress) -> dict`:
-      critical speeds where they are not sign changes of `margin` (1x crossings,
-      natural frequencies), with `"campbell"` `(speeds, frequencies, forward)` and
-      `"present"` (unit, title) to plot; finite-element kinds (`"flexible"`,
-      `"rotor"`) get the 1x crossings of their Campbell diagram by default.
-    - `hopf(params, lo, hi, n_scan, progress) -> dict`: Hopf points of the reference
-      motion, with `"scan"` `(speeds, margins)` and `"present"` (plot labels, the
-      sensitivity reported).
-    - `sweepable`: `{key: where}` for vmapped sweeps, `where(scene)` the leaf the key
-      sets (raises `InputError` where the scene lacks the part).
+    Every analysis is a library function of the built scene or reference
+    (`rotorjax.analysis.stability_margin(preset.build(p).reference)`, ...). The
+    attributes `margin`, `regime`, `margin_gradient`, `branch_problem`,
+    `floquet_family`, `criterion_roots`, `criterion_label`, `regimes`,
+    `critical_speeds` and `hopf` of earlier releases are kept, computed from them
+    (deprecated).
     """
 
     name: str
@@ -157,30 +201,127 @@ class Preset:
     length_unit: str
     integer_keys: tuple = ()
     speed_key: str = "n"
-    margin: Callable = None
-    regime: str = ""
     topology_keys: tuple = ()
     kind: str = "planar"
     units: dict = dataclasses.field(default_factory=dict)
     domains: dict = dataclasses.field(default_factory=dict)
     box: dict = dataclasses.field(default_factory=dict)
-    margin_gradient: str = "autodiff"
-    branch_problem: Callable = None
-    floquet_family: Callable = None
-    criterion_roots: Callable = None
-    criterion_label: str = ""
-    regimes: Callable = None
-    critical_speeds: Callable = None
-    hopf: Callable = None
     sweepable: dict = dataclasses.field(default_factory=dict)
+    steady_overrides: dict = dataclasses.field(default_factory=dict)
+    hopf_sensitivity: str = ""
+
+    # --- deprecated attributes, computed from `build` and the library -------------------
+    def _reference(self, params=None):
+        return self.build(self.params(params) if params is None else params).reference
+
+    @property
+    def margin(self):
+        """Deprecated: `lambda p: rotorjax.analysis.stability_margin(build(p).reference)`."""
+        if self._reference() is None:
+            return None
+        from ..analysis import stability_margin
+
+        return lambda p: stability_margin(self.build(p).reference)
+
+    @property
+    def regime(self) -> str:
+        """Deprecated: the reference motion's label (`Setup.reference.label`)."""
+        ref = self._reference()
+        return "" if ref is None else ref.label
+
+    @property
+    def margin_gradient(self) -> str:
+        """Deprecated: `rotorjax.analysis.margin_gradient(build(p).reference)`."""
+        from ..analysis import AbstractReference, NoReference, margin_gradient
+
+        ref = self._reference()
+        ok = isinstance(ref, AbstractReference) and not isinstance(ref, NoReference)
+        return margin_gradient(ref) if ok else "autodiff"
+
+    @property
+    def branch_problem(self):
+        """Deprecated: `rotorjax.analysis.branch_problem` of the stationary reference regime."""
+        from ..analysis import PeriodicOrbit, branch_problem
+
+        if self._reference() is None or isinstance(self._reference(), PeriodicOrbit):
+            return None
+        return lambda p, key: branch_problem(lambda v: self.build(dict(p, **{key: v})).reference, p[key])
+
+    @property
+    def floquet_family(self):
+        """Deprecated: `rotorjax.analysis.floquet_family` of the periodic reference motion."""
+        from ..analysis import PeriodicOrbit, floquet_family
+
+        if not isinstance(self._reference(), PeriodicOrbit):
+            return None
+        return lambda p, key: floquet_family(lambda v: self.build(dict(p, **{key: v})).reference)
+
+    @property
+    def criterion_roots(self):
+        """Deprecated: `build(p).published[0].within(lo, hi)`."""
+        if not self.build(self.params()).published:
+            return None
+        return lambda p, lo, hi: self.build(p).published[0].within(lo, hi)
+
+    @property
+    def criterion_label(self) -> str:
+        """Deprecated: `build(p).published[0].label`."""
+        published = self.build(self.params()).published
+        return published[0].label if published else ""
+
+    @property
+    def regimes(self):
+        """Deprecated: `rotorjax.analysis.steady_states` of the scene under
+        `steady_overrides`, as JSON rows (`Regime.as_dict`)."""
+        from ..models import provides
+
+        scene = self.build(self.params()).scene
+        if not (provides(scene, "to_rotating") and len(scene.weight_coordinates()[0])):
+            return None
+
+        def regimes(params, n_angles=16, stage=None):
+            from ..analysis import steady_states
+
+            scene = self.build(dict(params, **self.steady_overrides)).scene
+            return [r.as_dict() for r in steady_states(scene, n_angles=n_angles)], []
+
+        return regimes
+
+    @property
+    def critical_speeds(self):
+        """Deprecated: `rotorjax.analysis.campbell_critical_speeds` of a finite-element
+        rotor (as the dict the CLI presents)."""
+        from ..models import provides
+
+        setup = self.build(self.params())
+        if setup.reference is not None or not provides(setup.scene, "shaft"):
+            return None   # a reference motion's critical speeds are its stability thresholds
+
+        def critical_speeds(params, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True):
+            from ..analysis import campbell_critical_speeds
+
+            res = campbell_critical_speeds(self.build(params).scene, lo, hi, n_scan=n_scan, n_modes=n_modes or 8,
+                                           what=self.name)
+            return dict(res.as_dict(), campbell=(res.speeds, res.frequencies, res.forward),
+                        present={"unit": "rad/s", "title": "critical speeds (1x crossings)"})
+
+        return critical_speeds
+
+    @property
+    def hopf(self):
+        """Deprecated: `hopf_report` (the Hopf points of a `StraightRunning` reference)."""
+        from ..analysis import StraightRunning
+
+        if not isinstance(self._reference(), StraightRunning):
+            return None
+
+        def hopf(params, lo, hi, n_scan=80, progress=True):
+            out, look = hopf_report(self, params, lo, hi, n_scan=n_scan, progress=progress)
+            return dict(out, present=look)
+
+        return hopf
 
     def __post_init__(self):
-        if self.kind in ("flexible", "rotor") and self.critical_speeds is None:
-            # a finite-element rotor: critical speeds are 1x crossings of its Campbell diagram
-            from ._hooks import fe_critical_speeds
-
-            object.__setattr__(self, "critical_speeds", functools.partial(fe_critical_speeds, self.build,
-                                                                      name=self.name))
         missing = [k for k in self.defaults if k not in self.domains or k not in self.units]
         if missing:
             raise ValueError(f"preset {self.name!r}: no unit/domain for {missing}")

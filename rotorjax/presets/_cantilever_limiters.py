@@ -5,14 +5,28 @@ limiters with Coulomb friction around the disk.
 Units (eq. 7): length `l = 0.7 m`, mass the disk's `M = 2.45 kg`, time
 `T* = sqrt(M l^3 / EI) = 0.0226 s`. Defaults are the paper's base parameters; the
 groups `mu_R`, `beta`, `d_ratio` come from its geometry (`groups_from_si`).
+
+The scene is a `RotorScene` composition (`rotorjax.models.cantilever_scene`): the
+cantilever's FE shaft reduced to `n_modes` modes, with `Unbalance`,
+`InternalDamping`, `ExternalDamping`, `DiskDamping`, `Gravity` (when `gamma` is not
+0), `LimitersAt` and a `NodeProbe` (the disk outputs) at the disk.
 """
 
+import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError
-from ..models import CantileverScene, Limiters
+from ..models import Limiters, LimitersAt, RotorScene, Unbalance, cantilever_scene
+from ..models import DOFS_PER_NODE
 from ..models._cantilever import PAPER_SI, CantileverRotor, groups_from_si
-from ._base import Preset, Setup
+from ..models._validate import is_concrete
+from ._base import Preset, PublishedSpeeds, Setup
+
+#: the reference motion of stability maps, Hopf points and boundaries
+REGIME = "straight-line rotation (no contact)"
+#: the paper's fit of the Hopf speed, drawn and reported beside the computed one
+FIT = "paper's fit 2.47 eta_e/eta_i + 1.64"
+FORMULA = "N_crit = 2.47 eta_e/eta_i + 1.64"
 
 _G = groups_from_si(**{k: PAPER_SI[k] for k in ("l", "d", "D", "a", "E", "rho")})
 
@@ -30,17 +44,26 @@ def build_limiters(p):
     return Limiters(angles, p["chi"], p["kappa"], p["eta_S"], p["f_S"], smoothing=p["smoothing"])
 
 
-def build_scene(p) -> CantileverScene:
-    return CantileverScene(build_rotor(p), p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
-                           limiters=build_limiters(p), n_modes=p["n_modes"] or None)
+def build_scene(p) -> RotorScene:
+    return cantilever_scene(build_rotor(p), p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
+                            limiters=build_limiters(p), n_modes=p["n_modes"] or None)
+
+
+def disk_rows(scene):
+    """The disk's `(x, y)` as a linear map of the scene's shaft coordinates."""
+    node = _component(scene, Unbalance).node
+    n = scene.n_shaft
+    return scene.expand(jnp.eye(n))[DOFS_PER_NODE * node:DOFS_PER_NODE * node + 2]
 
 
 def initial_state(scene, p):
     """Straight-line rotation (static sag under weight) plus a lateral kick of
     `perturbation` (dimensionless velocity of the disk along y)."""
     y0 = scene.rest_state()
-    n = scene.n_coords
-    return y0.at[n:2 * n].add(p["perturbation"] * scene.disk[1])
+    n = scene.n_shaft
+    lin = scene.linear_matrices(scene.speed.speed(0.0))
+    sag = jnp.linalg.solve(lin.K, scene.F0)
+    return y0.at[:n].set(sag).at[n:2 * n].add(p["perturbation"] * disk_rows(scene)[1])
 
 
 def build(p) -> Setup:
@@ -48,14 +71,23 @@ def build(p) -> Setup:
     `events` (locate the contacts exactly), `revolutions`, `saves_per_revolution`
     (40), `analysis_revolutions` (the paper's window: the last 300 turns) and the
     limiters' `clearance`."""
-    if not p["N"] > 0:
+    if is_concrete(p["N"]) and not p["N"] > 0:
         raise InputError(f"N (spin speed) must be > 0: runs are measured in revolutions; got {p['N']}")
     if p["revolutions"] < 1:
         raise InputError(f"revolutions must be >= 1, got {p['revolutions']}")
-    scene = build_scene(p)
-    return Setup(scene, initial_state(scene, p), 2 * np.pi / p["N"] * p["revolutions"],
+    rotor = build_rotor(p)
+    scene = cantilever_scene(rotor, p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
+                             limiters=build_limiters(p), n_modes=p["n_modes"] or None)
+    published = ()
+    if is_concrete(p["eta_e"]) and is_concrete(p["eta_i"]) and paper_fit(p["eta_e"], p["eta_i"]) is not None:
+        published = (PublishedSpeeds(FIT, (paper_fit(p["eta_e"], p["eta_i"]),), formula=FORMULA,
+                                     details={"eta_e_over_eta_i": p["eta_e"] / p["eta_i"]}),)
+    y0 = initial_state(scene, p) if is_concrete(p["N"]) else None
+    t_end = 2 * np.pi / p["N"] * p["revolutions"] if is_concrete(p["N"]) else None
+    return Setup(scene, y0, t_end,
                  extras={"events": bool(p["events"]), "revolutions": int(p["revolutions"]),
-                         "saves_per_revolution": 40, "analysis_revolutions": 300, "clearance": p["chi"]})
+                         "saves_per_revolution": 40, "analysis_revolutions": 300, "clearance": p["chi"]},
+                 reference=straight_running(p, rotor), published=published)
 
 
 def _build(p):
@@ -63,58 +95,42 @@ def _build(p):
     return tuple(build(p))
 
 
-def hopf(p, lo, hi, n_scan=80, progress=True) -> dict:
-    """Hopf points of straight-line rotation for `N` in `[lo, hi]` (the linearised
-    rotor's eigenvalues, scan and bisection), each with its whirl direction and
-    `dN_crit/d eta_e` (implicit function theorem), and the paper's fit
-    `N_crit = 2.47 eta_e/eta_i + 1.64`; `"scan"` holds the margin scanned and
-    `"present"` the plot's labels."""
-    from ..analysis import hopf_points, hopf_speed_gradient
+def straight_running(p, rotor=None):
+    """Straight-line rotation at `N` as the preset's reference motion: the linear
+    equations of the full finite-element composition (all dofs: the Hopf point
+    N_crit = 13.904 of the paper's base case; the limiters do not touch a straight
+    shaft)."""
+    from ..analysis import StraightRunning
 
-    rotor = build_rotor(p)
-    points, scan = hopf_points(rotor.state_matrix, lo, hi, n_scan=n_scan, return_scan=True, progress=progress)
-
-    def a_of(s, eta_e):
-        return build_rotor(dict(p, eta_e=eta_e)).state_matrix(s)
-
-    out = {"unit": "speed N and whirl frequency in 1/T*", "hopf_points": []}
-    for h in points:
-        _, fwd = rotor.whirl_direction(h.speed)
-        d = h.as_dict()
-        d.update({"N_crit": h.speed, "whirl_frequency": h.frequency,
-                  "whirl": "forward" if bool(fwd) else "backward",
-                  "dN_crit_d_eta_e": hopf_speed_gradient(a_of, h.speed, p["eta_e"])})
-        out["hopf_points"].append(d)
-    if points:
-        out["N_crit"], out["whirl_frequency"] = points[0].speed, points[0].frequency
-        ratio = p["eta_e"] / p["eta_i"] if p["eta_i"] > 0 else None
-        out["eta_e_over_eta_i"] = ratio
-        if ratio is not None:
-            out["paper_fit"] = {"N_crit": 2.47 * ratio + 1.64, "formula": "N_crit = 2.47 eta_e/eta_i + 1.64"}
-    out["scan"] = scan
-    out["present"] = {
-        "title": f"straight-line rotation, eta_i = {p['eta_i']:g}, eta_e = {p['eta_e']:g}",
-        "speed_label": "spin speed N (units 1/T*)", "margin_label": "largest Re(lambda) (units 1/T*)",
-        "extra_roots": [out["paper_fit"]["N_crit"]] if "paper_fit" in out else None,
-        "extra_label": "paper's fit 2.47 eta_e/eta_i + 1.64",
-        "sensitivity": ("dN_crit_d_eta_e", "dN/d eta_e"),
-    }
-    return out
+    rotor = build_rotor(p) if rotor is None else rotor
+    scene = cantilever_scene(rotor, p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"])
+    return StraightRunning(scene, scene.speed.constant, label=REGIME)
 
 
-def _limiter_part(attr):
-    def where(scene):
-        if scene.limiters is None:
-            raise InputError("needs limiters (--set n_limiters=0 removed them)")
-        return getattr(scene.limiters, attr)
-
-    return where
+def paper_fit(eta_e, eta_i):
+    """Azarov, Guskov, Panovko's fit of the Hopf speed of straight-line rotation,
+    `N_crit = 2.47 eta_e/eta_i + 1.64` (None without internal friction)."""
+    return None if not eta_i > 0 else 2.47 * eta_e / eta_i + 1.64
 
 
-#: the keys `bifurcation` sweeps, and the scene's leaf each one sets
-SWEEPABLE = {"eps": lambda s: s.eps, "N": lambda s: s.N, "phase": lambda s: s.phase,
-             "f_S": _limiter_part("friction"), "chi": _limiter_part("clearance"),
-             "kappa": _limiter_part("stiffness"), "eta_S": _limiter_part("damping")}
+def _component(scene, kind):
+    """The scene's component of type `kind` (None if absent)."""
+    return next((c for c in scene.components if isinstance(c, kind)), None)
+
+
+def limiters_of(scene):
+    """The scene's `Limiters` (inside its `LimitersAt`), or None."""
+    part = _component(scene, LimitersAt)
+    return None if part is None else part.limiters
+
+
+#: the keys `bifurcation` sweeps, and the path of the scene's leaf each one sets
+#: (`rotorjax.models.leaf_at`: data, into the composition's components)
+SWEEPABLE = {"eps": "components[Unbalance].magnitude", "N": "speed.constant",
+             "phase": "components[Unbalance].phase", "f_S": "components[LimitersAt].limiters.friction",
+             "chi": "components[LimitersAt].limiters.clearance",
+             "kappa": "components[LimitersAt].limiters.stiffness",
+             "eta_S": "components[LimitersAt].limiters.damping"}
 
 
 PRESET = Preset(
@@ -156,12 +172,10 @@ PRESET = Preset(
     time_unit="T* = sqrt(M l^3 / EI) (0.0226 s)", length_unit="l (0.7 m)",
     integer_keys=("n_limiters", "n_elements", "n_modes", "events", "revolutions"),
     speed_key="N",
-    margin=lambda p: build_rotor(p).stability_margin(p["N"]),
-    regime="straight-line rotation (no contact)",
     topology_keys=("n_limiters", "n_elements", "n_modes", "events"),
     kind="contact",
     # the Hopf curve of straight-line rotation runs from N = 13.2 (eta_e = 0) to 14.8 (eta_e = 0.06)
     box={"N": (1.0, 40.0), "eta_e": (0.0, 0.06)},
-    hopf=hopf,
     sweepable=SWEEPABLE,
+    hopf_sensitivity="eta_e",
 )

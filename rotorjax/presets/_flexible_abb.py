@@ -8,10 +8,12 @@ Defaults: the published critical-speed case, a point-mass disk (`Jt = Jp = 0`) w
 import jax.numpy as jnp
 import numpy as np
 
-from .._errors import InputError
-from ..flexible import ModalBalancerRotor, ModalShaft
-from ..models import ConstantSpeed
+from ..models import ConstantSpeed, ModalBalancerRotor, ModalShaft
+from ..models._validate import is_concrete
 from ._base import Preset, Setup
+
+#: the reference motion of stability maps, critical speeds and boundaries
+REGIME = "the balanced regime C (straight shaft, balls cancel the imbalance)"
 
 
 def build_shaft(p) -> ModalShaft:
@@ -29,72 +31,32 @@ def build_balancer_rotor(p, speed=None) -> ModalBalancerRotor:
 
 def build(p) -> Setup:
     """The rotor as a scene: the shaft + disk with `n_balls` balls (0: none; the
-    shaft is `scene.shaft`) at the constant speed `omega`. Not simulated from the
-    CLI: no initial state."""
-    return Setup(build_balancer_rotor(p))
+    shaft is `scene.shaft`) at the constant speed `omega`; the imbalance and the
+    balls are the shared `RigidRotor` and `AutoBalancer` components
+    (`scene.components`), their equations from their energies. Not simulated from
+    the CLI: no initial state."""
+    rotor = build_balancer_rotor(p)
+    return Setup(rotor, reference=balanced_reference(p, rotor))
 
 
-def regimes(p, n_angles=16, stage=None):
-    """The stationary regimes at `omega` (needs balls): the balanced regime C (when
-    the balls can cancel the imbalance) and the unbalanced ones (closed forms, eqs.
-    25-30), as JSON rows; a note where C does not exist."""
-    from ..flexible import balanced_regime, unbalanced_regimes
+def balanced_reference(p, rotor=None):
+    """The balanced regime C at `omega` as the preset's reference motion: the shaft
+    straight, the balls at the angles that cancel the imbalance (exact: Newton starts
+    on it); none without balls or where the balls cannot cancel the imbalance."""
+    from ..analysis import NoReference, StationaryRegime
+    from ..models import balancing_angles
 
-    if p["n_balls"] < 1:
-        raise InputError("--set n_balls=0: flexible-abb regimes need balls, e.g. --set n_balls=2")
-    stage = stage or (lambda text: None)
-    stage("building the rotor")
-    rotor = build(p).scene
-    stage("balanced and unbalanced regimes")
-    found, notes = [], []
-    try:
-        found.append(balanced_regime(rotor))
-    except ValueError as e:
-        notes.append(f"(no balanced regime: {e})")
-    found += unbalanced_regimes(rotor)
-    rows = [{"kind": r.kind, "sigma": None if r.kind == "C" else r.sigma,
-             "disk_amplitude": float(r.disk_amplitude), "max_eigenvalue_real_part": float(r.margin),
-             "verdict": "stable" if float(r.margin) < -1e-9 else "unstable",
-             "residual": float(r.residual)} for r in found]
-    return rows, notes
-
-
-def critical_speeds(p, lo, hi, n_scan=200, n_modes=None, exact=False, progress=True) -> dict:
-    """Critical speeds in `[lo, hi]` (units omega_1): the natural frequencies the
-    disk's unbalance excites (`n_modes` shaft modes, default the preset's `modes`),
-    or with `exact` the roots of the closed-form equation (17); `"campbell"` holds
-    the excited frequencies to plot (constant in the speed), `"present"` its unit and
-    title, `"params"` the parameters used."""
-    from ..flexible import exact_critical_speeds
-
-    if n_modes is not None:
-        try:
-            p = dict(p, modes=PRESET.check("modes", n_modes))
-        except InputError as e:
-            raise InputError(f"--modes {n_modes}: {str(e).split(': ', 1)[1]}") from None
-    shaft = build(p).scene.shaft
-    f, excited = (np.asarray(v) for v in shaft.natural_frequencies())
-    if exact:
-        speeds = exact_critical_speeds(float(shaft.m), float(shaft.z0), float(shaft.J), lo, hi)
-        method = "closed form, eq. (17)"
-    else:
-        speeds = [float(v) for v, e in zip(f, excited) if e and lo <= v <= hi]
-        method = f"modal model, {shaft.n_modes} modes"
-    excited_f = f[excited.astype(bool)]
-    shown = excited_f[excited_f <= 1.2 * hi] if np.any(excited_f <= 1.2 * hi) else excited_f[:1]
-    return {"params": p, "method": method, "unit": "omega_1 (first pinned-pinned frequency of the bare shaft)",
-            "critical_speeds": speeds,
-            "campbell": (np.linspace(lo, hi, 2), np.tile(shown, (2, 1)), np.ones((2, shown.size), bool)),
-            "present": {"unit": "omega_1 (dimensionless)",
-                        "title": f"natural frequencies excited by the disk's unbalance, critical speeds ({method})"}}
-
-
-def _balanced_margin(p):
-    from ..flexible import balanced_regime
-
-    if int(p["n_balls"]) < 1:
-        raise InputError("the balanced regime needs balls: --set n_balls=2")
-    return balanced_regime(build_balancer_rotor(p)).margin
+    rotor = build_balancer_rotor(p) if rotor is None else rotor
+    n = int(p["n_balls"])
+    if n < 1:
+        return NoReference(rotor, "the balanced regime needs balls: --set n_balls=2", label=REGIME)
+    c = rotor.shaft.m0 / (n * rotor.ball_mass[0] * rotor.ball_radius[0])
+    if is_concrete(c) and c > 1:
+        return NoReference(rotor, f"rotor: the balls cannot cancel the imbalance: m0 = {float(rotor.shaft.m0)} > "
+                                  f"sum m_j r_j = {n * float(rotor.ball_mass[0] * rotor.ball_radius[0])}",
+                           label=REGIME)
+    guess = jnp.concatenate([jnp.zeros(2 * rotor.shaft.n_modes), balancing_angles(n, c)])
+    return StationaryRegime(rotor, guess, label=REGIME, balanced=True)
 
 
 PRESET = Preset(
@@ -123,12 +85,8 @@ PRESET = Preset(
     time_unit="1/omega_1", length_unit="r0 (lateral), l (axial)",
     integer_keys=("modes", "paper_gyroscopics", "n_balls"),
     speed_key="omega",
-    margin=_balanced_margin,
-    regime="the balanced regime C (straight shaft, balls cancel the imbalance)",
     topology_keys=("modes", "n_balls", "paper_gyroscopics"),
     kind="modal",
     # the balanced regime's boundary (with balls) runs from omega = 0.70 (d = 0.5) to d -> 0 at high speed
     box={"omega": (0.3, 3.0), "d": (0.0, 0.5)},
-    regimes=regimes,
-    critical_speeds=critical_speeds,
 )

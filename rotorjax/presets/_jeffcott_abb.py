@@ -26,7 +26,10 @@ import numpy as np
 from .._errors import InputError
 from ..models import AutoBalancer, ConstantSpeed, Race, RigidRotor, RunUp, Scene, Supports, weights_at
 from ._base import Preset, Setup
-from ._hooks import scene_regimes
+from ..models._validate import is_concrete
+
+#: the reference motion of stability maps, critical speeds and boundaries
+REGIME = "the balanced regime of a circular race (rotor on the axis)"
 
 GROUPS = ("chi", "eps", "alpha", "rho1", "rho2", "delta_n", "delta_b")
 
@@ -97,75 +100,66 @@ def _n_balls(n):
     return int(n)
 
 
-def balanced_regime(p):
-    """Newton from the balanced configuration of a circular race (eq. 14: the balls
-    at `alpha + pi -+ arccos(eps / (n chi))` for two balls) at speed `nu`. Returns the
-    `Regime` (traceable in the parameters). Needs `rho1 == rho2` and `eps <= n chi rho`."""
-    from ..analysis import steady_state
+def balanced_reference(p):
+    """The balanced regime of a circular race at constant speed `nu` as the preset's
+    reference motion: Newton from the balanced configuration (eq. 14: the balls at
+    `alpha + pi -+ arccos(eps / (n chi))` for two balls). Traceable in the
+    parameters; an elliptic race (`rho1 != rho2`) or an imbalance beyond the balls'
+    capacity has none (`NoReference`, with the reason)."""
+    from ..analysis import NoReference, StationaryRegime
     from ..models import balancing_angles
 
     rho1, rho2 = p["rho1"], p["rho2"]
-    if not isinstance(rho1 - rho2, jax.core.Tracer) and rho1 != rho2:
-        raise InputError("an elliptic race (rho1 != rho2) has no balanced regime (paper eqs. "
-                         "15-17); use `rotorjax steady` to list its regimes")
     n = int(p["n_balls"])
     c = p["eps"] / (n * p["chi"] * rho1)
-    if not isinstance(c, jax.core.Tracer) and c > 1:
-        raise InputError(f"eps = {p['eps']} exceeds the balls' capacity n chi rho = "
-                         f"{n * p['chi'] * rho1}: there is no balanced regime")
     scene = scene_from_groups(p["chi"], p["eps"], p["alpha"], rho1, rho2, p["delta_n"],
                               p["delta_b"], nu=p["nu"], n_balls=n, K=p["K"])
+    if is_concrete(rho1 - rho2) and rho1 != rho2:
+        return NoReference(scene, "an elliptic race (rho1 != rho2) has no balanced regime (paper eqs. "
+                                  "15-17); use `rotorjax steady` to list its regimes", label=REGIME)
+    if is_concrete(c) and c > 1:
+        return NoReference(scene, f"eps = {p['eps']} exceeds the balls' capacity n chi rho = "
+                                  f"{n * p['chi'] * rho1}: there is no balanced regime", label=REGIME)
     psi = p["alpha"] + balancing_angles(n, c)
-    return steady_state(scene, jnp.concatenate([jnp.zeros(2), psi]))
+    return StationaryRegime(scene, jnp.concatenate([jnp.zeros(2), psi]), label=REGIME, balanced=True)
 
 
-def branch_problem(p, key):
-    """`(F(u, v), u0)`: the balanced regime of a circular race in the rotating frame,
-    as a root in `u` of the scene's rotating-frame field with the parameter `key` at
-    `v`, from the regime at `p` (one-parameter continuation)."""
-    from ..analysis import rotating_field
+def balanced_regime(p):
+    """The balanced regime of a circular race at speed `nu` (a `Regime`, traceable in
+    the parameters; see `balanced_reference`)."""
+    from ..analysis import regime
 
-    regime = balanced_regime(p)
-    if not bool(regime.converged):
-        raise InputError(f"no balanced regime at the starting parameters (residual {float(regime.residual):.2e})")
-
-    def F(u, v):
-        q = dict(p, **{key: v})
-        scene = scene_from_groups(q["chi"], q["eps"], q["alpha"], q["rho1"], q["rho2"], q["delta_n"],
-                                  q["delta_b"], nu=q["nu"], n_balls=p["n_balls"], K=q["K"])
-        return rotating_field(scene, 0.0, u)
-
-    return F, np.asarray(regime.z)
-
-
-def _balanced_margin(p):
-    r = balanced_regime(p)
-    ok = r.converged & (r.whirl_amplitude < 1e-8)
-    return jnp.where(ok, r.margin, jnp.nan)
+    return regime(balanced_reference(p))
 
 
 def build(p) -> Setup:
     """The scene at `p` (a run-up where `nu_dot != 0`), the balls at rest relative to
     the rotor at `psi1 + j psi_spacing` from the imbalance, and the run's length (to
     `nu_end` for a run-up, else 200)."""
+    # traced parameters (a map or a boundary sweeping them) build the reference only:
+    # the run's initial state and length need concrete values
+    run_up = is_concrete(p["nu_dot"]) and p["nu_dot"] != 0
     scene = scene_from_groups(
         p["chi"], p["eps"], p["alpha"], p["rho1"], p["rho2"], p["delta_n"], p["delta_b"],
-        nu=p["nu"], nu_dot=p["nu_dot"], nu0=p["nu0"], n_balls=p["n_balls"], K=p["K"],
+        nu=p["nu"], nu_dot=p["nu_dot"] if run_up else 0.0, nu0=p["nu0"], n_balls=p["n_balls"], K=p["K"],
     )
     n = p["n_balls"]
     # Balls start at rest relative to the rotor at polar angles `psi1 + j psi_spacing`
     # measured from the imbalance direction `alpha` (default: near the opposite side).
-    polar = p["alpha"] + p["psi1"] + np.arange(n) * p["psi_spacing"]
-    y0 = scene.rest_state(weights_at(polar, scene.find(AutoBalancer).race))
-    if p["nu_dot"] != 0:
-        t_end = (p["nu_end"] - p["nu0"]) / p["nu_dot"]
-        if t_end <= 0:
-            raise InputError(
-                f"nu_end ({p['nu_end']}) must be beyond nu0 ({p['nu0']}) in the direction of nu_dot"
-            )
-    else:
+    y0 = t_end = None
+    race = scene.find(AutoBalancer).race
+    if all(is_concrete(v) for v in (p["alpha"], p["psi1"], p["psi_spacing"], p["nu_end"], p["nu0"], race.r1,
+                                    race.r2, race.center)):
+        polar = p["alpha"] + p["psi1"] + np.arange(n) * p["psi_spacing"]
+        y0 = scene.rest_state(weights_at(polar, race))
         t_end = 200.0
-    return Setup(scene, y0, t_end)
+        if run_up:
+            t_end = (p["nu_end"] - p["nu0"]) / p["nu_dot"]
+            if t_end <= 0:
+                raise InputError(
+                    f"nu_end ({p['nu_end']}) must be beyond nu0 ({p['nu0']}) in the direction of nu_dot"
+                )
+    return Setup(scene, y0, t_end, reference=balanced_reference(p))
 
 
 def _build(p):
@@ -202,11 +196,8 @@ PRESET = Preset(
     time_unit="1/Omega", length_unit="r = (r1+r2)/2",
     integer_keys=("n_balls",),
     speed_key="nu",
-    margin=_balanced_margin,
-    regime="the balanced regime of a circular race (rotor on the axis)",
+    steady_overrides={"nu_dot": 0.0},
     topology_keys=("n_balls",),
     # with rho2 = rho1: the balanced regime's boundary runs from nu = 1.001 (delta_n = 0.5) to delta_n -> 0
     box={"nu": (0.5, 4.0), "delta_n": (0.0, 0.5)},
-    branch_problem=branch_problem,
-    regimes=scene_regimes(build, {"nu_dot": 0.0}),
 )

@@ -1,7 +1,9 @@
 """Time integration (diffrax) and results."""
 
-from ._results import RESULT_MESSAGES as RESULT_MESSAGES
+from ._results import RESULTS as RESULTS
 from ._results import SimulationResult as SimulationResult
+from ._results import as_result as as_result
+from ._results import code_of as code_of
 from ._simulate import simulate as simulate
 from ._stiffness import STIFFNESS_THRESHOLD as STIFFNESS_THRESHOLD
 from ._stiffness import choose_solver as choose_solver
@@ -9,3 +11,11 @@ from ._stiffness import stiffness_ratio as stiffness_ratio
 from ._events import simulate_events as simulate_events
 from ._batch import IVP as IVP
 from ._batch import simulate_batch as simulate_batch
+
+
+def __getattr__(name):
+    if name == "RESULT_MESSAGES":  # deprecated: RESULTS
+        from ._results import deprecated_result_messages
+
+        return deprecated_result_messages()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

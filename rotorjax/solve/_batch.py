@@ -28,7 +28,7 @@ import numpy as np
 from .._distributed import on_each_device
 from ..models._contract import require
 from ..models._validate import InputError, as_count, check_choice
-from ._results import SimulationResult
+from ._results import MAX_STEPS_REACHED, NONFINITE, SOLVER_FAILURE, SUCCESSFUL, SimulationResult
 from ._simulate import _check_inputs, _check_scene, _saveat, _split_span
 from ._stiffness import choose_solver
 
@@ -88,7 +88,7 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
       final state only), "vmap" (`simulate` vmapped: lanes in lock-step).
 
     **Returns:** a `SimulationResult` whose fields carry the batch axis in front, in
-    the order of the points; a failed point is marked by its `code`.
+    the order of the points; a failed point is marked by its `code` (see `RESULTS`).
     """
     check_choice("method", method, METHODS)
     y0s = _batch_states(scenes, y0s)
@@ -361,7 +361,9 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
         finished = (lanes_.idx < n) & ~running(lanes_)
         target = jnp.where(finished, lanes_.idx, n)
         finite = jnp.all(jnp.isfinite(lanes_.y), axis=1)
-        code = jnp.where(lanes_.result == 0, jnp.where(lanes_.t < lanes_.t1, 1, jnp.where(finite, 0, 2)), 3)
+        code = jnp.where(lanes_.result == 0, jnp.where(lanes_.t < lanes_.t1, MAX_STEPS_REACHED,
+                                                     jnp.where(finite, SUCCESSFUL, NONFINITE)),
+                         SOLVER_FAILURE).astype(jnp.int32)
         values = {"code": code, "num_steps": lanes_.steps, "num_accepted_steps": lanes_.accepted,
                   "num_rejected_steps": lanes_.rejected, "num_events": lanes_.events}
         out = {k: v.at[target].set(values[k]) for k, v in out.items()}  # the dump row n for the others

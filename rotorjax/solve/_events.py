@@ -17,7 +17,7 @@ import optimistix as optx
 
 from ..models._contract import require
 from ..models._validate import InputError, as_count
-from ._results import SimulationResult
+from ._results import MAX_STEPS_REACHED, NONFINITE, SOLVER_FAILURE, SUCCESSFUL, SimulationResult
 from ._simulate import _check_inputs, _split_span, _y0
 from ._stiffness import choose_solver
 
@@ -27,8 +27,9 @@ def simulate_events(scene, y0, t_span, saveat=2000, solver="dopri8", rtol=1e-8, 
     """Integrate `scene` with event-located contact switching (see the module
     docstring), saving `saveat` equally spaced states over `t_span` (integrated
     `block` output intervals at a time between switches). Returns a
-    `SimulationResult` whose `stats` add `num_events`; `code` 0 ok, 1 step or
-    event budget exhausted, 2 non-finite state, 3 solver failure."""
+    `SimulationResult` whose `stats` add `num_events`; `code` (see `RESULTS`):
+    `successful`, `max_steps_reached` (the step or the event budget exhausted),
+    `nonfinite` (a non-finite state) or `solver_failure`."""
     t0, t1 = _split_span(t_span)
     y0 = _y0(y0)
     max_steps = _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps)
@@ -62,11 +63,11 @@ def _solve(scene, y0, ts, solver, rtol, atol, max_steps, max_events, block):
     ys = jnp.full((n_ts, y0.shape[0]), jnp.nan).at[0].set(y0)
     active0 = scene.contact_indicator(ts[0], y0) > 0
     zero = jnp.array(0)
-    init = (jnp.array(1), ts[0], y0, active0, ys, zero, zero, zero, zero, zero)
+    init = (jnp.array(1), ts[0], y0, active0, ys, zero, zero, zero, zero, jnp.int32(SUCCESSFUL))
 
     def cond_fun(c):
         i, _, _, _, _, n_ev, _, _, _, code = c
-        return (i < n_ts) & (code == 0) & (n_ev < max_events)
+        return (i < n_ts) & (code == SUCCESSFUL) & (n_ev < max_events)
 
     def body(c):
         # integrate over the next `block` output times, or up to the next switch
@@ -88,14 +89,16 @@ def _solve(scene, y0, ts, solver, rtol, atol, max_steps, max_events, block):
         finite = jnp.all(jnp.isfinite(y_new))
         reached = (ts[idx] <= t_new) & ok & finite
         ys = ys.at[idx].set(jnp.where(reached[:, None], sol.ys[:block], ys[idx]))
-        code = jnp.where(~ok, jnp.where(sol.result == diffrax.RESULTS.max_steps_reached, 1, 3),
-                         jnp.where(finite, 0, 2))
+        code = jnp.where(~ok, jnp.where(sol.result == diffrax.RESULTS.max_steps_reached, MAX_STEPS_REACHED,
+                                        SOLVER_FAILURE),
+                         jnp.where(finite, SUCCESSFUL, NONFINITE)).astype(jnp.int32)
         i_new = jnp.where(ok & finite, jnp.searchsorted(ts, t_new, side="right"), i)
         return (i_new, t_new, y_new, active, ys, n_ev + hit, n_steps + sol.stats["num_steps"],
                 n_acc + sol.stats["num_accepted_steps"], n_rej + sol.stats["num_rejected_steps"], code)
 
     i, t, y, active, ys, n_ev, n_steps, n_acc, n_rej, code = jax.lax.while_loop(cond_fun, body, init)
-    code = jnp.where((code == 0) & (i < ts.shape[0]), 1, code)  # event budget exhausted
+    # the event budget exhausted: reported as the step budget is
+    code = jnp.where((code == SUCCESSFUL) & (i < ts.shape[0]), MAX_STEPS_REACHED, code).astype(jnp.int32)
     outputs = jax.vmap(scene.outputs)(ts, ys)
     stats = {"num_steps": n_steps, "num_accepted_steps": n_acc, "num_rejected_steps": n_rej,
              "num_events": n_ev}

@@ -95,7 +95,7 @@ def explicit_tableau(solver) -> _Tableau:
     **Returns:** a `_Tableau`. Raises `InputError` naming `solver` for implicit or
     non-Runge-Kutta solvers and for tableaus without an error estimate.
     """
-    tab = getattr(solver, "tableau", None)
+    tab = solver.tableau if isinstance(solver, diffrax.AbstractERK) else None
     name = type(solver).__name__
     if not isinstance(tab, diffrax.ButcherTableau):
         raise InputError(f"solver must be an explicit diffrax Runge-Kutta solver with a Butcher "

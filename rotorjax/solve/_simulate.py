@@ -20,7 +20,7 @@ def _field(t, y, scene):
 def _check_scene(scene):
     if not isinstance(scene, AbstractScene):
         raise InputError(f"scene must be a rotorjax scene (rotorjax.models.AbstractScene: Scene, RotorScene, "
-                         f"CantileverScene, ModalBalancerRotor, ...); a {type(scene).__name__} has no state_size, "
+                         f"BalancingScene, ModalBalancerRotor, ...); a {type(scene).__name__} has no state_size, "
                          "vector_field, outputs")
 
 

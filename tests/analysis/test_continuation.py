@@ -3,6 +3,7 @@ boundaries of models 001 and 004, batched boundary solves, bad input; curves in
 closed form traced both ways to the box edges, closed loops, and every stop reason;
 every boundary in a box, and the dense curve between points against the exact one."""
 
+import dataclasses
 import functools
 
 import jax
@@ -10,9 +11,10 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from rotorjax.analysis import (boundary_points, boundary_sensitivity, continue_branch, critical_speeds,
-                               floquet_crossings, fold_curve, hopf_points, trace_boundaries, trace_boundary,
-                               trace_curve)
+from rotorjax.analysis import (Boundaries, Branch, Curve, FloquetCrossing, boundary_points, boundary_sensitivity,
+                               continue_branch, critical_speeds, floquet_crossings, fold_curve, hopf_points,
+                               trace_boundaries, trace_boundary, trace_curve)
+from rotorjax.solve import RESULTS, code_of
 from rotorjax.presets import anisotropic_abb as ab
 from rotorjax.presets import cantilever_limiters as cl
 
@@ -73,6 +75,15 @@ def test_hopf_point_of_the_brusselator():
     assert h["p"] == pytest.approx(2.0, abs=1e-9) and h["frequency"] == pytest.approx(1.0, abs=1e-8)
     assert bool(br.stable[0]) and not bool(br.stable[-1])
     np.testing.assert_allclose(br.u[:, 1], br.p, rtol=1e-10)      # the branch is (1, b)
+    # results are frozen data: a changed branch is a new one
+    assert isinstance(br, Branch) and isinstance(br.curve, Curve) and isinstance(br.events, tuple)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        br.p = br.p * 2
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        br.curve.stopped = "changed"
+    moved = dataclasses.replace(br, p=br.p * 2)
+    np.testing.assert_array_equal(moved.p, 2 * br.p)
+    assert moved.events is br.events and moved.curve is br.curve
 
 
 BASE = dict(cl.PRESET.defaults)
@@ -121,9 +132,19 @@ def margin_001(n, mu):
 
 def test_model_001_floquet_crossings_and_boundary_through_the_critical_speeds():
     found = floquet_crossings(lambda n: ab.main_motion_floquet(G001, n, P001["K"]), 4.0, 6.0, n_scan=6)
+    assert isinstance(found, tuple)
     (c,) = found
-    assert c["kind"] == "complex pair" and c["residual"] < 1e-9 and c["closure"] < 1e-10
-    curve = trace_boundary(margin_001, (c["p"], G001["mu_w"]), bounds=(np.array([0.5, 0.3]), np.array([10.0, 0.8])),
+    assert isinstance(c, FloquetCrossing)
+    assert c.kind == "complex pair" and c.residual < 1e-9 and c.closure < 1e-10
+    assert c.code == code_of(RESULTS.successful) and c.stable_side in ("above", "below")
+    assert abs(np.hypot(*c.multiplier) - 1) < 1e-9
+    # the JSON row (the CLI's): the former dict's keys, the code added; and read-only
+    row = c.as_dict()
+    assert set(row) == {"p", "kind", "multiplier", "residual", "closure", "liouville_error", "stable_side", "code"}
+    assert row["multiplier"] == list(c.multiplier) and c["p"] == c.p
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        c.p = 0.0
+    curve = trace_boundary(margin_001, (c.p, G001["mu_w"]), bounds=(np.array([0.5, 0.3]), np.array([10.0, 0.8])),
                            ds=0.05, ds_max=0.1, gradient="fd", max_points=8, direction=(0.0, 1.0), tol=1e-10)
     assert curve.residuals.max() < 1e-9
     for n, mu in curve.x[[1, -1]]:
@@ -285,6 +306,9 @@ def test_every_boundary_in_a_box_once_with_its_dense_curve_to_tolerance():
     # each crossing the scan met (edge, lines, sides) lies on a branch; each branch was traced once
     assert all(c["branch"] is not None for c in found.crossings) and len(found.crossings) >= 9
     assert sorted({c["branch"] for c in found.crossings}) == [0, 1, 2]
+    assert isinstance(found, Boundaries) and isinstance(found.branches, tuple) and isinstance(found.crossings, tuple)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        found.branches = ()
     which = {}
     for k, c in enumerate(found):
         f = np.array([np.abs(three_curves(*p)) for p in c.x])

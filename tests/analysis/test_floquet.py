@@ -1,5 +1,7 @@
 """Floquet analysis, critical speeds and maps for model 001."""
 
+import dataclasses
+
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
@@ -9,6 +11,7 @@ import rotorjax as rj
 from rotorjax.analysis import critical_speed_gradient, critical_speeds, floquet, periodic_orbit
 from rotorjax.models import ConstantSpeed, RigidRotor, Scene, Supports
 from rotorjax.presets import anisotropic_abb as A
+from rotorjax.solve import RESULTS, code_of
 from tests.helpers import central_difference
 
 TABLE1 = dict(n_eta=7.0, mu_xi=0.25, mu_eta=0.5, sigma=0.5, c=0.5, eps=0.001, mu_w=0.25)
@@ -29,10 +32,23 @@ def test_floquet_of_a_damped_oscillator_matches_closed_form():
 
 def test_main_motion_self_checks():
     r = A.main_motion_floquet(TABLE1, 3.0)
-    assert int(r.code) == 0
+    assert int(r.code) == code_of(RESULTS.successful) and bool(r.success)
+    assert bool(r.result == RESULTS.successful)
     assert float(r.closure) < 1e-12           # the main motion is periodic (a constant state here)
     assert float(r.liouville_error) < 1e-7    # det M = exp(int tr J)
     assert bool(r.stable)
+
+
+def test_a_failed_floquet_integration_carries_the_package_results_code():
+    """The same `RESULTS` codes as `simulate`: a step budget too small is
+    `max_steps_reached`, marked rather than raised; the result is immutable."""
+    m, k, c = 2.0, 50.0, 1.5
+    scene = Scene(RigidRotor(m), ConstantSpeed(0.0), (Supports.isotropic(k, c),))
+    r = floquet(scene, jnp.ones(4), 0.7, max_steps=2)
+    assert int(r.code) == code_of(RESULTS.max_steps_reached) and not bool(r.success)
+    assert bool(r.result == RESULTS.max_steps_reached)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.code = jnp.int32(0)
 
 
 def test_periodic_orbit_shooting_confirms_main_motion():

@@ -7,6 +7,7 @@ import pytest
 
 from rotorjax import identify as idf
 from rotorjax.identify._make_data import simulate_from
+from rotorjax.models import ConstantSpeed
 from rotorjax.presets import balancing_machine as bm
 from tests.helpers import central_difference
 
@@ -36,13 +37,13 @@ def test_analytic_influence_coefficients_equal_trial_weight_estimates(w):
 
 
 def test_influence_coefficients_from_simulated_signals():
-    """The signal chain: time-domain runs (diffrax), tacho pulses, 1x phasors."""
+    """The signal chain: time-domain runs (`BalancingScene` at constant speed, by
+    `rotorjax.simulate`), tacho pulses, 1x phasors."""
     w, fs = 120.0, 4000.0
     t = np.arange(0.0, 1.0, 1 / fs)
 
     def run(Ur):
-        X = np.asarray(MACHINE.response(w, PLANES, Ur))
-        x = simulate_from(MACHINE, PLANES, jnp.asarray(Ur), t, lambda tt: w * tt, X, w)
+        x = simulate_from(idf.BalancingScene(MACHINE, PLANES, Ur, ConstantSpeed(w)), t, w)
         pulses = np.arange(0, 1.0, 2 * np.pi / w)
         return idf.phasors(t, x, pulses=pulses).X
 

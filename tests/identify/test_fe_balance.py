@@ -201,7 +201,11 @@ def test_plot(tmp_path, clean):
     from rotorjax.plot import plot_fe_balance
 
     res = balance_rotor(trial_data(UNBALANCES + [(3, 1e-3, 4.0)]), [2, 4])
-    path = plot_fe_balance(str(tmp_path / "b.png"), res, "test")
+    from rotorjax.cli._common import save_figure
+
+    fig = plot_fe_balance(result=res, title="test")
+    assert fig.axes[0].get_title().startswith("test")
+    path = save_figure(fig, str(tmp_path / "b.png"))
     assert (tmp_path / "b.png").stat().st_size > 1000 and path.endswith("b.png")
 
 

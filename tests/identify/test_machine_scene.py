@@ -60,14 +60,18 @@ def test_steady_orbit_in_time_equals_the_frequency_response():
 
 
 def test_vector_field_follows_the_speed_profile():
-    """The scene's field is the machine's under `theta(t)` of its profile (run-up included)."""
+    """The scene's field is eq. (8) with the machine's unbalance force under `theta(t)` of
+    its profile (run-up included)."""
     m = rig_scene().machine
     scene = BalancingScene(m, [0.15, 0.65], [2e-4 + 1e-4j, -3e-4j], RunUp(20.0, 19.0))
     y = jnp.array([1e-5, -2e-5, 3e-4, 1e-4])
     t = 1.3
     theta, w, alpha = 20.0 * t + 0.5 * 19.0 * t**2, 20.0 + 19.0 * t, 19.0
-    np.testing.assert_allclose(scene.vector_field(t, y),
-                               m.vector_field(t, y, theta, w, alpha, scene.planes, scene.unbalances), rtol=1e-13)
+    A, B, C = m.matrices()
+    f = m.unbalance_force(theta, w, alpha, scene.planes, scene.unbalances)
+    np.testing.assert_allclose(scene.vector_field(t, y, None),
+                               jnp.concatenate([y[2:], jnp.linalg.solve(A, f - B @ y[2:] - C @ y[:2])]),
+                               rtol=1e-13)
     assert isinstance(BalancingScene(m, [0.2], [1e-4], 50.0).speed, ConstantSpeed)
 
 

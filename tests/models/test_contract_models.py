@@ -14,7 +14,8 @@ import rotorjax
 from rotorjax._errors import InputError
 from rotorjax.analysis import rotating_field
 from rotorjax.flexible import ModalBalancerRotor, ModalShaft
-from rotorjax.models import CantileverRotor, CantileverScene, ConstantSpeed, RunUp
+from rotorjax.models import CantileverRotor, ConstantSpeed, RunUp
+from tests.reference.model_004_scene import CantileverScene
 from rotorjax.models._contract import AbstractScene, MissingCapability, provides
 from rotorjax.models._frequency import frequency_response
 
@@ -39,7 +40,9 @@ def test_both_models_are_scenes_that_say_what_they_provide():
     assert scene.n_dof == scene.n_coords and rotor.n_dof == 2 * 4 + 2
     assert isinstance(scene.speed, ConstantSpeed) and float(scene.speed.speed(3.0)) == 5.0
     with pytest.raises(MissingCapability, match="ModalBalancerRotor .* linear"):
-        rotor.linear_matrices(1.2)
+        rotorjax.analysis.linear_margin(rotor, 1.2)
+    with pytest.raises(MissingCapability, match="modes needs a scene with `linear_system`; ModalBalancerRotor .*AbstractLinearSystem"):
+        rotorjax.analysis.modes(rotor, 1.2)
 
 
 def _old_rotating_field(rotor, z):

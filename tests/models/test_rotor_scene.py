@@ -47,7 +47,7 @@ def _numpy_field(rotor, t, y, w0, alpha, U, node, phase, k3, k3_node, T_V, g):
     q, qd = y[:n], y[n:]
     F = np.zeros(n)
     a = theta + phase
-    F[4 * node:4 * node + 2] = U * (w**2 * np.array([np.cos(a), np.sin(a)]) + wd * np.array([-np.sin(a), np.cos(a)]))
+    F[4 * node:4 * node + 2] = U * (w**2 * np.array([np.cos(a), np.sin(a)]) + wd * np.array([np.sin(a), -np.cos(a)]))
     u = q[4 * k3_node:4 * k3_node + 2]
     F[4 * k3_node:4 * k3_node + 2] += -k3 * (u @ u) * u
     e = np.zeros(n)
@@ -193,3 +193,22 @@ def test_linear_analyses_take_the_scene_and_say_when_they_cannot():
     planar = jeffcott_abb.PRESET.build(jeffcott_abb.PRESET.params()).scene
     with pytest.raises(MissingCapability, match="hopf_points needs a scene with `linear_matrices`"):
         hopf_points(planar, 0.5, 2.0)
+
+
+
+def test_unbalance_force_is_minus_the_offset_mass_times_its_acceleration():
+    """The unbalance's force on its node during a run-up is `-U d^2/dt^2 (cos a, sin a)`
+    with `a = theta(t) + phase` (differentiated by autodiff here), centrifugal and
+    tangential parts alike; the tangential one lags the offset (it was once of the
+    wrong sign)."""
+    profile = RunUp(40.0, 25.0, theta0=0.3)
+    u = Unbalance(1, 2e-3, phase=0.7)
+    rotor = _rotor()
+    sc = RotorScene(rotor, profile, (u,))
+    for t in (0.0, 0.13, 0.71):
+        offset = lambda tt: jnp.stack([jnp.cos(profile.angle(tt) + 0.7), jnp.sin(profile.angle(tt) + 0.7)])  # noqa
+        expected = -2e-3 * jax.jacfwd(jax.jacfwd(offset))(jnp.float64(t))
+        q = jnp.zeros(sc.n_dof)
+        s = sc.shaft_state(jnp.float64(t), q, q)
+        full = np.asarray(u.force(s, q, q).on_dofs(rotor.n_dofs))   # a NodeLoad, as an all-dof load
+        np.testing.assert_allclose(full[4:6], np.asarray(expected), rtol=1e-12, atol=1e-18)

@@ -100,3 +100,24 @@ def test_get_opens_rotor_files_and_names_unknown_presets():
         presets.get("nosuch")
     with pytest.raises(InputError, match="nosuch.toml"):
         presets.get("nosuch.toml")
+
+
+def test_presets_are_data_and_analyses_are_library_functions():
+    """Issue 29: a preset's reference motion comes with the `Setup`, and the library's
+    functions of it give what the preset hooks gave (the deprecated attributes above
+    are computed from them; that a preset holds nothing callable but `build` is
+    `tests/test_layering.py`'s)."""
+    from rotorjax import analysis
+
+    ab, ea = presets.get("anisotropic-abb"), presets.get("elliptic-abb")
+    setup = ab.build(ab.params())
+    assert isinstance(setup.reference, analysis.PeriodicOrbit) and analysis.margin_gradient(setup.reference) == "fd"
+    assert setup.published[0].within(4.5, 5.5) == pytest.approx([5.040672901949166])
+    circular = ea.params({"rho2": 1.28})
+    ref = ea.build(circular).reference
+    assert isinstance(ref, analysis.StationaryRegime) and ref.balanced
+    assert float(analysis.stability_margin(ref)) == pytest.approx(float(ea.margin(circular)), abs=0.0)
+    from rotorjax._errors import InputError
+
+    with pytest.raises(InputError, match="an elliptic race .* has no balanced regime"):
+        analysis.stability_margin(ea.build(ea.params()).reference)

@@ -184,7 +184,9 @@ def test_each_host_device_runs_its_own_buffer():
         "np.testing.assert_array_equal(a.stats['num_steps'], b.stats['num_steps'])\n"
         "from rotorjax.presets import cantilever_limiters as cl\n"  # contact events, devices ending apart
         "p = dict(cl.PRESET.defaults, perturbation=0.02); s = cl.build_scene(p); y = cl.initial_state(s, p)\n"
-        "sc = eqx.filter_vmap(lambda e: eqx.tree_at(lambda q: q.eps, s, e))(jnp.array([0.0, 0.002, 0.001, 0.0]))\n"
+        "from rotorjax.models import with_leaf\n"
+        "eps = jnp.array([0.0, 0.002, 0.001, 0.0])\n"
+        "sc = eqx.filter_vmap(lambda e: with_leaf(s, cl.PRESET.sweepable['eps'], e))(eps)\n"
         "kw = dict(saveat=5, solver='dopri8', rtol=1e-7, atol=1e-9, lanes=2, events=True)\n"
         "span = (0.0, jnp.array([2.0, 0.2, 2.0, 0.2]))\n"  # device 1's points end far sooner
         "a = simulate_batch(sc, jnp.tile(y, (4, 1)), span, shard=True, **kw)\n"

@@ -637,7 +637,7 @@ def test_whirl_values_rotor7():
     # the 6 lowest lateral modes have whirl_values 1, 0, 1, 0, 1, 0 and whirl_direction Backward,
     # Forward, Backward, Forward, Backward, Forward; ROSS's other modes there are axial/torsional,
     # whirl value nan). Checked on Modes.whirl_value, .whirl and .forward.
-    from rotorjax.flexible._linear import whirl_labels
+    from rotorjax.analysis._linear import whirl_labels
 
     r = rotor7()
     camp = jax.jit(lambda s: campbell(r, s, 6))(np.linspace(50, 500, 10))

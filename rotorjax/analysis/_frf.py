@@ -20,7 +20,7 @@ import numpy as np
 
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._frequency import frequency_response
-from ..models._rotor_scene import RotorScene
+from ..models._contract import require
 from ..models._validate import InputError, as_numpy, as_param, check_choice, check_node, is_concrete, show
 
 #: the translation directions and their dof within a node
@@ -29,32 +29,26 @@ KINDS = ("displacement", "velocity", "acceleration")
 
 
 def full_rotor(rotor, what="rotor"):
-    """The `FlexibleRotor` or `ReducedRotor` of `rotor` (a `RotorScene`: its rotor)."""
-    if isinstance(rotor, RotorScene):
-        rotor = rotor.rotor
-    if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand", "n_nodes")):
+    """`rotor` itself, checked to be a shaft model (`FlexibleRotor`, `ReducedRotor` or
+    `RotorScene`: `MissingCapability` otherwise)."""
+    if not isinstance(rotor, eqx.Module):   # not a model at all (a number, a path)
         raise InputError(f"{what} must be a FlexibleRotor, ReducedRotor or RotorScene, got {type(rotor).__name__}")
+    require(rotor, "shaft", what)
     return rotor
 
 
 def linear_system(system):
-    """`(matrices, rotor)`: `matrices(W)` the `(M, C + W G1, K)` at running speed `W`
-    (bearings at `W`; a `RotorScene`: its `linear_matrices(W)`, the components'
-    linearisations included), and the `FlexibleRotor` or `ReducedRotor` whose
-    coordinates they are in."""
-    if isinstance(system, RotorScene):
-        def matrices(W):
-            lm = system.linear_matrices(W)
-            return lm.M, lm.C + lm.G, lm.K
-
-        return matrices, system.rotor
-    rotor = full_rotor(system)
+    """`(matrices, system)`: `matrices(W)` the `(M, C + G, K)` of the shaft model's
+    `linear_matrices(W)` at running speed `W` (bearings at `W`; a `RotorScene`'s
+    components' linearisations included); the system's own coordinates (`expand`,
+    `project`, `free_dofs`, nodes) are the ones they are written in."""
+    full_rotor(system, "a linear analysis of a finite-element rotor")
 
     def matrices(W):
-        M, C, G1, K = rotor.reduced_matrices(W)
-        return M, C + W * G1, K
+        lm = system.linear_matrices(W)
+        return lm.M, lm.C + lm.G, lm.K
 
-    return matrices, rotor
+    return matrices, system
 
 
 #: undamped eigenvalues `w^2` below this fraction of the largest are rigid-body modes
@@ -206,24 +200,37 @@ def _probe(rotor, probe_nodes):
                     dtype=int)
 
 
-def _unbalance_solver(matrices, rotor, unbalances):
-    """`Q(W)`: the response on all dofs at speed `W` to every unbalance at once."""
-    nodes, mags, phases = _unbalances(rotor, unbalances)
+def _rotating_load(rotor, nodes, mags, phases):
+    """The unit-speed load of rotating unbalances in the rotor's coordinates: per
+    unbalance `F_x = U e^{i phase}`, `F_y = -i F_x` at its node (a force rotating with
+    the shaft; times `W^2` at speed `W`), summed."""
     pos = {int(d): i for i, d in enumerate(np.asarray(rotor.free_dofs))}
-    n = len(pos)
-    # F_x = U W^2 e^{i phase}, F_y = -i F_x per unbalance (a force rotating with the shaft)
-    unit = jnp.zeros(n, dtype=jnp.complex128)
+    unit = jnp.zeros(len(pos), dtype=jnp.complex128)
     for k, node in enumerate(nodes):
         b = DOFS_PER_NODE * node
         u = mags[k] * jnp.exp(1j * phases[k])
         unit = unit.at[pos[b]].add(u).at[pos[b + 1]].add(-1j * u)
-    unit = rotor.project(unit)
+    return rotor.project(unit)
+
+
+def _unbalance_solver(matrices, rotor, unbalances):
+    """`Q(W)`: the response on all dofs at speed `W` to every unbalance at once."""
+    unit = _rotating_load(rotor, *_unbalances(rotor, unbalances))
 
     def solve(w):
         M, C, K = matrices(w)
         return rotor.expand(frequency_response(M, C, K, w**2 * unit, w))
 
     return solve
+
+
+def _at_probes(solve, probe, speeds):
+    """`(X, Y)` at the probe nodes for every speed (vmapped)."""
+    def one(w):
+        q = solve(w)
+        return q[DOFS_PER_NODE * probe], q[DOFS_PER_NODE * probe + 1]
+
+    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
 
 
 def unbalance_response_many(rotor, unbalances, speeds, probe_nodes=None):
@@ -238,13 +245,40 @@ def unbalance_response_many(rotor, unbalances, speeds, probe_nodes=None):
     probe = _probe(rotor, probe_nodes)
     if is_concrete(speeds):
         as_numpy("speeds", speeds, ndim=1)
-    solve = _unbalance_solver(matrices, rotor, unbalances)
+    return _at_probes(_unbalance_solver(matrices, rotor, unbalances), probe, speeds)
 
-    def one(w):
-        q = solve(w)
-        return q[DOFS_PER_NODE * probe], q[DOFS_PER_NODE * probe + 1]
 
-    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
+def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
+    """Steady response to a rotating unbalance `unbalance` (kg m, any sign) at `node`
+    and `phase` (rad), at spin speeds `speeds` (rad/s, vmapped): complex amplitudes of
+    `x` and `y` at `probe_nodes` (default: all nodes), `x = Re(X e^{i Omega t})`: the
+    one-unbalance case of `unbalance_response_many` (the same solve).
+
+    The force is `F = unbalance Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`,
+    so `F_x = U Omega^2 e^{i phase}` and `F_y = -i F_x`; the response solves
+    `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F` (a `RotorScene`: its linear
+    part, components' linearisations included; for its own `Unbalance` components:
+    `rotorjax.analysis.scene_unbalance_response`).
+    """
+    matrices, rotor = linear_system(rotor)
+    node = check_node("node", node, rotor.n_nodes, "unbalance")
+    probe = _probe(rotor, probe_nodes)
+    for name, v in (("unbalance", unbalance), ("phase", phase)):
+        if is_concrete(v):
+            as_param(name, v, shape=())
+    if is_concrete(speeds):
+        as_numpy("speeds", speeds, ndim=1)
+    b = DOFS_PER_NODE * node
+    if b not in rotor.free_dofs or b + 1 not in rotor.free_dofs:
+        raise InputError(f"node: the unbalance node {node} has fixed translation dofs")
+    unit = _rotating_load(rotor, (node,), jnp.reshape(jnp.asarray(unbalance, dtype=jnp.float64), (1,)),
+                          jnp.reshape(jnp.asarray(phase, dtype=jnp.float64), (1,)))
+
+    def solve(w):
+        M, C, K = matrices(w)
+        return rotor.expand(frequency_response(M, C, K, w**2 * unit, w))
+
+    return _at_probes(solve, probe, speeds)
 
 
 class DeflectedShape(eqx.Module):
@@ -281,8 +315,7 @@ def deflected_shape(rotor, unbalances, speed) -> DeflectedShape:
     angle = jnp.mod((jnp.angle(fwd) + jnp.angle(bwd)) / 2, jnp.pi)
     major = jnp.abs(fwd) + jnp.abs(bwd)
     minor = jnp.abs(jnp.abs(fwd) - jnp.abs(bwd))
-    full = getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
-    return DeflectedShape(w, full.node_positions, X, Y, fwd, bwd, major, minor, angle)
+    return DeflectedShape(w, rotor.full_rotor.node_positions, X, Y, fwd, bwd, major, minor, angle)
 
 
 # ---- curves over a speed or frequency range: chunked, peaks located, refined ----
@@ -330,7 +363,7 @@ def response_curve(system, unbalances, speeds, probe=None, *, rtol=1e-10) -> Res
     (rad/s, any length: evaluated in fixed-size chunks), read at node `probe`
     (default: the node of largest amplitude on the grid), with every interior peak of
     the amplitude located to `rtol` and points added around it."""
-    from ..analysis._peaks import refine_maxima, refined_grid
+    from ._peaks import refine_maxima, refined_grid
     from ..sweep import bucket_size, map_chunked
 
     _, rotor = linear_system(system)
@@ -383,7 +416,7 @@ def frf_curve(system, input, output, frequencies, kind="displacement", speed=Non
     """`frf` over `frequencies` of any length (chunked), with the peaks of `|H|`
     located to `rtol` and the curve refined around them (smooth Bode and polar plots
     through the resonances)."""
-    from ..analysis._peaks import refine_maxima, refined_grid
+    from ._peaks import refine_maxima, refined_grid
     from ..sweep import bucket_size, map_chunked
 
     w = as_numpy("frequencies", frequencies, ndim=1)

@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..analysis._roots import find_roots
+from ._roots import find_roots
 from ..models._contract import LinearMatrices
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._validate import InputError, as_count, as_param, check_node, is_concrete
@@ -59,7 +59,7 @@ def mid_span_node(rotor) -> int:
     """The node nearest the middle of the bearing span (outermost bearings), or of
     the shaft with fewer than two bearings."""
     _, rotor = linear_system(rotor)
-    rotor = getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
+    rotor = rotor.full_rotor
     x = np.asarray(rotor.node_positions)
     nodes = sorted(set(rotor.bearing_nodes))
     mid = 0.5 * (x[nodes[0]] + x[nodes[-1]]) if len(nodes) >= 2 else 0.5 * (x[0] + x[-1])
@@ -68,16 +68,14 @@ def mid_span_node(rotor) -> int:
 
 def _cross_coupling(rotor, node):
     """The unit cross-coupling pattern (`K[x, y] = 1`, `K[y, x] = -1`) in the rotor's coordinates."""
-    full = getattr(rotor, "rotor", rotor)
-    free = np.asarray(full.free_dofs)
+    free = np.asarray(rotor.free_dofs)
     pos = {int(d): i for i, d in enumerate(free)}
     b = DOFS_PER_NODE * node
     if b not in pos or b + 1 not in pos:
         raise InputError(f"node: the cross-coupling node {node} has fixed translation dofs")
     P = jnp.zeros((len(free), len(free))).at[pos[b], pos[b + 1]].set(1.0).at[pos[b + 1], pos[b]].set(-1.0)
-    if hasattr(rotor, "basis"):  # a ReducedRotor: modal coordinates
-        P = rotor.basis.T @ P @ rotor.basis
-    return P
+    # in the rotor's coordinates (modal ones: Phi^T P Phi); `project` maps each side
+    return rotor.project(rotor.project(P).T).T
 
 
 def _first_forward(matrices, rotor, P, q, speed):
@@ -146,8 +144,8 @@ def level1(rotor, speed, node=None, q_max=None, n=41, xtol=1e-9) -> Level1:
     speed = float(as_param("speed", speed, shape=()))
     n = as_count("n", n, minimum=2)
     if q_max is None:
-        kb = np.asarray(bearing_stiffness(getattr(rotor, "rotor", rotor), speed)) if \
-            getattr(rotor, "rotor", rotor).bearing_nodes else np.zeros((0, 2))
+        kb = np.asarray(bearing_stiffness(rotor.full_rotor, speed)) if \
+            rotor.full_rotor.bearing_nodes else np.zeros((0, 2))
         q_max = float(kb.max()) if kb.size and kb.max() > 0 else None
         if q_max is None:
             raise InputError("q_max: give it (the rotor has no bearing stiffness to scale it by)")

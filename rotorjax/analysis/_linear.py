@@ -9,28 +9,26 @@ import numpy as np
 
 from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
                                check_span, is_concrete)
-from ..analysis._roots import bisect_batched, sign_changes
+from ._roots import bisect_batched, sign_changes
 from ..models._fe_rotor import DOFS_PER_NODE
-from ..models._contract import LinearMatrices
-from ..models._rotor_scene import RotorScene
+from ..models._contract import AbstractShaftModel, require
 from ..models._frequency import frequency_response
 
 
-def _check_rotor(rotor, scenes=True):
-    """The number of coordinates of a `FlexibleRotor`, `ReducedRotor` or (where
-    `scenes`) a `RotorScene` (its linear part: components' linearisations included)."""
-    if scenes and isinstance(rotor, RotorScene):
-        return rotor.n_shaft
-    if not all(hasattr(rotor, a) for a in ("free_dofs", "reduced_matrices", "expand", "n_nodes")):
-        what = "FlexibleRotor, ReducedRotor or RotorScene" if scenes else "FlexibleRotor or ReducedRotor"
-        raise InputError(f"rotor must be a {what}, got {type(rotor).__name__}")
-    return len(rotor.free_dofs) if not hasattr(rotor, "basis") else rotor.n_modes
+def _check_rotor(rotor, needed_by="a finite-element analysis", capability="shaft"):
+    """The number of coordinates of a shaft model (`FlexibleRotor`, `ReducedRotor`,
+    or a `RotorScene`: its linear part, components' linearisations included), or with
+    `capability="linear_system"` of any linear system (a linear scene); anything
+    else is refused with `MissingCapability`."""
+    require(rotor, capability, needed_by)
+    return rotor.n_coordinates
 
 
-def _check_n_modes(name, n_modes, rotor, allow_none=True, bounded=False):
+def _check_n_modes(name, n_modes, rotor, allow_none=True, bounded=False, needed_by="a finite-element analysis",
+                   capability="shaft"):
     """`n_modes` >= 1; `bounded`: also at most the rotor's number of coordinates
     (where the modes are indexed; elsewhere a larger count keeps them all)."""
-    n = _check_rotor(rotor)
+    n = _check_rotor(rotor, needed_by, capability)
     if n_modes is None and allow_none:
         return None
     return as_count(name, n_modes, minimum=1, maximum=n if bounded else None)
@@ -80,9 +78,10 @@ class Modes(eqx.Module):
 
 
 def whirl_labels(whirl_value) -> np.ndarray:
-    """ROSS's whirl values (0, 0.5, 1) as labels."""
+    """ROSS's whirl values (0, 0.5, 1) as labels (NaN, a system without nodes: "undefined")."""
     v = np.asarray(whirl_value)
-    return np.where(v == 0.0, "forward", np.where(v == 1.0, "backward", "mixed"))
+    return np.where(np.isnan(v), "undefined",
+                    np.where(v == 0.0, "forward", np.where(v == 1.0, "backward", "mixed")))
 
 
 def _whirl_value(x, y):
@@ -97,17 +96,18 @@ def _whirl_value(x, y):
 
 
 def state_matrix(rotor, speed):
-    """First-order matrix of `M q'' + (C + speed G1) q' + K q = 0` at `speed` (rad/s)
-    (a `RotorScene`: its `linear_matrices(speed)`)."""
-    if isinstance(rotor, RotorScene):
-        return rotor.linear_matrices(speed).state_matrix()
-    M, C, G1, K = rotor.reduced_matrices(speed)
-    return LinearMatrices(M, C, speed * G1, K).state_matrix()
+    """First-order matrix of the linear system's `M q'' + (C + G) q' + K q = 0` at
+    `speed` (rad/s): its `linear_matrices(speed)` (a `RotorScene`'s components'
+    linearisations included)."""
+    return rotor.linear_matrices(speed).state_matrix()
 
 
 def modes(rotor, speed, n_modes=None) -> Modes:
-    """Damped eigen-analysis at spin speed `speed` (rad/s)."""
-    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    """Damped eigen-analysis at spin speed `speed` (rad/s) of any linear system: a
+    finite-element rotor (shapes on all its dofs, whirl from its nodes' orbits) or
+    any other linear scene (shapes on its coordinates; whirl undefined: `whirl_value`
+    NaN, `forward` False)."""
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="modes", capability="linear_system")
     _check_speed("speed", speed)
     return _modes(rotor, jnp.asarray(speed, dtype=jnp.float64), n_modes)
 
@@ -124,6 +124,13 @@ def _modes(rotor, speed, n_modes):
     lam, vec = lam[order], vec[:n, order]
     if n_modes is not None:
         lam, vec = lam[:n_modes], vec[:, :n_modes]
+    freq = jnp.abs(jnp.imag(lam))
+    wn = jnp.abs(lam)
+    if not isinstance(rotor, AbstractShaftModel):   # no nodes: no orbits to classify
+        nan = jnp.full(lam.shape, jnp.nan)
+        return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
+                     forward=jnp.zeros(lam.shape, bool), shapes=vec, natural_frequencies=wn,
+                     damping_ratio=-jnp.real(lam) / wn, whirl_value=nan)
     full = rotor.expand(vec)
     shaft = full[: DOFS_PER_NODE * rotor.n_nodes]   # shaft nodes (not supports' pedestals)
     x = shaft[0::DOFS_PER_NODE]
@@ -131,8 +138,6 @@ def _modes(rotor, speed, n_modes):
     fwd = jnp.abs(x + 1j * y)   # forward-whirl amplitude per node (for Im lambda > 0)
     bwd = jnp.abs(x - 1j * y)
     forward = jnp.sum(fwd**2, axis=0) >= jnp.sum(bwd**2, axis=0)
-    freq = jnp.abs(jnp.imag(lam))
-    wn = jnp.abs(lam)
     return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
                  forward=forward, shapes=full, natural_frequencies=wn, damping_ratio=-jnp.real(lam) / wn,
                  whirl_value=_whirl_value(x, y))
@@ -141,7 +146,7 @@ def _modes(rotor, speed, n_modes):
 def damped_frequencies(rotor, speed, n_modes=None):
     """Damped natural frequencies (rad/s) at `speed`, sorted, from the eigenvalues
     only: differentiable with respect to the rotor's parameters and the speed."""
-    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="damped_frequencies", capability="linear_system")
     _check_speed("speed", speed)
     lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
     f = jnp.sort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
@@ -150,7 +155,7 @@ def damped_frequencies(rotor, speed, n_modes=None):
 
 def campbell(rotor, speeds, n_modes=8):
     """Damped natural frequencies and whirl directions over `speeds` (vmapped)."""
-    n_modes = _check_n_modes("n_modes", n_modes, rotor)
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="campbell", capability="linear_system")
     if is_concrete(speeds):
         as_numpy("speeds", speeds, ndim=1)
     return jax.vmap(lambda s: modes(rotor, s, n_modes))(jnp.asarray(speeds, dtype=jnp.float64))
@@ -173,7 +178,8 @@ def critical_speeds_1x(rotor, lo, hi, n_scan=200, n_modes=12, xtol=1e-9, whirl="
     check_choice("whirl", whirl, ("all", "forward"))
     lo, hi = check_span("lo", lo, "hi", hi)
     n_scan = as_count("n_scan", n_scan, minimum=2)
-    n_modes = _check_n_modes("n_modes", n_modes, rotor, allow_none=False, bounded=True)
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, allow_none=False, bounded=True,
+                             needed_by="critical_speeds_1x")
     as_param("xtol", xtol, sign="positive", shape=())
     if scan is None:
         speeds = np.linspace(lo, hi, n_scan)
@@ -214,7 +220,7 @@ def critical_speed(rotor, k, guess, iters=6):
     residual `omega_k(Omega) - Omega` is returned to check it). Pure JAX, vmappable
     over designs; differentiate with the implicit function theorem on
     `omega_k(Omega) - Omega = 0`."""
-    n = _check_rotor(rotor)
+    n = _check_rotor(rotor, "critical_speed")
     k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
     iters = as_count("iters", iters, minimum=1)
     _check_speed("guess", guess)
@@ -222,53 +228,6 @@ def critical_speed(rotor, k, guess, iters=6):
     for _ in range(iters):  # unrolled: a few iterations, no while loop around LAPACK calls
         w = damped_frequencies(rotor, w, k + 1)[k]
     return w, damped_frequencies(rotor, w, k + 1)[k] - w
-
-
-def unbalance_response(rotor, node, unbalance, phase, speeds, probe_nodes=None):
-    """Steady response to a rotating unbalance `unbalance` (kg m) at `node` and
-    `phase` (rad), at spin speeds `speeds` (rad/s, vmapped): complex amplitudes of
-    `x` and `y` at `probe_nodes` (default: all nodes), `x = Re(X e^{i Omega t})`.
-
-    The force is `F = unbalance Omega^2 (cos(Omega t + phase), sin(Omega t + phase))`,
-    so `F_x = U Omega^2 e^{i phase}` and `F_y = -i F_x`; the response solves
-    `(K - Omega^2 M + i Omega (C + Omega G1)) Q = F`. (For a `RotorScene` with its
-    `Unbalance` components: `rotorjax.analysis.scene_unbalance_response`.)
-    """
-    _check_rotor(rotor, scenes=False)
-    node = check_node("node", node, rotor.n_nodes, "unbalance")
-    if probe_nodes is None:
-        probe = np.arange(rotor.n_nodes)
-    else:
-        probe_nodes = np.atleast_1d(as_numpy("probe_nodes", probe_nodes))
-        if probe_nodes.ndim != 1 or probe_nodes.size < 1:
-            raise InputError(f"probe_nodes must be a node or a 1-D list of >= 1 nodes, got shape "
-                             f"{probe_nodes.shape}")
-        probe = np.array([check_node(f"probe_nodes[{i}]", p, rotor.n_nodes, "probe")
-                          for i, p in enumerate(probe_nodes)], dtype=int)
-    for name, v in (("unbalance", unbalance), ("phase", phase)):
-        if is_concrete(v):
-            as_param(name, v, shape=())
-    if is_concrete(speeds):
-        as_numpy("speeds", speeds, ndim=1)
-    mats = rotor.reduced_matrices()
-    f = rotor.free_dofs
-    b = DOFS_PER_NODE * node
-    if b not in f or b + 1 not in f:
-        raise InputError(f"node: the unbalance node {node} has fixed translation dofs")
-    pos = {dof: i for i, dof in enumerate(f)}
-    ix, iy = pos[b], pos[b + 1]
-
-    unit = rotor.project(jnp.zeros(len(f), dtype=jnp.complex128).at[ix].set(1.0).at[iy].set(-1j))
-
-    def one(w):
-        F = unbalance * w**2 * jnp.exp(1j * phase) * unit
-        # bearing coefficients at each speed (tabulated bearings)
-        M, C, G1, K = rotor.reduced_matrices(w) if getattr(rotor, "speed_dependent", False) else mats
-        Q = frequency_response(M, C + w * G1, K, F, w)
-        full = rotor.expand(Q)
-        return full[DOFS_PER_NODE * probe], full[DOFS_PER_NODE * probe + 1]
-
-    return jax.vmap(one)(jnp.asarray(speeds, dtype=jnp.float64))
 
 
 def _asymmetry(a):
@@ -289,13 +248,19 @@ def synchronous_critical_speeds(rotor, n_speeds=None):
     keeps the first ones. Requires an undamped rotor with symmetric stiffness
     (damping moves the roots off the real axis: use `critical_speeds_1x`).
     """
-    n = _check_rotor(rotor, scenes=False)
+    n = _check_rotor(rotor, "synchronous_critical_speeds")
     if n_speeds is not None:
         n_speeds = as_count("n_speeds", n_speeds, minimum=1, maximum=n)
-    if getattr(rotor, "speed_dependent", False):
+    if rotor.speed_dependent:
         raise InputError("synchronous_critical_speeds needs bearings that do not depend on speed; "
                          "use critical_speeds_1x with tabulated bearings")
-    M, C, G1, K = rotor.reduced_matrices()
+    lm = rotor.linear_matrices(0.0)   # a RotorScene: its components' linearisations included
+    M, C, K = lm.M, lm.C, lm.K
+    G1 = rotor.linear_matrices(1.0).G
+    if not isinstance(K, jax.core.Tracer) and not np.allclose(np.asarray(rotor.linear_matrices(1.0).K),
+                                                              np.asarray(K), rtol=1e-12, atol=0.0):
+        raise InputError("synchronous_critical_speeds needs a stiffness independent of speed (no internal "
+                         "damping's circulatory terms); use critical_speeds_1x")
     if not isinstance(C, jax.core.Tracer) and np.any(np.asarray(C) != 0):
         raise InputError("synchronous_critical_speeds needs an undamped rotor (C = 0); "
                          "use critical_speeds_1x with damping")
@@ -307,3 +272,64 @@ def synchronous_critical_speeds(rotor, n_speeds=None):
     mu = jnp.linalg.eigvalsh(0.5 * (H + H.conj().T))
     speeds = jnp.sort(jnp.where(mu > 0, 1 / jnp.sqrt(jnp.where(mu > 0, mu, 1.0)), jnp.inf))
     return speeds if n_speeds is None else speeds[:n_speeds]
+
+
+class CampbellCriticalSpeed(eqx.Module):
+    """One 1x crossing of a Campbell diagram: `speed` (rad/s), the branch `mode`
+    (sorted by frequency) and its whirl, `"forward"` or `"backward"`."""
+
+    speed: float = eqx.field(static=True)
+    mode: int = eqx.field(static=True)
+    whirl: str = eqx.field(static=True)
+
+    def as_dict(self) -> dict:
+        return {"speed": self.speed, "mode": self.mode, "whirl": self.whirl}
+
+
+class CampbellCriticalSpeeds(eqx.Module):
+    """What `campbell_critical_speeds` returns: the crossings (`critical_speeds`),
+    the roots of the synchronous determinant in the range where they apply (an
+    undamped rotor with symmetric, speed-independent stiffness; else None), and the
+    scan's Campbell diagram (`speeds`, `frequencies`, `forward`) to draw."""
+
+    critical_speeds: tuple
+    synchronous_determinant_roots: tuple | None
+    speeds: np.ndarray
+    frequencies: np.ndarray
+    forward: np.ndarray
+
+    def as_dict(self) -> dict:
+        """The crossings (and the determinant's roots where they apply) as JSON."""
+        out = {"unit": "rad/s", "critical_speeds": [c.as_dict() for c in self.critical_speeds]}
+        if self.synchronous_determinant_roots is not None:
+            out["synchronous_determinant_roots"] = list(self.synchronous_determinant_roots)
+        return out
+
+
+def campbell_critical_speeds(rotor, lo, hi, n_scan=200, n_modes=8, what="the rotor") -> CampbellCriticalSpeeds:
+    """The critical speeds of a shaft model in `[lo, hi]` (rad/s) as its Campbell
+    diagram shows them: the 1x crossings of its first `n_modes` damped natural
+    frequencies (`critical_speeds_1x`), each with its whirl direction, and for an
+    undamped rotor with symmetric stiffness the roots of the synchronous determinant
+    (`synchronous_critical_speeds`) too. A rotor with rigid-body modes is refused
+    (`check_supported`, `what` names it). (The speeds where a reference motion's
+    stability changes are `rotorjax.analysis.critical_speeds` of its margin.)"""
+    from ..models import check_speeds
+    from ._frf import check_supported
+
+    n = 2 * _check_rotor(rotor, "campbell_critical_speeds")
+    check_supported(rotor, hi, what=what)
+    check_speeds(rotor, [lo, hi])
+    if n_modes > n:
+        raise InputError(f"--modes {n_modes}: the rotor has {n} modes")
+    found, (speeds, camp) = critical_speeds_1x(rotor, lo, hi, n_scan=n_scan, n_modes=n_modes, return_scan=True)
+    fwd = [bool(modes(rotor, s, n_modes).forward[k]) for s, k in found]
+    crossings = tuple(CampbellCriticalSpeed(s, k, "forward" if f else "backward") for (s, k), f in zip(found, fwd))
+    lm0, lm1 = rotor.linear_matrices(0.0), rotor.linear_matrices(1.0)   # a scene's components count
+    C, K = np.asarray(lm0.C), np.asarray(lm0.K)
+    roots = None
+    if (not rotor.speed_dependent and not np.any(C) and np.array_equal(K, np.asarray(lm1.K))
+            and np.allclose(K, K.T, rtol=1e-12, atol=1e-12 * np.abs(K).max())):
+        roots = tuple(float(r) for r in np.asarray(synchronous_critical_speeds(rotor)) if lo <= r <= hi)
+    return CampbellCriticalSpeeds(crossings, roots, np.asarray(speeds), np.asarray(camp.frequencies),
+                                  np.asarray(camp.forward))

@@ -65,8 +65,7 @@ class StaticResult(eqx.Module):
 
 def _full_rotor(rotor):
     """The `FlexibleRotor` behind a rotor, a reduced rotor or a `RotorScene`."""
-    rotor = full_rotor(rotor)
-    return getattr(rotor, "rotor", rotor)  # a ReducedRotor's full rotor
+    return full_rotor(rotor).full_rotor
 
 
 def _grounded_bearing_masses(rotor):

@@ -28,7 +28,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..analysis._roots import find_roots
+from ._roots import find_roots
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._validate import InputError, as_count, check_span, is_concrete
 from ..sweep import map_chunked
@@ -69,35 +69,26 @@ class UCS(eqx.Module):
 
 def bearing_stiffness(rotor, speed):
     """`(n_bearings, 2)`: every bearing's `kxx`, `kyy` at `speed` (rad/s)."""
-    if hasattr(rotor, "bearing_coefficients"):
-        return rotor.bearing_coefficients(speed)[:, :2]
-    return jnp.broadcast_to(rotor.bearing_params[:, :2], rotor.bearing_params[:, :2].shape)
+    return rotor.bearing_coefficients(speed)[:, :2]
 
 
 def _bare_matrices(rotor):
     """`(M, G1, K, B)` on the shaft's free dofs without any bearing (nor supports),
     and `B` the pattern of an isotropic unit spring at every bearing node."""
-    try:  # exact for bearings held in `bearing_params`; the rest is subtracted below
-        zero = eqx.tree_at(lambda r: r.bearing_params, rotor, jnp.zeros_like(rotor.bearing_params))
-    except (AttributeError, TypeError, ValueError):
-        zero = rotor
-    if getattr(rotor, "speed_dependent", False) or hasattr(rotor, "bearing_coefficients"):
-        M, _, G1, K = zero.matrices(0.0)
-        left = zero.bearing_coefficients(0.0)  # tables not held in bearing_params
-    else:
-        M, _, G1, K = zero.matrices()
-        left = None
+    # exact for bearings held in `bearing_params`; the rest (tables) is subtracted below
+    zero = eqx.tree_at(lambda r: r.bearing_params, rotor, jnp.zeros_like(rotor.bearing_params))
+    M, _, G1, K = zero.matrices(0.0)
+    left = zero.bearing_coefficients(0.0)  # tables not held in bearing_params
     n = DOFS_PER_NODE * rotor.n_nodes
     M, G1, K = M[:n, :n], G1[:n, :n], K[:n, :n]
     B = jnp.zeros((n, n))
     for i, node in enumerate(rotor.bearing_nodes):
         b = DOFS_PER_NODE * node
         B = B.at[b, b].add(1.0).at[b + 1, b + 1].add(1.0)
-        if left is not None:
-            kxx, kyy, kxy, kyx = (left[i, j] for j in range(4))
-            mxx, myy, mxy, myx = (left[i, j] for j in range(8, 12))
-            K = K.at[b, b].add(-kxx).at[b + 1, b + 1].add(-kyy).at[b, b + 1].add(-kxy).at[b + 1, b].add(-kyx)
-            M = M.at[b, b].add(-mxx).at[b + 1, b + 1].add(-myy).at[b, b + 1].add(-mxy).at[b + 1, b].add(-myx)
+        kxx, kyy, kxy, kyx = (left[i, j] for j in range(4))
+        mxx, myy, mxy, myx = (left[i, j] for j in range(8, 12))
+        K = K.at[b, b].add(-kxx).at[b + 1, b + 1].add(-kyy).at[b, b + 1].add(-kxy).at[b + 1, b].add(-kyx)
+        M = M.at[b, b].add(-mxx).at[b + 1, b + 1].add(-myy).at[b, b + 1].add(-mxy).at[b + 1, b].add(-myx)
     free = np.asarray([d for d in np.asarray(rotor.free_dofs) if d < n], dtype=int)
     ix = np.ix_(free, free)
     return M[ix], G1[ix], K[ix], B[ix], free
@@ -159,8 +150,7 @@ def _map_function(rotor, n_modes, synchronous):
 def ucs_frequencies(rotor, stiffness, n_modes=4, synchronous=False):
     """The map's values at the stiffnesses `stiffness` (N/m, any shape; vmapped):
     shape `stiffness.shape + (n_modes,)`."""
-    rotor = full_rotor(rotor)
-    rotor = getattr(rotor, "rotor", rotor)  # a ReducedRotor: its basis depends on the bearings
+    rotor = full_rotor(rotor).full_rotor  # a ReducedRotor: its basis depends on the bearings
     n_modes = as_count("n_modes", n_modes, minimum=1)
     f = _map_function(rotor, n_modes, bool(synchronous))
     k = jnp.asarray(stiffness, dtype=jnp.float64)
@@ -187,8 +177,7 @@ def ucs(rotor, stiffness_range=(1e5, 1e10), n_stiffness=60, n_modes=4, synchrono
 
     **Returns:** a `UCS`.
     """
-    rotor = full_rotor(rotor)
-    rotor = getattr(rotor, "rotor", rotor)
+    rotor = full_rotor(rotor).full_rotor
     lo, hi = check_span("stiffness_range[0]", stiffness_range[0], "stiffness_range[1]", stiffness_range[1])
     if not lo > 0:
         raise InputError(f"stiffness_range must be positive (a log scale), got ({lo!r}, {hi!r})")
@@ -202,7 +191,7 @@ def ucs(rotor, stiffness_range=(1e5, 1e10), n_stiffness=60, n_modes=4, synchrono
     f = _map_function(rotor, n_modes, synchronous)
     fmap = jax.jit(jax.vmap(f))
     freq = map_chunked(fmap, k)   # any number of stiffnesses, in bounded memory
-    tables = [t for t in getattr(rotor, "bearing_tables", ()) if t is not None]
+    tables = [t for t in rotor.bearing_tables if t is not None]
     if speed_range is None and tables:  # inside the tables, as ROSS (no extrapolated coefficients)
         s_lo = min(float(np.asarray(t[0])[0]) for t in tables)
         s_hi = max(float(np.asarray(t[0])[-1]) for t in tables)

@@ -16,13 +16,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..analysis._roots import find_roots
-from ..analysis._rotating import rotating_field
+from ._roots import find_roots
+from ._rotating import rotating_field
 from ..models._frequency import frequency_response
 from ..models._modal import ModalShaft
 from ..models._modal_balancer import ModalBalancerRotor
 from ..models._validate import InputError, as_count, check_span, check_type, is_concrete
-from ._modal import closed_form_sums
+from ._modal003 import closed_form_sums
 
 
 class BalancerRegime(eqx.Module):
@@ -38,15 +38,22 @@ class BalancerRegime(eqx.Module):
     disk_amplitude: jax.Array
 
 
-def _regime(rotor, kind, sigma, w, alpha):
-    n = rotor.shaft.n_modes
-    z = jnp.concatenate([jnp.real(w), jnp.imag(w), alpha, jnp.zeros(2 * n + rotor.n_balls)])
-
+@eqx.filter_jit
+def _field_and_jacobian(rotor, z):
+    """The rotating-frame field at `z` and its Jacobian, compiled once per layout
+    (the field is composed from the components' energies: op by op it is slow)."""
     def field(zz):
         return rotating_field(rotor, 0.0, zz)
 
-    res = jnp.max(jnp.abs(field(z)))
-    eig = jnp.linalg.eigvals(jax.jacfwd(field)(z))
+    return field(z), jax.jacfwd(field)(z)
+
+
+def _regime(rotor, kind, sigma, w, alpha):
+    n = rotor.shaft.n_modes
+    z = jnp.concatenate([jnp.real(w), jnp.imag(w), alpha, jnp.zeros(2 * n + rotor.n_balls)])
+    f, jac = _field_and_jacobian(rotor, z)
+    res = jnp.max(jnp.abs(f))
+    eig = jnp.linalg.eigvals(jac)
     a, _, _ = rotor.shaft.mode_vectors()
     return BalancerRegime(kind=kind, sigma=sigma, z=z, residual=res, eigenvalues=eig,
                           margin=jnp.max(jnp.real(eig)), disk_amplitude=jnp.abs(a @ w))
@@ -126,3 +133,45 @@ def pseudo_balanced_speeds(shaft, lo, hi, n_scan=4000):
         return s11 + s12**2 * J * w**2 / (1 - s22 * J * w**2)
 
     return [r.x for r in find_roots(f, lo, hi, n_scan, xtol=0.0, max_iter=60, pole_tol=1e-6)]
+
+
+def balancer003_regimes(rotor):
+    """Every stationary regime of model 003 with balls at its constant speed (Kovachev):
+    the balanced regime C where the balls can cancel the imbalance, and the unbalanced
+    ones (closed forms, eqs. 25-30). Returns `(regimes, notes)`, a note where C does not
+    exist."""
+    check_type("rotor", rotor, ModalBalancerRotor, "a ModalBalancerRotor")
+    if rotor.n_balls < 1:
+        raise InputError("--set n_balls=0: flexible-abb regimes need balls, e.g. --set n_balls=2")
+    found, notes = [], []
+    try:
+        found.append(balanced_regime(rotor))
+    except ValueError as e:
+        notes.append(f"(no balanced regime: {e})")
+    return found + unbalanced_regimes(rotor), notes
+
+
+class ModalCriticalSpeeds(eqx.Module):
+    """Model 003's critical speeds (units omega_1): `critical_speeds`, by `method`;
+    `excited` the natural frequencies the disk's unbalance excites (to draw)."""
+
+    critical_speeds: tuple = eqx.field(static=True)
+    method: str = eqx.field(static=True)
+    excited: np.ndarray
+
+
+def balancer003_critical_speeds(shaft, lo, hi, exact=False) -> ModalCriticalSpeeds:
+    """The critical speeds of model 003's shaft in `[lo, hi]`: the natural frequencies
+    its disk's unbalance excites (the modal model), or with `exact` the roots of the
+    closed-form equation (17) (`exact_critical_speeds`)."""
+    from ._modal003 import exact_critical_speeds
+
+    check_type("shaft", shaft, ModalShaft, "a rotorjax.models.ModalShaft")
+    f, excited = (np.asarray(v) for v in shaft.natural_frequencies())
+    if exact:
+        speeds = exact_critical_speeds(float(shaft.m), float(shaft.z0), float(shaft.J), lo, hi)
+        method = "closed form, eq. (17)"
+    else:
+        speeds = [float(v) for v, e in zip(f, excited) if e and lo <= v <= hi]
+        method = f"modal model, {shaft.n_modes} modes"
+    return ModalCriticalSpeeds(tuple(float(s) for s in speeds), method, f[excited.astype(bool)])

@@ -12,7 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..analysis._roots import find_roots
+from ._roots import find_roots
 from ..models._validate import as_count, as_param, check, check_span
 
 
