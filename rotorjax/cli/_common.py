@@ -354,11 +354,12 @@ class Study(NamedTuple):
     published: tuple = ()
 
 
-def stability_study(preset, params):
-    """The preset's `Study` at `params`, or None where its scene has no reference motion."""
+def stability_study(preset, params, setup=None):
+    """The preset's `Study` at `params` (`setup`: the preset built there already), or
+    None where its scene has no reference motion."""
     from rotorjax.analysis import PeriodicOrbit, branch_problem, floquet_family, stability_margin
 
-    setup = build(preset, params)
+    setup = build(preset, params) if setup is None else setup
     ref = setup.reference
     if ref is None:
         return None

@@ -82,7 +82,7 @@ def cmd_critical_speeds(args) -> int:
     # stability changes; any other finite-element rotor: its Campbell diagram's 1x crossings
     setup = build(preset, params)
     modal = isinstance(setup.scene, ModalBalancerRotor)
-    study = None if modal else stability_study(preset, params)
+    study = None if modal else stability_study(preset, params, setup)
     shaft = study is None and not modal and provides(setup.scene, "shaft")
     if args.exact and not modal:
         raise InputError(f"--exact: the closed form (17) is model 003's (flexible-abb), not {preset.name}'s")

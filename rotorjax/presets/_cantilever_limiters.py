@@ -44,8 +44,10 @@ def build_limiters(p):
     return Limiters(angles, p["chi"], p["kappa"], p["eta_S"], p["f_S"], smoothing=p["smoothing"])
 
 
-def build_scene(p) -> RotorScene:
-    return cantilever_scene(build_rotor(p), p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
+def build_scene(p, rotor=None) -> RotorScene:
+    """The simulated scene: the composition reduced to `n_modes` modes, with the limiters."""
+    rotor = build_rotor(p) if rotor is None else rotor
+    return cantilever_scene(rotor, p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
                             limiters=build_limiters(p), n_modes=p["n_modes"] or None)
 
 
@@ -76,8 +78,7 @@ def build(p) -> Setup:
     if p["revolutions"] < 1:
         raise InputError(f"revolutions must be >= 1, got {p['revolutions']}")
     rotor = build_rotor(p)
-    scene = cantilever_scene(rotor, p["N"], eps=p["eps"], phase=p["phase"], gamma=p["gamma"],
-                             limiters=build_limiters(p), n_modes=p["n_modes"] or None)
+    scene = build_scene(p, rotor)
     published = ()
     if is_concrete(p["eta_e"]) and is_concrete(p["eta_i"]) and paper_fit(p["eta_e"], p["eta_i"]) is not None:
         published = (PublishedSpeeds(FIT, (paper_fit(p["eta_e"], p["eta_i"]),), formula=FORMULA,
