@@ -211,8 +211,9 @@ class Preset:
     hopf_sensitivity: str = ""
 
     # --- deprecated attributes, computed from `build` and the library -------------------
-    def _reference(self, params=None):
-        return self.build(self.params(params) if params is None else params).reference
+    def _reference(self):
+        """The reference motion at the preset's defaults."""
+        return self.build(self.params()).reference
 
     @property
     def margin(self):
@@ -243,7 +244,8 @@ class Preset:
         """Deprecated: `rotorjax.analysis.branch_problem` of the stationary reference regime."""
         from ..analysis import PeriodicOrbit, branch_problem
 
-        if self._reference() is None or isinstance(self._reference(), PeriodicOrbit):
+        ref = self._reference()
+        if ref is None or isinstance(ref, PeriodicOrbit):
             return None
         return lambda p, key: branch_problem(lambda v: self.build(dict(p, **{key: v})).reference, p[key])
 

@@ -19,7 +19,6 @@ The paper's eq. (7) divided by `m r Omega^2` is exactly the SI scene with `m = 1
 each has one coordinate, the race's parametric angle (no constraint to drift).
 """
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
