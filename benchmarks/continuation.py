@@ -68,16 +68,16 @@ def main():
     # (a) shared examples
     t_b, br = timed(lambda: continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(1.0, 3.0), ds=0.05,
                                             ds_max=0.1), repeats=0 if args.smoke else 3)
-    hopf = [e for e in br.events if e["kind"] == "hopf"][0]
+    hopf = [e for e in br.events if e.kind == "hopf"][0]
     f0 = 0.05
     from rotorjax.analysis._continuation import _newton
     u0, _ = _newton(lambda u: duffing(u, 0.5, f0), np.array([0.0665, 0.0022]))
     t_d, bd = timed(lambda: continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0),
                                             ds=0.02, ds_max=0.05, max_points=400), repeats=0 if args.smoke else 3)
-    folds = [e["p"] for e in bd.events if e["kind"] == "fold"]
+    folds = [e.p for e in bd.events if e.kind == "fold"]
     fold_err = max(min(abs(f0 / v - 1) for v in duffing_fold_forcing(p)) for p in folds)
-    out["shared"] = {"rotorjax": {"brusselator_s": t_b, "hopf_error": abs(hopf["p"] - 2.0),
-                                  "hopf_frequency_error": abs(hopf["frequency"] - 1.0),
+    out["shared"] = {"rotorjax": {"brusselator_s": t_b, "hopf_error": abs(hopf.p - 2.0),
+                                  "hopf_frequency_error": abs(hopf.frequency - 1.0),
                                   "duffing_s": t_d, "folds": folds, "fold_error_rel": fold_err}}
     try:
         import jaxcont

@@ -63,6 +63,7 @@ def main():
 
     import rotorjax  # noqa: F401
     from rotorjax import identify as idf
+    from rotorjax.analysis import balancing_response
     from rotorjax.presets import balancing_machine as bm
 
     P = dict(bm.PRESET.defaults)
@@ -74,7 +75,7 @@ def main():
 
     # (a) 400-speed sweep
     w = np.linspace(30.0, 400.0, 40 if args.smoke else 400)
-    Xs = np.asarray(jax.vmap(lambda ww: machine.response(ww, planes, U))(w))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(machine, ww, planes, U))(w))
     sigma = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(0)
     X = Xs + sigma * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)

@@ -34,6 +34,7 @@ import numpy as np
 
 import rotorjax  # noqa: F401
 from rotorjax import identify as idf
+from rotorjax.analysis import balancing_response
 from rotorjax.identify import _make_data as md
 from rotorjax.presets import balancing_machine as bm
 
@@ -48,7 +49,7 @@ claims = {"truth": {k: p[k] for k in NAMES}}
 
 
 def steady(m, w):
-    return np.asarray(jax.vmap(lambda ww: m.response(ww, planes, U))(np.asarray(w)))
+    return np.asarray(jax.vmap(lambda ww: balancing_response(m, ww, planes, U))(np.asarray(w)))
 
 
 def errors_pct(res):
@@ -212,7 +213,7 @@ claims["new"].update(model=new.model, covariance_method=new.covariance_method, p
 
 # %%
 fitted = bm.build_machine(dict(p, **new.estimates))
-model_steady = np.asarray(jax.vmap(lambda w: fitted.response(w, planes, new.unbalances))(speeds))
+model_steady = np.asarray(jax.vmap(lambda w: balancing_response(fitted, w, planes, new.unbalances))(speeds))
 fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4))
 for i in range(2):
     ax.plot(speeds, np.abs(X[:, i]) * 1e6, ".", ms=2, label=f"measured (order-tracked), support {i + 1}")

@@ -180,13 +180,13 @@ def n_of_mu(b, mu):
 
 # the stable regions between the boundaries, from the sides of the crossings on the middle line
 mid = found.lines[len(found.lines) // 2]
-on_mid = sorted((c for c in found.crossings if c["p2"] == mid and c["along"] == "n"), key=lambda c: c["p1"])
+on_mid = sorted((c for c in found.crossings if c.p2 == mid and c.along == "n"), key=lambda c: c.p1)
 grid_mu = np.linspace(*BOX["mu_w"], 200)
 shaded = False
 for k, c in enumerate(on_mid):
-    if c["stable_side"] == "above":
-        right = n_of_mu(found[on_mid[k + 1]["branch"]], grid_mu) if k + 1 < len(on_mid) else BOX["n"][1]
-        ax.fill_betweenx(grid_mu, n_of_mu(found[c["branch"]], grid_mu), right, color="tab:green", alpha=0.12,
+    if c.stable_side == "above":
+        right = n_of_mu(found[on_mid[k + 1].branch], grid_mu) if k + 1 < len(on_mid) else BOX["n"][1]
+        ax.fill_betweenx(grid_mu, n_of_mu(found[c.branch], grid_mu), right, color="tab:green", alpha=0.12,
                          label=None if shaded else "main motion stable")
         shaded = True
 for i, b in enumerate(found):
@@ -234,7 +234,7 @@ print(f"model 003: {len(found3)} boundary(ies) of the balanced regime in omega i
       f"d in {box3['d']}")
 for i, b in enumerate(found3):
     d = b.dense(16)
-    side = [c["stable_side"] for c in found3.crossings if c["branch"] == i and c["along"] == "omega"]
+    side = [c.stable_side for c in found3.crossings if c.branch == i and c.along == "omega"]
     info = {"omega_range": [float(d[:, 0].min()), float(d[:, 0].max())],
             "d_range": [float(d[:, 1].min()), float(d[:, 1].max())], "stops": list(b.stops),
             "ends": [b.x[0].tolist(), b.x[-1].tolist()], "start": b.x[b.start].tolist(),

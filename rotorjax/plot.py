@@ -668,17 +668,18 @@ def plot_fe_identification(path=None, result=None, title="", unit="m", *, fig=No
 
 def plot_boundaries(branches, crossings, path=None, key="", key2="", box=None, title="", *, ax=None):
     """Stability boundaries in two parameters: every branch's dense (cubic Hermite)
-    curve with its points marked, and the crossings the scan located (`box`:
-    `(lo1, hi1, lo2, hi2)`, the axes' limits; default: fitted to the curves), on `ax`
-    or a new figure. Returns the `Figure`."""
+    curve with its points marked, and the crossings the scan located
+    (`BoundaryCrossing`s, or JSON rows with the coordinates under `key`, `key2`)
+    (`box`: `(lo1, hi1, lo2, hi2)`, the axes' limits; default: fitted to the
+    curves), on `ax` or a new figure. Returns the `Figure`."""
     fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_boundaries")
     for i, c in enumerate(branches):
         d = c.dense(8)
         line, = ax.plot(d[:, 0], d[:, 1], lw=1.2, label=f"branch {i + 1} ({c.stop})")
         ax.plot(c.x[:, 0], c.x[:, 1], "o", ms=2.5, color=line.get_color())
     if crossings:
-        ax.plot([c[key] for c in crossings], [c[key2] for c in crossings], "kx", ms=6,
-                label="crossings located by the scan")
+        pts = [(c[key], c[key2]) if isinstance(c, dict) else (c.p1, c.p2) for c in crossings]
+        ax.plot([a for a, _ in pts], [b for _, b in pts], "kx", ms=6, label="crossings located by the scan")
     if box is not None:
         ax.set_xlim(box[0], box[1])
         ax.set_ylim(box[2], box[3])

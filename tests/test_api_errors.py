@@ -302,6 +302,13 @@ CASES = [
     (batch, dict(events=True), r"simulate_batch\(events=True\) needs a scene with `contact_indicator`"),
     (batch, dict(method="pallas", saveat=5), r"saveat: method='pallas' returns the final state only"),
     (batch, dict(method="pallas", solver="kvaerno5"), r"solver"),
+    # the analyses of models 002-004 (issue 29)
+    (lambda dofs: rj.analysis.least_stable_whirl(cantilever(), 5.0, dofs), dict(dofs=(0, 99)),
+     r"dofs must be two coordinate indices \(x, y\) in 0\.\.7, got \(0, 99\)"),
+    (lambda speed: rj.analysis.modal003_response(modal_shaft(), speed), dict(speed=NAN), r"speed must be finite"),
+    (lambda unbalances: rj.analysis.balancing_response(idf.BalancingMachine(**MACHINE), 100.0, [0.2, 0.8],
+                                                       unbalances),
+     dict(unbalances=[1e-3]), r"unbalances must have shape \(2,\), got shape \(1,\)"),
 ]
 
 
@@ -383,8 +390,8 @@ def test_checks_do_not_break_vmap_of_fe_and_contact_construction():
         return lim.force(jnp.array([0.02, 0.0]), jnp.zeros(2), 5.0, 0.1)[0]
 
     assert jax.jit(jax.vmap(force))(jnp.array([0.01, 0.015]), jnp.array([850.0, 900.0])).shape == (2, 2)
-    margin = jax.jit(jax.vmap(lambda mu: CantileverRotor(mu, 0.005, 0.03, 0.005, 0.025, n_elements=2)
-                              .stability_margin(5.0)))(jnp.array([0.6, 0.7]))
+    margin = jax.jit(jax.vmap(lambda mu: rj.analysis.linear_margin(
+        CantileverRotor(mu, 0.005, 0.03, 0.005, 0.025, n_elements=2), 5.0)))(jnp.array([0.6, 0.7]))
     assert margin.shape == (2,)
     infl = jax.jit(jax.vmap(lambda k1: idf.BalancingMachine(**dict(MACHINE, k1=k1)).influence(100.0, 0.2)))(
         jnp.array([1e6, 2e6]))

@@ -86,6 +86,14 @@ CASES = [
     (["simulate", "{rotors}/ross_compare.toml", "--speed", "10", "--set", "bearing9.kxx=1"], 2,
      r"unknown parameter 'bearing9\.kxx'"),
     (["hopf", "{rotors}/ross_compare.toml"], 2, r"`hopf` does not apply to .*ross_compare\.toml"),
+    # the damping and probe tables: their values are --set keys, checked as the file's
+    (["modes", "{d}/damped.toml", "--set", "disk_damping0.translational=-1"], 2,
+     r"--set disk_damping0\.translational=-1: must be >= 0 \(disk_damping\[0\] at node 4"),
+    (["modes", "{d}/damped.toml", "--set", "external_damping.coefficient=-2"], 2,
+     r"--set external_damping\.coefficient=-2: must be >= 0 \(external_damping: viscous damping"),
+    (["modes", "{rotors}/ross_compare.toml", "--set", "external_damping.coefficient=1"], 2,
+     r"unknown parameter 'external_damping\.coefficient'"),
+    (["modes", "{d}/probe9.toml"], 2, r"probe9\.toml: probe\[0\]\.node = 9: the shaft has nodes 0\.\.6"),
     # --- steady ---
     (["steady", "elliptic-abb"], 2, r"the following arguments are required: --speed"),
     (["steady", "elliptic-abb", "--speed", "-1"], 2, r"--speed -1: must be > 0"),
@@ -455,6 +463,10 @@ def files(tmp_path_factory):
     again = [line.replace(",1,2,", ",3,2,") for line in run[1]]
     (d / "twotrial.csv").write_text("\n".join([head] + body + again) + "\n")
     shutil.copy(os.path.join(ROTORS, "flexible_rig.toml"), d / "rig_copy.toml")
+    ross = open(os.path.join(ROTORS, "ross_compare.toml")).read()
+    (d / "damped.toml").write_text(ross + "\n[external_damping]\ncoefficient = 0.5\n\n[[disk_damping]]\nnode = 4\n"
+                                   "translational = 10.0\n\n[[probe]]\nnode = 2\n")
+    (d / "probe9.toml").write_text(ross + "\n[[probe]]\nnode = 9\n")
     return d
 
 

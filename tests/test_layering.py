@@ -233,3 +233,94 @@ def test_presets_are_data():
     for preset in presets.PRESETS.values():
         found = [w for f in dataclasses.fields(preset) for w in callables(getattr(preset, f.name), f.name)]
         assert found == ["build"], (preset.name, found)
+
+
+#: names of analyses (issue 29): defined in `analysis/`, as functions of a scene or system
+ANALYSES = frozenset({
+    "stability_margin", "linear_margin", "margin", "eigenvalues", "state_matrix", "modes", "damped_frequencies",
+    "natural_frequencies", "whirl_direction", "campbell", "critical_speed", "critical_speeds", "hopf_points",
+    "unbalance_response", "response", "frf", "floquet_multipliers",
+})
+
+#: the parts below the analyses (they cannot call them, so an analysis there would be a second copy)
+BELOW_ANALYSIS = ("models", "solve", "sweep", "_distributed")
+
+#: model primitives that carry an analysis's name, and why they stay
+PRIMITIVES = {
+    ("models/_contract.py", "LinearMatrices.state_matrix"):
+        "the first-order form of the scene's own linear matrices (what every eigen-analysis starts from)",
+}
+
+
+def _warns_deprecation(node, helpers=frozenset()):
+    """Whether a function's body calls `warnings.warn(..., DeprecationWarning, ...)` (or a
+    helper of its module that does)."""
+    for call in ast.walk(node):
+        if not isinstance(call, ast.Call):
+            continue
+        f = call.func
+        name = f.attr if isinstance(f, ast.Attribute) else f.id if isinstance(f, ast.Name) else None
+        if name in helpers:
+            return True
+        if name == "warn" and any(isinstance(a, ast.Name) and a.id == "DeprecationWarning"
+                                  for a in (*call.args, *(k.value for k in call.keywords))):
+            return True
+    return False
+
+
+def _analyses_defined(source, where):
+    """Qualified names of the functions and methods in `source` named like an analysis
+    (`ANALYSES`) that are not deprecated aliases (bodies that warn) nor `PRIMITIVES`."""
+    tree = ast.parse(source, where)
+    helpers = frozenset(n.name for n in tree.body if isinstance(n, ast.FunctionDef) and _warns_deprecation(n))
+    found = []
+
+    def visit(body, prefix):
+        for n in body:
+            if isinstance(n, ast.ClassDef):
+                visit(n.body, f"{prefix}{n.name}.")
+            elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                name = f"{prefix}{n.name}"
+                if (n.name in ANALYSES and (where, name) not in PRIMITIVES
+                        and not _warns_deprecation(n, helpers)):
+                    found.append((n.lineno, name))
+                visit(n.body, f"{name}.<locals>.")
+
+    visit(tree.body, "")
+    return found
+
+
+def test_no_analysis_is_defined_below_the_analysis_layer():
+    """One analysis layer (issue 29): `models/`, `solve/` (and the loose modules with them)
+    define no function or method named like an analysis (`ANALYSES`: `modes`,
+    `stability_margin`, `unbalance_response`, `response`, ...): those are functions of
+    a scene in `analysis/`. A model's old analysis method may stay one release as a
+    deprecated alias (its body warns with `DeprecationWarning`); model primitives that
+    carry such a name are listed in `PRIMITIVES` with the reason. Above the analyses
+    (identify, presets, plot, bench, cli) the code calls them; presets hold no hooks
+    (`test_presets_are_data`) and the shims define nothing (`test_shims_only_re_export`)."""
+    bad = []
+    for path, parts in _modules():
+        if _part(parts) not in BELOW_ANALYSIS:
+            continue
+        where = path.relative_to(ROOT).as_posix()
+        bad += [f"rotorjax/{where}:{line}: {name}" for line, name in _analyses_defined(path.read_text(), where)]
+    assert not bad, ("analyses defined outside rotorjax/analysis/ (move them there; keep an old method one "
+                     "release as an alias that warns with DeprecationWarning):\n" + "\n".join(bad))
+
+
+@pytest.mark.parametrize("source,found", [
+    ("class R:\n    def stability_margin(self, speed):\n        return 0.0\n", [(2, "R.stability_margin")]),
+    ("def modes(scene, speed):\n    return scene\n", [(1, "modes")]),
+    ("import warnings\nclass R:\n    def response(self, speed):\n"
+     "        warnings.warn('R.response is deprecated', DeprecationWarning, stacklevel=2)\n        return 0\n", []),
+    ("import warnings\ndef _old(m):\n    warnings.warn(m, category=DeprecationWarning)\n"
+     "class R:\n    def eigenvalues(self, speed):\n        _old('use modes')\n        return 0\n", []),
+    ("import warnings\nclass R:\n    def response(self, speed):\n"
+     "        warnings.warn('slow', UserWarning)\n        return 0\n", [(3, "R.response")]),
+    ("class LinearMatrices:\n    def state_matrix(self):\n        return 0\n", []),
+    ("class R:\n    def influence_matrix(self, speed, planes):\n        return 0\n", []),
+])
+def test_the_analysis_rule_can_fail(source, found):
+    where = "models/_contract.py" if "LinearMatrices" in source else "models/_x.py"
+    assert _analyses_defined(source, where) == found

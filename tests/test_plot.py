@@ -11,6 +11,7 @@ import pytest
 
 from rotorjax import identify as idf
 from rotorjax import plot as rplot
+from rotorjax.analysis import balancing_response
 from rotorjax.cli._common import save_figure
 from rotorjax.identify._fit import fit_covariance
 from rotorjax.presets import balancing_machine as bm
@@ -179,7 +180,7 @@ SPEEDS = np.linspace(30.0, 400.0, 60)
 @pytest.fixture(scope="module", params=["known unbalances", "fitted unbalances"])
 def fitted(request):
     """A fit of k1, k2, c1, c2 to 60 speeds with 1 % noise (of the peak)."""
-    Xs = np.asarray(jax.vmap(lambda ww: MACHINE.response(ww, PLANES, U))(SPEEDS))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(SPEEDS))
     s = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(3)
     Xn = Xs + s * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
@@ -196,7 +197,7 @@ def test_band_is_a_point_without_uncertainty(fitted):
     X, lo, hi = idf.response_band(res, start, SPEEDS, PLANES, known, covariance=np.zeros((p, p)))
     m = bm.build_machine(dict(P, **res.estimates))
     D = U if known is not None else res.unbalances
-    np.testing.assert_allclose(X, np.asarray(jax.vmap(lambda ww: m.response(ww, PLANES, D))(SPEEDS)),
+    np.testing.assert_allclose(X, np.asarray(jax.vmap(lambda ww: balancing_response(m, ww, PLANES, D))(SPEEDS)),
                                rtol=1e-12)
     np.testing.assert_array_equal(lo, np.abs(X))
     np.testing.assert_array_equal(hi, np.abs(X))
@@ -225,7 +226,7 @@ def test_band_equals_monte_carlo(fitted):
     def amp(th):
         m = bm.build_machine(dict(P, **{k: jax.numpy.exp(th[i]) for i, k in enumerate(res.names)}))
         D = known if known is not None else th[n:n + 2] + 1j * th[n + 2:]
-        return jax.numpy.abs(jax.vmap(lambda ww: m.response(ww, PLANES, D))(SPEEDS))
+        return jax.numpy.abs(jax.vmap(lambda ww: balancing_response(m, ww, PLANES, D))(SPEEDS))
 
     A = np.asarray(jax.jit(jax.vmap(amp))(draws))
     q_lo, q_hi = np.quantile(A, [0.025, 0.975], axis=0)

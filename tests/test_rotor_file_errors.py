@@ -245,6 +245,39 @@ CASES = [
      ["internal_damping.relaxation_time must be >= 0 (got -1e-05)"]),
     ("gravity-string", add("gravity", {"g": "9.81"}, single=True), None,
      ['gravity.g must be a number, got a string ("9.81")']),
+    # external and disk damping, probes
+    ("external-damping-negative", add("external_damping", {"coefficient": -0.5}, single=True), None,
+     ["external_damping.coefficient must be >= 0 (got -0.5)"]),
+    ("external-damping-missing", add("external_damping", {}, single=True), None,
+     ["external_damping.coefficient is missing (required: viscous damping of the shaft's lateral motion per "
+      "unit length, N s/m^2)"]),
+    ("external-damping-array", edit(lambda d: d.update(external_damping=[{"coefficient": 1.0}])), None,
+     ["external_damping must be a single table: write [external_damping], not [[external_damping]]"]),
+    ("external-damping-unknown-key", add("external_damping", {"coeff": 1.0}, single=True), None,
+     ["external_damping.coeff: unknown key (did you mean 'coefficient'?)"]),
+    ("disk-damping-negative", add("disk_damping", {"node": 3, "translational": -2.0}), None,
+     ["disk_damping[0].translational must be >= 0 (got -2.0)"]),
+    ("disk-damping-negative-angular", add("disk_damping", {"node": 3, "translational": 2.0, "angular": -0.1}),
+     None, ["disk_damping[0].angular must be >= 0 (got -0.1)"]),
+    ("disk-damping-node-off-the-shaft", add("disk_damping", {"node": 7, "translational": 2.0}), None,
+     ["disk_damping[0].node = 7: the shaft has nodes 0..6"]),
+    ("disk-damping-missing", add("disk_damping", {"node": 3}), None, ["disk_damping[0].translational is missing"]),
+    ("disk-damping-unknown-key", add("disk_damping", {"node": 3, "translational": 2.0, "rotational": 0.1}), None,
+     ["disk_damping[0].rotational: unknown key", "the keys of [[disk_damping]] are node, translational, angular"]),
+    ("disk-damping-override", add("disk_damping", {"node": 3, "translational": 2.0}),
+     {"disk_damping0.translational": -1.0},
+     ["disk_damping[0].translational must be >= 0 (got -1.0)", "disk_damping0.translational=-1.0"]),
+    ("probe-node-off-the-shaft", add("probe", {"node": 9}), None, ["probe[0].node = 9: the shaft has nodes 0..6"]),
+    ("probe-missing-node", add("probe", {"name": "left"}), None, ["probe[0].node is missing"]),
+    ("probe-name-not-a-word", add("probe", {"node": 3, "name": "left disk"}), None,
+     ['probe[0].name = "left disk": must be a word (letters, digits and _']),
+    ("probe-name-number", add("probe", {"node": 3, "name": 3}), None, ["probe[0].name must be a string"]),
+    ("probe-name-node", add("probe", {"node": 3, "name": "node"}), None,
+     ['probe[0].name = "node": its outputs node_x, node_y would replace the scene\'s own']),
+    ("probe-same-name", edit(lambda d: d.update(probe=[{"node": 2}, {"node": 4}])), None,
+     ['probe[1].name = "disk": probe[0] has that name already']),
+    ("probe-unknown-key", add("probe", {"node": 3, "label": "x"}), None,
+     ["probe[0].label: unknown key", "the keys of [[probe]] are node, name"]),
     # impossible values (issue 28): no rigid body has Ip > 2 Id; no section has id >= od
     ("disk-ip-above-2id", setitem(("disk", 0, "Ip"), 0.2), None,
      ["disk[0].Ip = 0.2 > 2 Id = 0.1 kg m^2: impossible for a rigid body", "perpendicular-axis theorem",
@@ -318,7 +351,9 @@ def test_the_base_file_is_valid(tmp_path):
     path = tmp_path / "rotor.toml"
     path.write_text(toml(BASE))
     assert load_rotor(path).n_nodes == 7
-    for extra in (add("limiters", LIMITERS), add("auto_balancer", BALANCER)):
+    for extra in (add("limiters", LIMITERS), add("auto_balancer", BALANCER),
+                  add("external_damping", {"coefficient": 0.0}, single=True),
+                  add("disk_damping", {"node": 3, "translational": 0.0}), add("probe", {"node": 6})):
         path.write_text(extra())
         load_rotor(path)
 

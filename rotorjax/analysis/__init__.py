@@ -2,7 +2,8 @@
 linear ones (modes, Campbell diagrams with tracking, 1x critical speeds, unbalance
 and frequency responses, deflected shapes, UCS maps, API level I, static
 deflection), stationary regimes and their stability, Floquet multipliers, Hopf
-points, continuation, stability margins, and model 003's closed forms."""
+points, continuation, stability margins, model 003's closed forms and model
+002's balancing-machine response."""
 
 from ._rotating import check_autonomous as check_autonomous
 from ._rotating import rotating_field as rotating_field
@@ -33,7 +34,9 @@ from ._hopf import reference_hopf_points as reference_hopf_points
 from ._precession import Precession as Precession
 from ._precession import precession as precession
 from ._continuation import Boundaries as Boundaries
+from ._continuation import BoundaryCrossing as BoundaryCrossing
 from ._continuation import Branch as Branch
+from ._continuation import BranchEvent as BranchEvent
 from ._continuation import Curve as Curve
 from ._continuation import FloquetCrossing as FloquetCrossing
 from ._continuation import boundary_points as boundary_points
@@ -62,6 +65,7 @@ from ._linear import campbell_critical_speeds as campbell_critical_speeds
 from ._linear import critical_speed as critical_speed
 from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
+from ._linear import least_stable_whirl as least_stable_whirl
 from ._linear import modes as modes
 from ._linear import state_matrix as state_matrix
 from ._linear import synchronous_critical_speeds as synchronous_critical_speeds
@@ -95,6 +99,9 @@ from ._level1 import mid_span_node as mid_span_node
 from ._modal003 import closed_form_sums as closed_form_sums
 from ._modal003 import critical_speed_function as critical_speed_function
 from ._modal003 import exact_critical_speeds as exact_critical_speeds
+from ._modal003 import modal003_natural_frequencies as modal003_natural_frequencies
+from ._modal003 import modal003_response as modal003_response
+from ._balancing002 import balancing_response as balancing_response
 from ._balancer003 import BalancerRegime as BalancerRegime
 from ._balancer003 import balanced_regime as balanced_regime
 from ._balancer003 import pseudo_balanced_speeds as pseudo_balanced_speeds

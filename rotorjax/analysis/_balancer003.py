@@ -164,10 +164,10 @@ def balancer003_critical_speeds(shaft, lo, hi, exact=False) -> ModalCriticalSpee
     """The critical speeds of model 003's shaft in `[lo, hi]`: the natural frequencies
     its disk's unbalance excites (the modal model), or with `exact` the roots of the
     closed-form equation (17) (`exact_critical_speeds`)."""
-    from ._modal003 import exact_critical_speeds
+    from ._modal003 import exact_critical_speeds, modal003_natural_frequencies
 
     check_type("shaft", shaft, ModalShaft, "a rotorjax.models.ModalShaft")
-    f, excited = (np.asarray(v) for v in shaft.natural_frequencies())
+    f, excited = (np.asarray(v) for v in modal003_natural_frequencies(shaft))
     if exact:
         speeds = exact_critical_speeds(float(shaft.m), float(shaft.z0), float(shaft.J), lo, hi)
         method = "closed form, eq. (17)"

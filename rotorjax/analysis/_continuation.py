@@ -45,6 +45,7 @@ stopped.
 """
 
 import dataclasses
+import warnings
 from typing import Callable
 
 import equinox as eqx
@@ -569,11 +570,67 @@ def trace_curve(G: Callable, x0, ds=0.01, ds_min=1e-9, ds_max=0.2, max_points=20
                   dense_tol=dense_tol)
 
 
+def _deprecated_key(cls, key):
+    warnings.warn(f"{cls.__name__}[{key!r}]: the rows are {cls.__name__} objects now; read the attribute "
+                  f"(.{key}) or as_dict()[{key!r}] (item access goes in the next release)", DeprecationWarning,
+                  stacklevel=3)
+
+
+@dataclasses.dataclass(frozen=True)
+class BranchEvent:
+    """A fold, Hopf point or branch point found along a `Branch` (one of its
+    `events`).
+
+    - `kind`: `"fold"` (refined by Newton on `{F = 0, det F_u = 0}`), `"hopf"`
+      (refined by bisection along the branch on the crossing pair's real part) or
+      `"branch_point"` (a sign change of the bordered determinant, located to the
+      step, not refined).
+    - `p`, `u`: the parameter and the state there.
+    - `residual`: max |.| of the defining system there (for a branch point, the
+      larger residual of the two branch points around it).
+    - `between`: `(i, i + 1)`, the branch's points it lies between.
+    - `frequency`: a Hopf point's `|Im lambda|` of the crossing pair (None for
+      the other kinds).
+    - `note`: a remark on how it was located (branch points), else None.
+
+    `as_dict()` gives the JSON row; `event["p"]` style access still reads the same
+    keys, deprecated (for code written against the former dict rows)."""
+
+    kind: str
+    p: float
+    u: np.ndarray
+    residual: float
+    between: tuple
+    frequency: float = None
+    note: str = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "between", tuple(int(i) for i in self.between))
+
+    def as_dict(self) -> dict:
+        """JSON-ready: `{"kind", "p", "u": [...], "frequency" (Hopf), "residual",
+        "between": [i, i + 1], "note" (when set)}`."""
+        out = {"kind": self.kind, "p": self.p, "u": np.asarray(self.u).tolist()}
+        if self.frequency is not None:
+            out["frequency"] = self.frequency
+        out.update({"residual": self.residual, "between": list(self.between)})
+        if self.note is not None:
+            out["note"] = self.note
+        return out
+
+    def __getitem__(self, key):
+        _deprecated_key(type(self), key)
+        return self.as_dict()[key] if key != "u" else self.u
+
+    def __contains__(self, key):
+        return key in self.as_dict()
+
+
 @dataclasses.dataclass(frozen=True)
 class Branch:
     """A branch of stationary regimes `u(p)`: `u`, `p`, the largest real part of
     the eigenvalues (`margin`) and stability at each point, the detected `events`
-    (a tuple, one row per event: kind "fold", "hopf" or "branch_point", with the
+    (a tuple of `BranchEvent`: kind "fold", "hopf" or "branch_point", with the
     refined `p`, `u`, the residual of its defining system, and for Hopf the
     frequency), and the curve's checks. Frozen (`dataclasses.replace` for a new
     one)."""
@@ -600,8 +657,7 @@ class Branch:
 
     def as_dict(self):
         return {"p": self.p.tolist(), "margin": self.margin.tolist(), "stable": self.stable.tolist(),
-                "events": [{k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in e.items()}
-                           for e in self.events],
+                "events": [e.as_dict() for e in self.events],
                 "residual_max": float(self.curve.residuals.max()), "stopped": self.curve.stopped,
                 "stops": list(self.curve.stops), "start": int(self.curve.start), "n_points": int(self.p.size)}
 
@@ -670,11 +726,11 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             def ext(z):
                 return jnp.concatenate([F(z[:n], z[n]), jnp.linalg.det(jax.jacfwd(F)(z[:n], z[n]))[None]])
             z, r = _newton(ext, 0.5 * (a + b))
-            events.append({"kind": "fold", "p": float(z[n]), "u": z[:n], "residual": r, "between": [i, i + 1]})
+            events.append(BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=(i, i + 1)))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
-            events.append({"kind": "branch_point", "p": float(0.5 * (a[n] + b[n])), "u": 0.5 * (a[:n] + b[:n]),
-                           "residual": float(max(curve.residuals[i], curve.residuals[i + 1])),
-                           "between": [i, i + 1], "note": "located to the step; not refined"})
+            events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),
+                                      residual=float(max(curve.residuals[i], curve.residuals[i + 1])),
+                                      between=(i, i + 1), note="located to the step; not refined"))
         if n_unstable[i] != n_unstable[i + 1]:
             # the eigenvalue that crossed: the least unstable one on the more unstable
             # side (not the one nearest the axis, which may be a lightly damped
@@ -682,11 +738,11 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
             crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                events.append(_refine_hopf(F, Fu, a, b, n) | {"between": [i, i + 1]})
+                events.append(_refine_hopf(F, Fu, a, b, n, between=(i, i + 1)))
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
-def _refine_hopf(F, Fu, a, b, n):
+def _refine_hopf(F, Fu, a, b, n, between) -> BranchEvent:
     """Bisection between two branch points on the real part of the eigenvalue pair
     nearest the imaginary axis, each trial point corrected onto the branch (one
     compiled corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
@@ -713,8 +769,8 @@ def _refine_hopf(F, Fu, a, b, n):
     s = bisect(lambda c: pair_real(corrected(c))[0], 0.0, 1.0, pair_real(a)[0], xtol=1e-14, max_iter=60).x
     y = corrected(s)
     re, omega = pair_real(y)
-    return {"kind": "hopf", "p": float(y[n]), "u": y[:n], "frequency": omega,
-            "residual": float(max(np.max(np.abs(np.asarray(F(y[:n], y[n])))), abs(re)))}
+    return BranchEvent(kind="hopf", p=float(y[n]), u=y[:n], frequency=float(omega),
+                       residual=float(max(np.max(np.abs(np.asarray(F(y[:n], y[n])))), abs(re))), between=between)
 
 
 def _correct_start(s, a, bounds, names, max_iter=30, axis=0):
@@ -817,19 +873,55 @@ def trace_boundary(sigma: Callable, p0, bounds=None, ds=0.01, ds_max=0.2, max_po
 
 
 @dataclasses.dataclass(frozen=True)
+class BoundaryCrossing:
+    """A crossing of a stability boundary that `trace_boundaries`' scan located
+    (one of `Boundaries.crossings`).
+
+    - `p1`, `p2`: where it lies (on its branch, when it has one).
+    - `along`: the name of the parameter scanned there (`p1`'s on a line or the
+      box's bottom or top, `p2`'s on its sides).
+    - `stable_side`: `"above"` or `"below"`, the side of it, in that parameter,
+      where the margin is negative.
+    - `branch`: the index of the branch through it (traced from it, or found on
+      one traced before; `p1, p2` are then that branch's point), or None when no
+      branch could be started there, with the reason in `error`.
+
+    `as_dict(names)` gives the JSON row; `crossing["p1"]` style access still reads
+    the same keys, deprecated (for code written against the former dict rows)."""
+
+    p1: float
+    p2: float
+    along: str
+    stable_side: str
+    branch: int = None
+    error: str = None
+
+    def as_dict(self, names=("p1", "p2")) -> dict:
+        """JSON-ready: `{names[0]: p1, names[1]: p2, "along", "stable_side",
+        "branch", "error" (when set)}` (`names` default `("p1", "p2")`; the CLI
+        names them by the parameters)."""
+        k1, k2 = names
+        return {k1: self.p1, k2: self.p2, "along": self.along, "stable_side": self.stable_side,
+                "branch": self.branch, **({"error": self.error} if self.error is not None else {})}
+
+    def __getitem__(self, key):
+        _deprecated_key(type(self), key)
+        return self.as_dict()[key]
+
+    def __contains__(self, key):
+        return key in self.as_dict()
+
+
+@dataclasses.dataclass(frozen=True)
 class Boundaries:
     """Every branch of a stability boundary that `trace_boundaries` found in a box.
 
     - `branches`: one `Curve` per branch, in the order the scan met them.
     - `lines`: the values of `p2` inside the box along which `p1` was scanned
       (besides the box's edge).
-    - `crossings`: each crossing the scan located, `{"p1", "p2", "along",
-      "stable_side", "branch"}`: `along` is the parameter scanned there (`p1` on
-      a line or the box's bottom or top, `p2` on its sides), `stable_side`
-      (`"above"` or `"below"`) the side of it, in that parameter, where the margin
-      is negative, `branch` the index of the branch through it (traced from it,
-      or found on one traced before; `p1, p2` are then that branch's point), or
-      None with an `"error"` when no branch could be started there.
+    - `crossings`: each crossing the scan located, a `BoundaryCrossing` (where,
+      the parameter scanned there, the stable side, and the index of the branch
+      through it, or None with an `error`), in the scan path's order.
     - `box`: `((lo1, hi1), (lo2, hi2))`.
 
     It is also the sequence of its branches (`len`, iteration, indexing). Frozen;
@@ -989,9 +1081,9 @@ def trace_boundaries(sigma: Callable, box, n_lines: int = 3, n_scan: int = 40, x
                         # the branch's point there, to its accuracy rather than the bisection's
                         o["branch"], o["p1"], o["p2"] = c["branch"], float(pt[0]), float(pt[1])
                         break
-    for c in crossings:
-        del c["_axis"], c["_span"]
-    return Boundaries(branches=tuple(branches), crossings=tuple(crossings), lines=lines,
+    rows = tuple(BoundaryCrossing(p1=c["p1"], p2=c["p2"], along=c["along"], stable_side=c["stable_side"],
+                                  branch=c["branch"], error=c.get("error")) for c in crossings)
+    return Boundaries(branches=tuple(branches), crossings=rows, lines=lines,
                       box=((lo1, hi1), (lo2, hi2)))
 
 

@@ -153,6 +153,25 @@ def damped_frequencies(rotor, speed, n_modes=None):
     return f if n_modes is None else f[:n_modes]
 
 
+def least_stable_whirl(system, speed, dofs):
+    """The eigenvalue of largest real part of any linear system at `speed` (of a
+    conjugate pair, the member with `Im >= 0`) and whether its mode whirls forward
+    (in the spin's direction) at the coordinates `dofs = (x, y)` (the positions in
+    `q` of one point's two translations, e.g. a disk's): `(eigenvalue, forward)`.
+    Traceable in the speed and the system's parameters (not in `dofs`)."""
+    n = _check_rotor(system, "least_stable_whirl", "linear_system")
+    d = np.asarray(dofs) if is_concrete(dofs) else None
+    if (d is None or d.shape != (2,) or not np.issubdtype(d.dtype, np.integer)
+            or np.any(d < 0) or np.any(d >= n)):
+        raise InputError(f"dofs must be two coordinate indices (x, y) in 0..{n - 1}, got {dofs!r}")
+    _check_speed("speed", speed)
+    lam, vec = jnp.linalg.eig(state_matrix(system, jnp.asarray(speed, dtype=jnp.float64)))
+    k = jnp.argmax(jnp.real(lam) + 1e-9 * jnp.sign(jnp.imag(lam)))  # of a pair, the Im > 0 member
+    x, y = vec[int(d[0]), k], vec[int(d[1]), k]
+    fwd = jnp.abs(x + 1j * y) >= jnp.abs(x - 1j * y)   # for Im lambda > 0; reversed below it
+    return lam[k], jnp.where(jnp.imag(lam[k]) >= 0, fwd, ~fwd)
+
+
 def campbell(rotor, speeds, n_modes=8):
     """Damped natural frequencies and whirl directions over `speeds` (vmapped)."""
     n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="campbell", capability="linear_system")

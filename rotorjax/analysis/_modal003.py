@@ -1,6 +1,11 @@
-"""Model 003's analyses (Kovachev, SPbU dissertation abstract): the closed-form
-sums and critical speeds of the pinned-pinned shaft with a disk
+"""Model 003's analyses (Kovachev, SPbU dissertation abstract): the natural
+frequencies and synchronous response of the truncated modal model, and the
+closed-form sums and critical speeds of the pinned-pinned shaft with a disk
 (`rotorjax.models.ModalShaft`, whose docstring states the model and its units).
+
+The response solves `(diag Lambda - w^2 (m a a^T + J b b^T)) W = m0 w^2 a`, whose
+rank-2 structure gives the disk's deflection and tilt from the sums `S11, S12,
+S22` alone (eqs. 10-13), O(n_modes).
 
 The truncated sums' `n -> infinity` limits have closed forms (eqs. 14-16), and the
 critical speeds solve (eq. 17)
@@ -13,7 +18,44 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._roots import find_roots
-from ..models._validate import as_count, as_param, check, check_span
+from ..models._fe_reduction import undamped_modes
+from ..models._modal import ModalShaft
+from ..models._validate import as_count, as_param, check, check_span, check_type, is_concrete
+
+
+def modal003_natural_frequencies(shaft):
+    """Undamped synchronous critical speeds of model 003's modal model (units of
+    omega_1, ascending): the eigenvalues `nu` of `diag(k^4) W = nu^2 (I + m a a^T +
+    J b b^T) W` (`shaft.synchronous_matrices()`), with a flag per mode for those the
+    disk's imbalance excites (non-zero disk deflection): `(frequencies, excited)`."""
+    check_type("shaft", shaft, ModalShaft, "a rotorjax.models.ModalShaft")
+    M, _, K = shaft.synchronous_matrices()
+    nu2, w = undamped_modes(M, K)   # symmetric-definite: Cholesky of the mass, mass-normalised
+    a = shaft.mode_vectors()[0]
+    return jnp.sqrt(nu2), jnp.abs(a @ w) > 1e-9 * jnp.linalg.norm(w, axis=0)
+
+
+def modal003_response(shaft, speed):
+    """Synchronous response of model 003's shaft at `speed` (units of omega_1; the
+    paper's `w`), eqs. 10-13: the complex disk-centre position in the rotating frame
+    `W_disk` (units r0; `A = |W_disk|`, phase its angle) and the disk tilt `Phi`
+    (physical angle `(pi r0 / l) Phi`): `(W_disk, Phi)`. The rank-2 form of
+    `frequency_response` with `shaft.synchronous_matrices()`, O(n_modes); traceable
+    in the speed and the shaft's parameters."""
+    check_type("shaft", shaft, ModalShaft, "a rotorjax.models.ModalShaft")
+    if is_concrete(speed):
+        as_param("speed", speed, shape=())
+    s11, s12, s22 = shaft.sums(speed)
+    return _rank2_response(s11, s12, s22, shaft.m, shaft.J, shaft.m0, speed)
+
+
+def _rank2_response(s11, s12, s22, m, J, m0, w):
+    """Disk deflection and tilt from the sums (eqs. 10-13)."""
+    den = s11 * (1 - s22 * J * w**2) + s12**2 * J * w**2
+    q = 1.0 / ((1 - s22 * J * w**2) / den - m * w**2)
+    disk = m0 * w**2 * q
+    tilt = s12 * m0 * w**2 / ((1 - s11 * m * w**2) * (1 - s22 * J * w**2) - s12**2 * m * J * w**4)
+    return disk, tilt
 
 
 def closed_form_sums(w, z0, d=0.0):

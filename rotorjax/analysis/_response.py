@@ -32,7 +32,8 @@ def _responses(scene, speeds):
 
 def linear_margin(scene, speed):
     """Largest real part of the eigenvalues of the scene's linear(ised) equations
-    about its reference motion at `speed` (< 0: stable). Traceable in the speed and
-    the scene's parameters."""
-    require(scene, "linear_matrices", "a linear stability margin")
+    about its reference motion at `speed` (< 0: stable): of any linear system (a
+    linear scene, a finite-element rotor, model 004's `CantileverRotor`). Traceable in
+    the speed and the scene's parameters."""
+    require(scene, "linear_system", "a linear stability margin")
     return jnp.max(jnp.real(jnp.linalg.eigvals(scene.linear_matrices(speed).state_matrix())))

@@ -33,9 +33,11 @@ def synchronous_branch(scene, speed_range, speed0=None, ds=0.05, ds_max=0.5, max
 
     Returns a `Branch` in physical units: `p` the speeds, `u` the rotating-frame
     states (`scene.to_fixed(0, u)` is the fixed-frame state at `t = 0`), `stable`,
-    and `events` ("fold" with its refined speed, "hopf"). The continuation runs
-    on scaled variables (lengths by the largest linear response in the range, speed and
-    time by `speed0`) so that the arclength weighs both alike; `margin` is in 1/s.
+    and `events` (`BranchEvent`s: "fold" with its refined speed, "hopf" with its
+    whirl frequency in rad/s; their residuals are those of the scaled system). The
+    continuation runs on scaled variables (lengths by the largest linear response in
+    the range, speed and time by `speed0`) so that the arclength weighs both alike;
+    `margin` is in 1/s.
     """
     try:
         lo, hi = speed_range
@@ -73,7 +75,9 @@ def synchronous_branch(scene, speed_range, speed0=None, ds=0.05, ds_max=0.5, max
                              f"converge (residual {r:.2e})")
     br = continue_branch(F, z0, 1.0, p_bounds=(lo / sp, hi / sp), ds=ds, ds_max=ds_max, max_points=max_points,
                          tol=tol, name="speed")
-    events = [dict(e, p=e["p"] * sp, u=np.asarray(e["u"]) * np.asarray(scale)) for e in br.events]
+    # back to physical units: a Hopf frequency, as the margin, is an eigenvalue of the scaled field (times 1/sp)
+    events = [dataclasses.replace(e, p=e.p * sp, u=np.asarray(e.u) * np.asarray(scale),
+                                  frequency=None if e.frequency is None else e.frequency * sp) for e in br.events]
     stops = tuple(re.sub(r"speed = ([-+.\deE]+)", lambda m: f"speed = {_physical(float(m.group(1)) * sp, lo, hi)}",
                          s) for s in br.curve.stops)
     curve = dataclasses.replace(br.curve, stops=stops)

@@ -113,16 +113,14 @@ def cmd_continue(args) -> int:
                                      ds=args.ds, ds_max=args.ds_max, max_points=args.max_points,
                                      gradient=gradient, names=(key, key2), progress=not args.json)
             if not found.branches:
-                failed = [c["error"] for c in found.crossings if "error" in c]
+                failed = [c.error for c in found.crossings if c.error is not None]
                 raise InputError(f"no stability boundary meets the edge of the box {key} in [{box[0]:g}, "
                                  f"{box[1]:g}], {key2} in [{box[2]:g}, {box[3]:g}] nor crosses {key2} = "
                                  + ", ".join(f"{v:g}" for v in found.lines)
                                  + (f": {failed[0]}" if failed else "")
                                  + f"; give --from {key.upper()} {key2.upper()} near one, or another --box")
             branches = found.branches
-            crossings = [{key: c["p1"], key2: c["p2"], "along": c["along"], "stable_side": c["stable_side"],
-                          "branch": c["branch"], **({"error": c["error"]} if "error" in c else {})}
-                         for c in found.crossings]
+            crossings = found.crossings
             start = branches[0].x[branches[0].start].tolist()
             out["start_source"] = (f"crossings located round the box's edge and along {key} at {key2} = "
                                    + ", ".join(f"{v:.6g}" for v in found.lines))
@@ -132,14 +130,14 @@ def cmd_continue(args) -> int:
                                        max_points=args.max_points, gradient=gradient,
                                        direction=None if direction is None else (0.0, direction),
                                        names=(key, key2), progress=not args.json, dense_tol=DENSE_TOL)]
-            crossings = []
+            crossings = ()
             start = branches[0].x[branches[0].start].tolist()
         first = branches[0]
         out.update({"kind": "stability boundary (margin = 0)", "regime": study.regime, "start": start,
                     "box": box, "box_source": box_source, "dense_tol": DENSE_TOL,
                     "n_branches": len(branches),
                     "branches": [c.as_dict(names=(key, key2), dense=8) for c in branches],
-                    "crossings": crossings,
+                    "crossings": [c.as_dict(names=(key, key2)) for c in crossings],
                     # the first branch, as before there were several
                     key: first.x[:, 0].tolist(), key2: first.x[:, 1].tolist(),
                     "residuals": first.residuals.tolist(), "steps": first.steps.tolist(),

@@ -61,6 +61,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..analysis._balancing002 import balancing_response
 from ..models._balancing_machine import BalancingMachine
 
 FITTABLE = ("k1", "k2", "c1", "c2", "m", "I")
@@ -131,7 +132,7 @@ class Residual(eqx.Module):
             D = theta[n:n + n_planes] + 1j * theta[n + n_planes:]
         else:
             D = self.unbalances
-        model = jax.vmap(lambda w: machine.response(w, self.planes, D))(self.speeds)
+        model = jax.vmap(lambda w: balancing_response(machine, w, self.planes, D))(self.speeds)
         d = (model - self.X) / self.sigma
         return jnp.concatenate([jnp.real(d).ravel(), jnp.imag(d).ravel()])
 
@@ -612,7 +613,7 @@ def runup_phasors(machine, planes, unbalances, data: RunupData):
     lever = jnp.stack([machine.l - planes, planes]) / machine.l                 # (2, n_planes)
     D = jnp.asarray(unbalances, dtype=jnp.complex128)
     beta = Vi[:, 2:] @ (Ai.astype(jnp.complex128) @ (lever.astype(jnp.complex128) @ D))   # (4,)
-    X0 = machine.response(data.w0, planes, D)
+    X0 = balancing_response(machine, data.w0, planes, D)
     q0 = Vi @ (jnp.concatenate([X0, 1j * data.w0 * X0]) * jnp.exp(1j * data.theta0))
     ur, ui, er, ei = _mode_blocks(lam, data.h, data.theta_n, data.w_n, data.g0, data.g1, data.g2, data.basis,
                                   data.segment, data.normal_inv, data.n_blocks, data.fft_size)
@@ -728,7 +729,7 @@ def _response_of_theta(machine, names, planes, known):
     def response(theta, speeds):
         m = _machine_with(machine, names, theta[:n])
         D = theta[n:n + n_planes] + 1j * theta[n + n_planes:] if known is None else known
-        return jax.vmap(lambda w: m.response(w, planes, D))(speeds)
+        return jax.vmap(lambda w: balancing_response(m, w, planes, D))(speeds)
 
     return response
 

@@ -31,6 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import NumericalError
+from ..analysis._balancing002 import balancing_response
 from ..models._balancing_machine import BalancingScene
 from ..models._speed import ConstantSpeed, RunUp
 from ..solve._simulate import simulate as simulate_scene
@@ -91,7 +92,7 @@ def make_balancing_runs(p, rng):
     cols = {k: [] for k in ("time", "tacho", "x1", "x2", "run", "trial_plane", "trial_unbalance", "trial_angle")}
     settle = 3.0  # s of transient discarded: the steady run is what a balancing machine measures
     t = np.arange(0.0, settle + dur, 1 / fs)
-    X0 = np.asarray(machine.response(w, planes, U))
+    X0 = np.asarray(balancing_response(machine, w, planes, U))
     noise = 0.01 * np.max(np.abs(X0))
     for run, trial in enumerate(trials):
         Ur = np.array(U, dtype=complex)

@@ -29,6 +29,8 @@ from the once-per-revolution mark in the direction of rotation; a vibration
 `x(t) = Re(X e^{i theta(t)})` with `theta` the rotor angle (0 at the mark).
 """
 
+import warnings
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -90,7 +92,11 @@ class BalancingMachine(eqx.Module):
         return jax.vmap(lambda a: self.influence(speed, a), out_axes=1)(jnp.asarray(planes, dtype=jnp.float64))
 
     def response(self, speed, planes, unbalances):
-        """Complex support amplitudes `X = K(speed) D` for unbalances `D` (kg m, complex)."""
+        """Deprecated: `rotorjax.analysis.balancing_response(machine, speed, planes,
+        unbalances)` (the complex support amplitudes `X = K(speed) D`)."""
+        warnings.warn("BalancingMachine.response is deprecated (analyses live in rotorjax.analysis): use "
+                      "rotorjax.analysis.balancing_response(machine, speed, planes, unbalances)",
+                      DeprecationWarning, stacklevel=2)
         n = _check_planes(planes)
         if is_concrete(unbalances):
             as_numpy("unbalances", unbalances, shape=(n,), dtype=np.complex128)
@@ -112,7 +118,8 @@ class BalancingScene(AbstractLinearScene):
     State `y = (x1, x2, x1', x2')` (m, m/s); outputs `x1`, `x2`. Linear matrices
     `M = A`, `C = B`, `G = 0`, `K = C` of eq. (9) at every speed; the unbalance load
     at speed `w` is `F = (w^2 / l) sum_j D_j (l - a_j, a_j)`, so
-    `frequency_response(M, C, K, F, w)` is `machine.response(w, planes, unbalances)`.
+    `frequency_response(M, C, K, F, w)` is
+    `rotorjax.analysis.balancing_response(machine, w, planes, unbalances)`.
 
     **Arguments:** `machine`, `planes` (1-D, distinct, within `[0, l]`),
     `unbalances` (complex, one per plane), `speed` (an `AbstractSpeedProfile` or a

@@ -22,14 +22,24 @@ the consistent translational mass of a unit-density shaft), and `G1` the
 gyroscopic matrix of shaft (Rayleigh beam) and disk. The loads `F` (unbalance
 `eps N^2 (cos(N t + phi), sin(N t + phi))`, gravity `-gamma` along x, limiter
 contact) act at the disk (node `n_elements`).
+
+The rotor is a linear system (`linear_matrices(speed)`); its analyses are functions
+in `rotorjax.analysis`: `state_matrix`, `modes`, `linear_margin`, `hopf_points`,
+`least_stable_whirl(rotor, speed, rotor.disk_dofs[:2])` (whirl at the disk), and the
+unbalance response of `cantilever_scene(rotor, N, eps=eps, phase=phase)` by
+`scene_unbalance_response`. In synchronous forward whirl the shaft does not deform
+in the rotating frame, so internal friction does no work and drops out of that
+response (a check, tested).
 """
+
+import warnings
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._contract import LinearMatrices
+from ._contract import AbstractLinearSystem, LinearMatrices
 from ._fe_reduction import undamped_modes
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._rotation import quarter_turn_matrix
@@ -66,7 +76,7 @@ def limiter_groups_from_si(k, h, d_S, l, M, EI):
     return {"kappa": k * l**3 / EI, "chi": h / l, "eta": d_S * np.sqrt(l**3 / (M * EI))}
 
 
-class CantileverRotor(eqx.Module):
+class CantileverRotor(AbstractLinearSystem):
     """Model 004's rotor (see the module docstring), dimensionless.
 
     **Arguments:** `mu_R` (shaft mass / disk mass), `beta` (disk transverse inertia,
@@ -171,21 +181,24 @@ class CantileverRotor(eqx.Module):
         return LinearMatrices(M, C + Ci, speed * G1, K + speed * Ci @ J)
 
     def state_matrix(self, speed=None, *, N=None):
-        """First-order matrix of the free (load-free) motion at `speed` (the paper's
-        `N`, accepted as an alias)."""
+        """Deprecated: `rotorjax.analysis.state_matrix(rotor, speed)`."""
         speed = speed_alias(speed, N, "N", "CantileverRotor.state_matrix")
+        _deprecated("state_matrix", "rotorjax.analysis.state_matrix(rotor, speed)")
         return self.linear_matrices(speed).state_matrix()
 
     def eigenvalues(self, speed=None, *, N=None):
-        """Eigenvalues of straight-line rotation at `speed` (the paper's `N`)."""
+        """Deprecated: `jnp.linalg.eigvals(rotorjax.analysis.state_matrix(rotor, speed))`
+        (or `rotorjax.analysis.modes(rotor, speed)`: the upper half-plane, sorted)."""
         speed = speed_alias(speed, N, "N", "CantileverRotor.eigenvalues")
-        return jnp.linalg.eigvals(self.state_matrix(jnp.asarray(speed, dtype=jnp.float64)))
+        _deprecated("eigenvalues", "jnp.linalg.eigvals(rotorjax.analysis.state_matrix(rotor, speed)) or "
+                    "rotorjax.analysis.modes(rotor, speed)")
+        return jnp.linalg.eigvals(self.linear_matrices(jnp.asarray(speed, dtype=jnp.float64)).state_matrix())
 
     def stability_margin(self, speed=None, *, N=None):
-        """Largest real part of the eigenvalues of straight-line rotation at `speed`
-        (the paper's `N`)."""
+        """Deprecated: `rotorjax.analysis.linear_margin(rotor, speed)`."""
         speed = speed_alias(speed, N, "N", "CantileverRotor.stability_margin")
-        return jnp.max(jnp.real(self.eigenvalues(speed)))
+        _deprecated("stability_margin", "rotorjax.analysis.linear_margin(rotor, speed)")
+        return jnp.max(jnp.real(jnp.linalg.eigvals(self.linear_matrices(speed).state_matrix())))
 
     def modal_basis(self, n_modes):
         """The `n_modes` lowest undamped non-rotating modes (mass-normalised), for a
@@ -196,26 +209,29 @@ class CantileverRotor(eqx.Module):
         return jax.lax.stop_gradient(undamped_modes(M, K)[1][:, :n_modes])
 
     def unbalance_response(self, speed=None, eps=None, phase=0.0, *, N=None):
-        """Steady response to the unbalance `eps` at `speed` (the paper's `N`, accepted
-        as an alias; no contact, no gravity): complex amplitudes of all free dofs,
-        `q = Re(Q e^{i speed t})`, from `rotorjax.models.frequency_response`. In
-        synchronous forward whirl the shaft does not deform in the rotating frame, so
-        internal friction does no work and drops out (a check, tested)."""
+        """Deprecated: `rotorjax.analysis.scene_unbalance_response(cantilever_scene(rotor,
+        speed, eps=eps, phase=phase), [speed])[0]` (complex amplitudes of all free dofs)."""
         N = speed_alias(speed, N, "N", "CantileverRotor.unbalance_response")
         if eps is None:
             raise InputError("CantileverRotor.unbalance_response: eps (the eccentricity) is required")
-        lin = self.linear_matrices(N)
-        d = self.disk_dofs
+        _deprecated("unbalance_response", "rotorjax.analysis.scene_unbalance_response(rotorjax.models."
+                    "cantilever_scene(rotor, speed, eps=eps, phase=phase), [speed])[0]")
+        lin, d = self.linear_matrices(N), self.disk_dofs
         fx = eps * N**2 * jnp.exp(1j * phase)
         F = jnp.zeros(lin.M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
         return frequency_response(lin.M, lin.C + lin.G, lin.K, F, N)
 
     def whirl_direction(self, speed=None, *, N=None):
-        """Eigenvalue of largest real part at `speed` (the paper's `N`) and whether its
-        mode whirls forward (in the spin's direction) at the disk."""
+        """Deprecated: `rotorjax.analysis.least_stable_whirl(rotor, speed, rotor.disk_dofs[:2])`."""
         speed = speed_alias(speed, N, "N", "CantileverRotor.whirl_direction")
-        lam, vec = jnp.linalg.eig(self.state_matrix(jnp.asarray(speed, dtype=jnp.float64)))
+        _deprecated("whirl_direction", "rotorjax.analysis.least_stable_whirl(rotor, speed, rotor.disk_dofs[:2])")
+        lam, vec = jnp.linalg.eig(self.linear_matrices(jnp.asarray(speed, dtype=jnp.float64)).state_matrix())
         k = jnp.argmax(jnp.real(lam) + 1e-9 * jnp.sign(jnp.imag(lam)))  # the Im > 0 member
         x, y = vec[self.disk_dofs[0], k], vec[self.disk_dofs[1], k]
         fwd = jnp.abs(x + 1j * y) >= jnp.abs(x - 1j * y)
         return lam[k], jnp.where(jnp.imag(lam[k]) >= 0, fwd, ~fwd)
+
+
+def _deprecated(method, instead):
+    warnings.warn(f"CantileverRotor.{method} is deprecated (analyses live in rotorjax.analysis): use {instead}",
+                  DeprecationWarning, stacklevel=3)

@@ -232,7 +232,7 @@ _WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an Abst
          AbstractContactScene: "no contacts (it is not an AbstractContactScene)",
          AbstractEnergyScene: "no energy balance (it is not an AbstractEnergyScene)",
          AbstractLinearSystem: "no linear equations (it is not an AbstractLinearSystem: a linear scene, a "
-                               "FlexibleRotor or a ReducedRotor)",
+                               "FlexibleRotor, a ReducedRotor or a CantileverRotor)",
          AbstractShaftModel: "no finite-element shaft layout (it is not an AbstractShaftModel: a FlexibleRotor, "
                              "ReducedRotor or RotorScene)"}
 

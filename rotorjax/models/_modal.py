@@ -15,8 +15,9 @@ i.e. `(K - w^2 M + i w C) W = F` with `M = I + m a a^T + J b b^T`, `C = d I`,
 `K = diag k^4` (`ModalShaft.synchronous_matrices`), whose rank-2 structure gives
 the sums `S11 = sum a_k^2/Lambda_k`, `S12 = sum a_k b_k/Lambda_k`,
 `S22 = sum b_k^2/Lambda_k` (eqs. 8-13). Their `n -> infinity` limits and the
-critical speeds (eqs. 14-17) are analyses: `rotorjax.flexible.closed_form_sums`,
-`exact_critical_speeds`.
+critical speeds (eqs. 14-17), the truncated model's natural frequencies and its
+response are analyses: `rotorjax.analysis.closed_form_sums`, `exact_critical_speeds`,
+`modal003_natural_frequencies`, `modal003_response`.
 
 `J` is the disk's effective rotary inertia in synchronous whirl. The paper's
 equations give `J = Jt + 2 Jp`; a standard rigid-disk derivation gives `Jt - Jp`
@@ -24,10 +25,14 @@ equations give `J = Jt + 2 Jp`; a standard rigid-disk derivation gives `Jt - Jp`
 `"standard"`.
 """
 
+import warnings
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 
+from ._fe_reduction import undamped_modes
+from ._frequency import frequency_response
 from ._speed import speed_alias
 from ._validate import as_count, as_param, check, check_choice
 
@@ -79,18 +84,12 @@ class ModalShaft(eqx.Module):
         return jnp.sum(a * a / lam), jnp.sum(a * b / lam), jnp.sum(b * b / lam)
 
     def natural_frequencies(self):
-        """Undamped synchronous critical speeds of the modal model: the eigenvalues of
-        `diag(k^4) W = nu^2 (I + m a a^T + J b b^T) W`, with a flag for the modes the
-        disk's imbalance excites (non-zero disk deflection)."""
-        a, b, k = self.mode_vectors()
-        mass = jnp.eye(self.n_modes) + self.m * jnp.outer(a, a) + self.J * jnp.outer(b, b)
-        # symmetric-definite: Cholesky of the mass, then a symmetric eigenproblem
-        L = jnp.linalg.cholesky(mass)
-        Linv = jnp.linalg.inv(L)
-        nu2, v = jnp.linalg.eigh(Linv @ jnp.diag(k**4) @ Linv.T)
-        w = Linv.T @ v
-        excited = jnp.abs(a @ w) > 1e-9 * jnp.linalg.norm(w, axis=0)
-        return jnp.sqrt(nu2), excited
+        """Deprecated: `rotorjax.analysis.modal003_natural_frequencies(shaft)`."""
+        warnings.warn("ModalShaft.natural_frequencies is deprecated (analyses live in rotorjax.analysis): use "
+                      "rotorjax.analysis.modal003_natural_frequencies(shaft)", DeprecationWarning, stacklevel=2)
+        M, _, K = self.synchronous_matrices()
+        nu2, w = undamped_modes(M, K)
+        return jnp.sqrt(nu2), jnp.abs(self.mode_vectors()[0] @ w) > 1e-9 * jnp.linalg.norm(w, axis=0)
 
     def synchronous_matrices(self):
         """`(M, C, K)` of the synchronous whirl `v = W e^{i speed t}` in the complex
@@ -102,19 +101,12 @@ class ModalShaft(eqx.Module):
         return M, self.d * jnp.eye(self.n_modes), jnp.diag(k**4)
 
     def response(self, speed=None, *, w=None):
-        """Synchronous response at `speed` (the paper's `w`, accepted as an alias;
-        eqs. 10-13): the complex disk-centre position in the rotating frame `W_disk`
-        (units r0; `A = |W_disk|`, phase its angle) and the disk tilt `Phi` (physical
-        angle `(pi r0 / l) Phi`). The rank-2 form of `frequency_response` with
-        `synchronous_matrices`, O(n_modes)."""
+        """Deprecated: `rotorjax.analysis.modal003_response(shaft, speed)` (the rank-2
+        closed form, eqs. 10-13); here the same response by one `frequency_response`
+        solve of `synchronous_matrices`."""
         w = speed_alias(speed, w, "w", "ModalShaft.response")
-        s11, s12, s22 = self.sums(w)
-        return _response(s11, s12, s22, self.m, self.J, self.m0, w)
-
-
-def _response(s11, s12, s22, m, J, m0, w):
-    den = s11 * (1 - s22 * J * w**2) + s12**2 * J * w**2
-    q = 1.0 / ((1 - s22 * J * w**2) / den - m * w**2)
-    disk = m0 * w**2 * q
-    tilt = s12 * m0 * w**2 / ((1 - s11 * m * w**2) * (1 - s22 * J * w**2) - s12**2 * m * J * w**4)
-    return disk, tilt
+        warnings.warn("ModalShaft.response is deprecated (analyses live in rotorjax.analysis): use "
+                      "rotorjax.analysis.modal003_response(shaft, speed)", DeprecationWarning, stacklevel=2)
+        a, b, _ = self.mode_vectors()
+        W = frequency_response(*self.synchronous_matrices(), self.m0 * w**2 * a, w)
+        return a @ W, b @ W

@@ -82,14 +82,14 @@ class LimitersAt(AbstractRotorComponent):
         return self.limiters.n
 
     def contact_indicator(self, s, q, qd):
-        return self.limiters.indicator(s.position(self.node), s.velocity(self.node), in_length=True)
+        return self.limiters.indicator(*s.motion(self.node), in_length=True)
 
     def force(self, s, q, qd, active=None):
-        f, _ = self.limiters.force(s.position(self.node), s.velocity(self.node), s.theta_dot, self.radius, active)
+        f, _ = self.limiters.force(*s.motion(self.node), s.theta_dot, self.radius, active)
         return s.place(self.node, f)
 
     def outputs(self, s, q, qd):
-        pos, vel = s.position(self.node), s.velocity(self.node)
+        pos, vel = s.motion(self.node)
         active = self.limiters.indicator(pos, vel) > 0
         return {"normal_forces": self.limiters.normal_forces(pos, vel, active)}
 

@@ -3,7 +3,6 @@
 import equinox as eqx
 import jax.numpy as jnp
 
-from ._fe_rotor import DOFS_PER_NODE
 from ._rotor_component import AbstractRotorComponent, node_index
 
 
@@ -25,8 +24,7 @@ class NodeProbe(AbstractRotorComponent):
         return self.node_index
 
     def outputs(self, s, q, qd):
-        b = DOFS_PER_NODE * self.node
-        x, v, k = s.x[b:b + 4], s.v[b:b + 2], self.name
+        x, v, k = s.displacements(self.node), s.velocity(self.node), self.name
         return {f"{k}_x": x[0], f"{k}_y": x[1], f"{k}_vx": v[0], f"{k}_vy": v[1], f"{k}_tilt_x": x[2],
                 f"{k}_tilt_y": x[3], f"{k}_radius": jnp.sqrt(x[0] ** 2 + x[1] ** 2)}
 

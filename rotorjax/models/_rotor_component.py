@@ -79,6 +79,15 @@ class ShaftState(eqx.Module):
     def velocity(self, node: int) -> jax.Array:
         return self._rows(node) @ self.qd
 
+    def displacements(self, node: int) -> jax.Array:
+        """`node`'s four dofs `(x, y, sx, sy)` (its rows of `E` alone)."""
+        return self._rows(node, DOFS_PER_NODE) @ self.q
+
+    def motion(self, node: int):
+        """`(position, velocity)` of `node`'s centre, from one product."""
+        pv = self._rows(node) @ jnp.stack([self.q, self.qd], axis=1)
+        return pv[:, 0], pv[:, 1]
+
     def place(self, node: int, f2) -> NodeLoad:
         """A force `f2 = (f_x, f_y)` at `node` (a `NodeLoad`)."""
         return NodeLoad(node, jnp.asarray(f2))

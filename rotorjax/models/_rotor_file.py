@@ -30,6 +30,10 @@ may be left out; the others are required, except where two ways are offered
 | `[[fixed]]`             | `node`, `dofs` (= ["x", "y", "sx", "sy"])                                  |
 | `[[unbalance]]`         | `node`, `magnitude` (kg m), `phase` (rad, = 0)                              |
 | `[internal_damping]`    | `relaxation_time` (s, Voigt)                                                |
+| `[external_damping]`    | `coefficient` (N s/m^2: viscous damping of the shaft's lateral motion per   |
+|                         | unit length, by its surroundings)                                           |
+| `[[disk_damping]]`      | `node`, `translational` (N s/m, on the node's x, y velocity), `angular`     |
+|                         | (N m s, on its tilt rates; = 0)                                             |
 | `[gravity]`             | `g` (m/s^2, = 9.81), `angle` (rad, = -pi/2: along -y)                       |
 | `[[cubic_bearing]]`     | `node`, `k3` (N/m^3), `k` (N/m, = 0), `c` (N s/m, = 0)                      |
 | `[[clearance_bearing]]` | `node`, `clearance` (m), `k` (N/m), `c` (N s/m, = 0),                       |
@@ -40,11 +44,14 @@ may be left out; the others are required, except where two ways are offered
 | `[[auto_balancer]]`     | `node`, `masses` (kg, list) or `n_weights` + `mass`, `radius` or `r1` +     |
 |                         | `r2` (m), `center` (m, = [0, 0]), `drag` (N s/m, = 0), `kind` ("ball",      |
 |                         | "roller", "pendulum"; = "ball") or `inertia_factor`                         |
+| `[[probe]]`             | `node`, `name` (= "disk"; letters, digits, _): a sensor, outputs only:      |
+|                         | `<name>_x`, `<name>_y`, `<name>_vx`, `<name>_vy` (m, m/s), `<name>_tilt_x`, |
+|                         | `<name>_tilt_y` (rad), `<name>_radius` (m); names differ between probes     |
 
 The scene's components come in this order, each table's entries in file order:
-unbalances, internal damping, gravity, cubic bearings, clearance bearings,
-limiters, auto-balancers (whose weights' coordinates follow the shaft's in the
-state). A shaft whose elements all have the same material constants gets
+unbalances, internal damping, external damping, disk damping, gravity, cubic
+bearings, clearance bearings, limiters, auto-balancers (whose weights'
+coordinates follow the shaft's in the state), probes. A shaft whose elements all have the same material constants gets
 scalar `E`, `G`, `rho`, `nu` (the exact arrays of a one-material `FlexibleRotor`);
 otherwise they are per element.
 
@@ -81,6 +88,7 @@ import numpy as np
 
 from .._errors import InputError
 from ._balancer import INERTIA_FACTORS, AutoBalancer, Race
+from ._external_damping import DiskDamping, ExternalDamping
 from ._fe_reduction import ReducedRotor
 from ._fe_rotor import BEARING_COEFFICIENTS, DOFS_PER_NODE, Bearing, FlexibleRotor, Support
 from ._journal_bearing import PlainJournal
@@ -89,6 +97,7 @@ from ._internal_damping import InternalDamping
 from ._limiters import Limiters
 from ._materials import MATERIALS
 from ._node_parts import BalancerAt, LimitersAt
+from ._node_probe import NodeProbe
 from ._nonlinear_bearings import ClearanceBearing, CubicBearing
 from ._plausibility import IP_TOLERANCE, RANGES, gyration, judge, number, warn
 from ._rotor_scene import RotorScene
@@ -207,6 +216,15 @@ SCHEMA = {
     "internal_damping": _Table(False, {
         "relaxation_time": _Key(_N, "s", "Voigt relaxation time T_V", "nonnegative", True),
     }, "Voigt internal damping of the shaft"),
+    "external_damping": _Table(False, {
+        "coefficient": _Key(_N, "N s/m^2", "viscous damping of the shaft's lateral motion per unit length",
+                            "nonnegative", True),
+    }, "viscous damping of the shaft by its surroundings"),
+    "disk_damping": _Table(True, {
+        "node": _node("disk damping"),
+        "translational": _Key(_N, "N s/m", "viscous damping of the node's x, y motion", "nonnegative", True),
+        "angular": _Key(_N, "N m s", "viscous damping of the node's tilts sx, sy", "nonnegative"),
+    }, "viscous damping at a node (a disk's: air, squeeze film)"),
     "gravity": _Table(False, {
         "g": _Key(_N, "m/s^2", "gravitational acceleration", "nonnegative"),
         "angle": _Key(_N, "rad", "direction of gravity in the x-y plane"),
@@ -249,7 +267,15 @@ SCHEMA = {
         "kind": _Key(_S, meaning="weight kind", choices=KINDS),
         "inertia_factor": _Key(_N, "dimensionless", "inertia factor (instead of kind)", domain=">=1"),
     }, "a ball, roller or pendulum auto-balancer"),
+    "probe": _Table(True, {
+        "node": _node("probe"),
+        "name": _Key(_S, meaning="the probe's name, the prefix of its outputs (<name>_x, <name>_y, ...)"),
+    }, "a sensor at a node (outputs only)"),
 }
+#: a probe's name: the prefix of output keys (`disk_x`), so a word
+PROBE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+#: the scene's own outputs a probe's would replace (`node_x`, `node_y`)
+RESERVED_PROBE_NAMES = ("node",)
 SINGLE_KEY_ALIASES = {"speed": ("rotor", None, "speed")}
 
 
@@ -712,6 +738,9 @@ def _validate(ctx, doc):
     for g in out["gravity"]:
         g.setdefault("g", 9.81)
         g.setdefault("angle", -np.pi / 2)
+    for d in out["disk_damping"]:
+        d.setdefault("angular", 0.0)
+    _probes(ctx, out["probe"])
     for c in out["cubic_bearing"]:
         c.setdefault("k", 0.0)
         c.setdefault("c", 0.0)
@@ -829,6 +858,27 @@ def _disks(ctx, disks):
                 loc = _loc("disk", i, key)
                 ctx.warn(f"{loc} = {number(d[key])} kg m^2 with m = {number(d['m'])} kg: {why}", loc)
 
+
+def _probes(ctx, probes):
+    """Each probe named (default "disk"), by a word, not `node` (the scene's own
+    `node_x`, `node_y`), and no two alike (their outputs would overwrite each
+    other's)."""
+    seen = {}
+    for i, p in enumerate(probes):
+        p.setdefault("name", "disk")
+        name, where = p["name"], _loc("probe", i, "name")
+        if not PROBE_NAME.fullmatch(name):
+            ctx.fail(f"{where} = {_toml_repr(name)}: must be a word (letters, digits and _, not starting with a "
+                     f"digit): it prefixes the probe's outputs ({name}_x, ...)", where)
+        if name in RESERVED_PROBE_NAMES:
+            ctx.fail(f"{where} = {_toml_repr(name)}: its outputs {name}_x, {name}_y would replace the scene's own "
+                     f"(every node's x, y); choose another name", where)
+        if name in seen:
+            ctx.fail(f"{where} = {_toml_repr(name)}: probe[{seen[name]}] has that name already (their outputs "
+                     f"would overwrite each other's); give each probe its own name", where)
+        seen[name] = i
+
+
 # --- building -------------------------------------------------------------------------
 def _material_constants(spec):
     """`E, G, rho, nu` for `FlexibleRotor`: scalars when every element has the same
@@ -905,6 +955,8 @@ def _build(ctx, spec, track_work):
             rotor = rotor.reduce(r["n_modes"])
         parts = [Unbalance(u["node"], u["magnitude"], u["phase"]) for u in spec["unbalance"]]
         parts += [InternalDamping(d["relaxation_time"]) for d in spec["internal_damping"]]
+        parts += [ExternalDamping(d["coefficient"]) for d in spec["external_damping"]]
+        parts += [DiskDamping(d["node"], d["translational"], d["angular"]) for d in spec["disk_damping"]]
         parts += [Gravity(g["g"], g["angle"]) for g in spec["gravity"]]
         parts += [CubicBearing(c["node"], c["k3"], c["k"], c["c"]) for c in spec["cubic_bearing"]]
         parts += [ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"])
@@ -920,6 +972,7 @@ def _build(ctx, spec, track_work):
             else:
                 bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], kind=ab.get("kind", "ball"))
             parts.append(BalancerAt(ab["node"], bal))
+        parts += [NodeProbe(p["node"], p["name"]) for p in spec["probe"]]
         return RotorScene(rotor, ConstantSpeed(r["speed"]), tuple(parts), track_work=track_work)
     except InputError as e:  # a check the loader does not repeat (e.g. nu from E and G)
         raise InputError(f"{ctx.label}: {e}") from None
@@ -1092,7 +1145,8 @@ def rotor_file_text(scene, name="rotor") -> str:
     for node, dofs in by_node.items():
         lines += ["", "[[fixed]]", f"node = {node}", "dofs = [" + ", ".join(_s(d) for d in dofs) + "]"]
 
-    order = (Unbalance, InternalDamping, Gravity, CubicBearing, ClearanceBearing, LimitersAt, BalancerAt)
+    order = (Unbalance, InternalDamping, ExternalDamping, DiskDamping, Gravity, CubicBearing, ClearanceBearing,
+             LimitersAt, BalancerAt, NodeProbe)
     groups = {cls: [] for cls in order}
     for i, c in enumerate(scene.components):
         cls = next((k for k in order if type(c) is k), None)
@@ -1100,7 +1154,8 @@ def rotor_file_text(scene, name="rotor") -> str:
             raise InputError(f"save_rotor: components[{i}] ({type(c).__name__}) has no rotor-file table; "
                              f"rotor files hold {', '.join(k.__name__ for k in order)}")
         groups[cls].append(c)
-    for cls, table in ((InternalDamping, "internal_damping"), (Gravity, "gravity")):
+    for cls, table in ((InternalDamping, "internal_damping"), (ExternalDamping, "external_damping"),
+                       (Gravity, "gravity")):
         if len(groups[cls]) > 1:
             raise InputError(f"save_rotor: a rotor file holds one [{table}]; the scene has {len(groups[cls])} "
                              f"{cls.__name__} components")
@@ -1109,6 +1164,11 @@ def rotor_file_text(scene, name="rotor") -> str:
                   f"phase = {_f(u.phase)}"]
     for d in groups[InternalDamping]:
         lines += ["", "[internal_damping]", f"relaxation_time = {_f(d.relaxation_time)}"]
+    for d in groups[ExternalDamping]:
+        lines += ["", "[external_damping]", f"coefficient = {_f(d.coefficient)}"]
+    for d in groups[DiskDamping]:
+        lines += ["", "[[disk_damping]]", f"node = {d.node}", f"translational = {_f(d.translational)}",
+                  f"angular = {_f(d.angular)}"]
     for g in groups[Gravity]:
         lines += ["", "[gravity]", f"g = {_f(g.g)}", f"angle = {_f(g.angle)}"]
     for c in groups[CubicBearing]:
@@ -1142,6 +1202,15 @@ def rotor_file_text(scene, name="rotor") -> str:
         factor = float(b.inertia_factor)
         kind = next((k for k in KINDS if INERTIA_FACTORS[k] == factor), None)
         lines.append(f"kind = {_s(kind)}" if kind else f"inertia_factor = {_f(factor)}")
+    probe_names = [p.name for p in groups[NodeProbe]]
+    for p in groups[NodeProbe]:
+        if probe_names.count(p.name) > 1:
+            raise InputError(f"save_rotor: {probe_names.count(p.name)} probes are named {p.name!r}; a rotor file "
+                             f"names each probe once")
+        if not PROBE_NAME.fullmatch(p.name) or p.name in RESERVED_PROBE_NAMES:
+            raise InputError(f"save_rotor: {p.describe()}: a rotor file names a probe by a word (letters, digits "
+                             f"and _), not {', '.join(RESERVED_PROBE_NAMES)}")
+        lines += ["", "[[probe]]", f"node = {p.node}", f"name = {_s(p.name)}"]
     return "\n".join(lines) + "\n"
 
 

@@ -100,6 +100,7 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
     F0: jax.Array          # static load, in the coordinates
     E: jax.Array           # shaft coordinates -> all dofs (the basis, padded with the fixed dofs)
     Ksym: jax.Array        # the symmetric part of K (the potential energy)
+    L: jax.Array           # [[K, C], [Ks, G1] (, [Ksym, 0])] on (q, q'): the linear part in one product
 
     def __init__(self, rotor, speed=0.0, components=(), track_work=False):
         if not isinstance(rotor, (FlexibleRotor, ReducedRotor)):
@@ -121,6 +122,9 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         self.M, self.Minv, self.C, self.G1, self.K, self.Ks, self.F0, self.E = _assemble(
             rotor, jnp.asarray(self._table_speed(), dtype=jnp.float64), components)
         self.Ksym = 0.5 * (self.K + self.K.T)
+        zero = jnp.zeros_like(self.K)
+        rows = [[self.K, self.C], [self.Ks, self.G1]] + ([[self.Ksym, zero]] if self.track_work else [])
+        self.L = jnp.block(rows)
 
     # --- coordinates -------------------------------------------------------------------
     def _coords(self, a_full):
@@ -191,7 +195,13 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
 
     # --- equations ----------------------------------------------------------------------
     def _forces(self, t, q, qd, active):
-        """Generalised force on the shaft coordinates: linear part and components."""
+        """Generalised force on the shaft coordinates (linear part and components), and
+        the shaft state."""
+        f, s, _ = self._forces_and_ksym(t, q, qd, active)
+        return f, s
+
+    def _forces_and_ksym(self, t, q, qd, active):
+        """`_forces`, with `Ksym q` from the same product when the work is tracked."""
         ns = self.n_shaft
         s = self.shaft_state(t, q, qd)
         at_nodes, f_full = {}, None
@@ -206,18 +216,16 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
             gen = gen + self._node_rows(node).T @ f2
         if f_full is not None:
             gen = gen + self._load(f_full)
-        qs, qsd = q[:ns], qd[:ns]
-        w = s.theta_dot
-        # matrix-vector products, not `(C + w G1) @ qd`: under vmap each lane has its
-        # own speed, and summing matrices per lane costs more than the products
-        lin = self.C @ qsd + w * (self.G1 @ qsd) + self.K @ qs + w * (self.Ks @ qs)
-        return gen - lin, s
+        # one product `L (q, q')`, then the speed: under vmap each lane may have its own
+        # speed, and summing matrices per lane costs more than the products
+        a = self.L @ jnp.concatenate([q[:ns], qd[:ns]])
+        return gen - (a[:ns] + s.theta_dot * a[ns:2 * ns]), s, a[2 * ns:]
 
     def vector_field(self, t, y, args=None):
         """`dy/dt`; `args` is the contact set (booleans, one per contact) for
         event-located integration, `None` for smooth contact laws."""
         q, qd = self.split(y)
-        f, _ = self._forces(t, q, qd, args)
+        f, _, ksym_q = self._forces_and_ksym(t, q, qd, args)
         if any(c.n_coords for c in self.components):
             qdd = self._with_own_coordinates(t, q, qd, f)
         else:
@@ -225,7 +233,7 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         out = [qd, qdd]
         if self.track_work:
             ns = self.n_shaft
-            power = qd[:ns] @ (f + self._Ksym() @ q[:ns])
+            power = qd[:ns] @ (f + ksym_q)
             out.append(power[None])
         return jnp.concatenate(out)
 
@@ -382,9 +390,11 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         `track_work`."""
         q, qd = self.split(y)
         s = self.shaft_state(t, q, qd)
-        shaft = s.x[:DOFS_PER_NODE * self.n_nodes]   # not supports' pedestals
-        nx, ny = shaft[0::DOFS_PER_NODE], shaft[1::DOFS_PER_NODE]
-        out = {"node_x": nx, "node_y": ny, "whirl_amplitude": jnp.max(jnp.hypot(nx, ny))}
+        # the nodes' (x, y) rows of E only (not the slopes, nor supports' pedestals)
+        n = self.n_nodes
+        nx = self.E[0:DOFS_PER_NODE * n:DOFS_PER_NODE] @ s.q
+        ny = self.E[1:DOFS_PER_NODE * n:DOFS_PER_NODE] @ s.q
+        out = {"node_x": nx, "node_y": ny, "whirl_amplitude": jnp.sqrt(jnp.max(nx**2 + ny**2))}
         for c, sl in zip(self.components, self._own_slices()):
             out.update(c.outputs(s, q[sl], qd[sl]))
         if self.track_work:

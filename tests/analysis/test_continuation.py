@@ -11,12 +11,14 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from rotorjax.analysis import (Boundaries, Branch, Curve, FloquetCrossing, boundary_points, boundary_sensitivity,
-                               continue_branch, critical_speeds, floquet_crossings, fold_curve, hopf_points,
-                               trace_boundaries, trace_boundary, trace_curve)
+from rotorjax.analysis import (Boundaries, BoundaryCrossing, Branch, BranchEvent, Curve, FloquetCrossing,
+                               boundary_points, boundary_sensitivity, continue_branch, critical_speeds,
+                               floquet_crossings, fold_curve, hopf_points, trace_boundaries, trace_boundary,
+                               trace_curve)
 from rotorjax.solve import RESULTS, code_of
 from rotorjax.presets import anisotropic_abb as ab
 from rotorjax.presets import cantilever_limiters as cl
+from rotorjax.analysis import linear_margin, state_matrix
 
 W0, C, BETA = 1.0, 0.05, 0.2
 
@@ -49,14 +51,15 @@ def test_duffing_branch_folds_and_fold_curve_match_the_closed_form():
     u0, r = _newton(lambda u: duffing(u, 0.5, f0), u0)
     br = continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0), ds=0.02, ds_max=0.05,
                          max_points=400)
-    folds = [e for e in br.events if e["kind"] == "fold"]
+    folds = [e for e in br.events if e.kind == "fold"]
     # traced both ways from the box's lower edge: that end stops at once, the other lands on p = 2
     assert len(folds) == 2 and br.stops == ("box edge (p = 0.5)", "box edge (p = 2.0)")
     assert br.curve.start == 0 and br.p[-1] == 2.0
+    assert all(list(e.as_dict()) == ["kind", "p", "u", "residual", "between"] for e in folds)
     for e in folds:
-        assert e["residual"] < 1e-12
-        assert min(abs(f0 / v - 1) for v in duffing_fold_forcing(e["p"])) < 1e-9
-    fc = fold_curve(duffing, folds[0]["u"], (folds[0]["p"], f0), ds=0.01, ds_max=0.05, max_points=60,
+        assert e.residual < 1e-12
+        assert min(abs(f0 / v - 1) for v in duffing_fold_forcing(e.p)) < 1e-9
+    fc = fold_curve(duffing, folds[0].u, (folds[0].p, f0), ds=0.01, ds_max=0.05, max_points=60,
                     bounds=(np.array([np.nan, np.nan, 0.8, 0.005]), np.array([np.nan, np.nan, 2.0, 0.2])))
     assert fc.x.shape[0] > 20 and fc.residuals.max() < 1e-12
     err = max(min(abs(x[3] / v - 1) for v in duffing_fold_forcing(x[2])) for x in fc.x)
@@ -71,8 +74,19 @@ def brusselator(u, b, a=1.0):
 def test_hopf_point_of_the_brusselator():
     """Equilibrium (a, b/a); Hopf at b = 1 + a^2 with frequency a."""
     br = continue_branch(brusselator, np.array([1.0, 1.0]), 1.0, p_bounds=(1.0, 3.0), ds=0.05, ds_max=0.1)
-    (h,) = [e for e in br.events if e["kind"] == "hopf"]
-    assert h["p"] == pytest.approx(2.0, abs=1e-9) and h["frequency"] == pytest.approx(1.0, abs=1e-8)
+    (h,) = [e for e in br.events if e.kind == "hopf"]
+    assert h.p == pytest.approx(2.0, abs=1e-9) and h.frequency == pytest.approx(1.0, abs=1e-8)
+    # an event is a frozen row; its JSON row keeps the former dict's keys, in their order
+    assert isinstance(h, BranchEvent) and h.note is None and h.between[1] == h.between[0] + 1
+    row = h.as_dict()
+    assert list(row) == ["kind", "p", "u", "frequency", "residual", "between"]
+    assert row["u"] == h.u.tolist() and row["between"] == list(h.between) and row["p"] == h.p
+    assert br.as_dict()["events"] == [e.as_dict() for e in br.events]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        h.p = 0.0
+    with pytest.warns(DeprecationWarning, match=r"BranchEvent\['kind'\]"):
+        assert h["kind"] == "hopf" and h["u"] is h.u
+    assert "frequency" in h and "note" not in h
     assert bool(br.stable[0]) and not bool(br.stable[-1])
     np.testing.assert_allclose(br.u[:, 1], br.p, rtol=1e-10)      # the branch is (1, b)
     # results are frozen data: a changed branch is a new one
@@ -93,33 +107,38 @@ def rotor(ratio, mu=BASE["mu_R"]):
     return cl.build_rotor(dict(BASE, eta_i=BASE["eta_e"] / ratio, mu_R=mu))
 
 
+def state_matrix_of(ratio, mu=BASE["mu_R"]):
+    """`A(N)` of straight-line rotation of `rotor(ratio, mu)`."""
+    return functools.partial(state_matrix, rotor(ratio, mu))
+
+
 def test_model_004_hopf_curve_matches_pointwise_solves_and_its_sensitivity():
-    curve = trace_boundary(lambda N, r: rotor(r).stability_margin(N), (4.0, 1.0),
+    curve = trace_boundary(lambda N, r: linear_margin(rotor(r), N), (4.0, 1.0),
                            bounds=(np.array([0.5, 0.5]), np.array([30.0, 4.0])), ds=0.2, ds_max=1.0,
                            direction=(0.0, 1.0), tol=1e-10)
     assert curve.stopped == "box edge (p2 = 4.0)" and curve.x.shape[0] >= 8 and curve.x[-1, 1] == 4.0
     assert curve.stops[0] == "start" and np.all(curve.x[0] == curve.x[curve.start])
     for N, r in curve.x[::3]:
-        h = hopf_points(rotor(r).state_matrix, N - 0.5, N + 0.5, n_scan=5, xtol=1e-13)[0]
+        h = hopf_points(state_matrix_of(r), N - 0.5, N + 0.5, n_scan=5, xtol=1e-13)[0]
         assert abs(h.speed - N) < 1e-8 * N
     # sensitivity of the boundary (N at fixed ratio) to the shaft/disk mass ratio,
     # i.e. to the disk mass M through mu_R = m_R l / M
     N, r = curve.x[4]
-    s = boundary_sensitivity(lambda N, r, mu: rotor(r, mu).stability_margin(N), (N, r), BASE["mu_R"])
+    s = boundary_sensitivity(lambda N, r, mu: linear_margin(rotor(r, mu), N), (N, r), BASE["mu_R"])
 
     def n_crit(mu):
-        return hopf_points(rotor(r, mu).state_matrix, N - 0.5, N + 0.5, n_scan=5, xtol=1e-13)[0].speed
+        return hopf_points(state_matrix_of(r, mu), N - 0.5, N + 0.5, n_scan=5, xtol=1e-13)[0].speed
     h = 1e-3
     assert s == pytest.approx((n_crit(BASE["mu_R"] + h) - n_crit(BASE["mu_R"] - h)) / (2 * h), rel=1e-6)
 
 
 def test_batched_boundary_points_equal_the_traced_curve():
     ratios = jnp.array([1.0, 2.0, 3.0, 4.0])
-    sigma = lambda N, r: rotor(r).stability_margin(N)  # noqa: E731
+    sigma = lambda N, r: linear_margin(rotor(r), N)  # noqa: E731
     N, res = boundary_points(sigma, 2.47 * ratios + 1.8, ratios)
     assert float(jnp.max(res)) < 1e-9
     for n, r in zip(np.asarray(N), np.asarray(ratios)):
-        assert abs(hopf_points(rotor(r).state_matrix, n - 0.5, n + 0.5, n_scan=5, xtol=1e-13)[0].speed - n) < 1e-8 * n
+        assert abs(hopf_points(state_matrix_of(r), n - 0.5, n + 0.5, n_scan=5, xtol=1e-13)[0].speed - n) < 1e-8 * n
 
 
 P001 = dict(ab.PRESET.defaults)
@@ -267,7 +286,7 @@ def test_branch_with_two_folds_traced_both_ways():
     np.testing.assert_allclose(br.u[[0, -1], 0], [plastic, -plastic], atol=1e-8)
     assert br.p[0] == 1.0 and br.p[-1] == -1.0 and br.u[br.curve.start, 0] == 0.0
     assert np.all(np.diff(br.u[:, 0]) < 0)                      # one ordered curve, the start once
-    folds = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    folds = sorted(e.p for e in br.events if e.kind == "fold")
     np.testing.assert_allclose(folds, [-2 / (3 * np.sqrt(3)), 2 / (3 * np.sqrt(3))], atol=1e-12)
     assert list(br.stable[[0, br.curve.start, -1]]) == [True, False, True]
     assert chord_turns(np.column_stack([br.u, br.p])).max() < 0.25
@@ -304,8 +323,15 @@ def test_every_boundary_in_a_box_once_with_its_dense_curve_to_tolerance():
     found = trace_boundaries(product_margin, box, names=("x", "y"), ds=0.05, ds_max=0.5)
     assert len(found) == 3 and np.allclose(found.lines, [-1.2, 0.0, 1.2])
     # each crossing the scan met (edge, lines, sides) lies on a branch; each branch was traced once
-    assert all(c["branch"] is not None for c in found.crossings) and len(found.crossings) >= 9
-    assert sorted({c["branch"] for c in found.crossings}) == [0, 1, 2]
+    assert all(c.branch is not None for c in found.crossings) and len(found.crossings) >= 9
+    assert sorted({c.branch for c in found.crossings}) == [0, 1, 2]
+    assert all(isinstance(c, BoundaryCrossing) and c.error is None for c in found.crossings)
+    c0 = found.crossings[0]
+    assert c0.as_dict(names=("x", "y")) == {"x": c0.p1, "y": c0.p2, "along": c0.along,
+                                           "stable_side": c0.stable_side, "branch": c0.branch}
+    assert list(c0.as_dict()) == ["p1", "p2", "along", "stable_side", "branch"]
+    with pytest.warns(DeprecationWarning):
+        assert c0["p1"] == c0.p1 and "error" not in c0
     assert isinstance(found, Boundaries) and isinstance(found.branches, tuple) and isinstance(found.crossings, tuple)
     with pytest.raises(dataclasses.FrozenInstanceError):
         found.branches = ()
@@ -369,3 +395,13 @@ def test_dense_curve_of_a_boundary_traced_with_a_tolerance():
         trace_boundary(sigma, (1.0, 0.5), bounds=(np.array([0.0, -1.0]), np.array([2.0, 1.0])), names=("x", "y"))
     np.testing.assert_allclose(np.linalg.norm(coarse.tangents, axis=1), 1.0)
     assert np.all(np.sum(np.diff(coarse.x, axis=0) * coarse.tangents[1:], axis=1) > 0)     # along the curve
+
+
+def test_boundary_crossing_without_a_branch_carries_its_error_in_the_row():
+    c = BoundaryCrossing(p1=1.0, p2=2.0, along="x", stable_side="above", error="no stability boundary near")
+    assert c.as_dict(names=("n", "mu_w")) == {"n": 1.0, "mu_w": 2.0, "along": "x", "stable_side": "above",
+                                              "branch": None, "error": "no stability boundary near"}
+    with pytest.warns(DeprecationWarning):
+        assert c["error"] == c.error and "error" in c
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        c.branch = 0

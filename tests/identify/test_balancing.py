@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from rotorjax import identify as idf
+from rotorjax.analysis import balancing_response
 from rotorjax.identify._make_data import simulate_from
 from rotorjax.models import ConstantSpeed
 from rotorjax.presets import balancing_machine as bm
@@ -16,12 +17,12 @@ MACHINE, PLANES, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
 
 
 def trial_runs(machine, w, trials=(1e-4, 1e-4j)):
-    X0 = np.asarray(machine.response(w, PLANES, U))
+    X0 = np.asarray(balancing_response(machine, w, PLANES, U))
     Xt = []
     for j, T in enumerate(trials):
         Uj = U.copy()
         Uj[j] += T
-        Xt.append(np.asarray(machine.response(w, PLANES, Uj)))
+        Xt.append(np.asarray(balancing_response(machine, w, PLANES, Uj)))
     return X0, np.stack(Xt), np.asarray(trials)
 
 
@@ -65,9 +66,9 @@ def test_symmetric_case_only_gives_equal_coefficients():
 def test_one_correction_balances_noise_free_runs():
     w = 120.0
     K = idf.influence_from_trials(*trial_runs(MACHINE, w))
-    X0 = np.asarray(MACHINE.response(w, PLANES, U))
+    X0 = np.asarray(balancing_response(MACHINE, w, PLANES, U))
     W = -idf.unbalance_from_vibration(K, X0)
-    after = np.asarray(MACHINE.response(w, PLANES, U + W))
+    after = np.asarray(balancing_response(MACHINE, w, PLANES, U + W))
     assert np.max(np.abs(after)) < 1e-9 * np.max(np.abs(X0))
 
 
@@ -119,7 +120,7 @@ def test_identification_intervals_cover_the_truth():
     """1 % noise (of the peak), 60 speeds: the 95 % intervals hold k1, k2, c1, c2 in
     at least 90 of 100 seeded trials."""
     w = np.linspace(30.0, 400.0, 60)
-    Xs = np.asarray(jax.vmap(lambda ww: MACHINE.response(ww, PLANES, U))(w))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
     s = 0.01 * np.abs(Xs).max()
     start = bm.build_machine(dict(P, k1=1.5e5, k2=2.5e5, c1=100.0, c2=300.0))
     covered = {k: 0 for k in ("k1", "k2", "c1", "c2")}
@@ -136,7 +137,7 @@ def test_identification_intervals_cover_the_truth():
 
 def test_identification_gradient_matches_finite_differences():
     w = np.linspace(30.0, 400.0, 40)
-    Xs = np.asarray(jax.vmap(lambda ww: MACHINE.response(ww, PLANES, U))(w))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
     r = idf.residual_fn(MACHINE, ("k1", "k2", "c1", "c2"), w, PLANES, Xs * 1.01, 1e-7, U)
     theta = jnp.log(jnp.array([1.8e5, 3.2e5, 140.0, 210.0]))
     g = np.asarray(jax.grad(lambda th: jnp.sum(r(th) ** 2))(theta))
@@ -148,7 +149,7 @@ def test_identification_gradient_matches_finite_differences():
 def test_unidentifiable_parameter_is_flagged():
     """Above the resonances the response is mass-controlled: stiffness is invisible."""
     w = np.linspace(5000.0, 6000.0, 30)
-    Xs = np.asarray(jax.vmap(lambda ww: MACHINE.response(ww, PLANES, U))(w))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
     rng = np.random.default_rng(0)
     Xn = Xs + 0.01 * np.abs(Xs).max() * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape))
     res = idf.identify(MACHINE, w, Xn, PLANES, fit=("k1", "c1"), unbalances=U)

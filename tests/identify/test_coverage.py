@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from rotorjax import identify as idf
+from rotorjax.analysis import balancing_response
 from rotorjax.identify import _fit
 from rotorjax.identify import _make_data as md
 from rotorjax.presets import balancing_machine as bm
@@ -166,7 +167,7 @@ def test_structure_warning(rho, warns):
     """A steady sweep with white noise: no warning; with AR(1) noise along the sweep:
     the structure warning, naming the lag-1 autocorrelation."""
     w = np.linspace(30.0, 400.0, 300)
-    Xs = np.asarray(jax.vmap(lambda ww: MACHINE.response(ww, PLANES, U))(w))
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
     s = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(5)
     e = rng.normal(size=(300, 4))

@@ -11,6 +11,7 @@ import pytest
 
 import rotorjax
 from rotorjax._errors import NumericalError
+from rotorjax.analysis import balancing_response
 from rotorjax.identify import BalancingMachine, BalancingScene, rig_scene
 from rotorjax.identify import _make_data as md
 from rotorjax.models import ConstantSpeed, CustomSpeed, RunUp
@@ -28,10 +29,10 @@ def eq8(machine, planes, unbalances, theta, w, alpha, y):
 @pytest.mark.parametrize("w", [120.0, 400.0])
 def test_constant_speed_settles_on_the_closed_form_response(w):
     """From rest, the slowest transient (decay rate 17 /s) is below 1e-14 after 2 s;
-    then the simulated orbit is `Re(X e^{i w t})` with `X = machine.response(w)` and
+    then the simulated orbit is `Re(X e^{i w t})` with `X = balancing_response(machine, w, ...)` and
     the state at whole turns is `scene.steady_state(w)`, both to 1e-8."""
     scene = rig_scene(speed=ConstantSpeed(w))
-    X = np.asarray(scene.machine.response(w, scene.planes, scene.unbalances))
+    X = np.asarray(balancing_response(scene.machine, w, scene.planes, scene.unbalances))
     turn = 2 * np.pi / w
     n0 = int(np.ceil(2.0 / turn))
     ts = np.concatenate([[0.0], (n0 + np.linspace(0.0, 3.0, 61)) * turn])
@@ -98,7 +99,7 @@ def test_synthetic_data_come_from_simulate(monkeypatch):
     x = md.simulate_from(scene, t, 20.0)
     r = rotorjax.simulate(scene, scene.steady_state(20.0), (t[0], t[-1]), saveat=t, **md.SOLVER)
     np.testing.assert_array_equal(x, np.stack([r.outputs["x1"], r.outputs["x2"]], axis=1))
-    X = np.asarray(scene.machine.response(20.0, scene.planes, scene.unbalances))
+    X = np.asarray(balancing_response(scene.machine, 20.0, scene.planes, scene.unbalances))
     np.testing.assert_allclose(x[0], X.real, rtol=1e-12)
     monkeypatch.setitem(md.SOLVER, "max_steps", 2)
     with pytest.raises(NumericalError, match="balancing machine, 2 correction plane"):

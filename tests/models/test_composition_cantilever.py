@@ -127,10 +127,11 @@ def test_weight_is_the_gravity_component_with_the_clamped_nodes_share():
 def test_hopf_speed_of_the_composition_is_the_published_one():
     """Straight-line rotation of the full-dof composition loses stability at the
     rotor's `N_crit = 13.904` (the `hopf` command's number, from `CantileverRotor`)."""
-    from rotorjax.analysis import hopf_points
+    from rotorjax.analysis import hopf_points, state_matrix
 
     scene = cl.build_scene(dict(BASE, n_modes=0))
     (h,) = hopf_points(lambda s: scene.linear_matrices(s).state_matrix(), 5.0, 25.0, n_scan=20)
-    (ref,) = hopf_points(cl.build_rotor(BASE).state_matrix, 5.0, 25.0, n_scan=20)
+    rotor = cl.build_rotor(BASE)
+    (ref,) = hopf_points(lambda s: state_matrix(rotor, s), 5.0, 25.0, n_scan=20)
     assert h.speed == pytest.approx(ref.speed, rel=1e-9)
     assert h.speed == pytest.approx(13.904126, abs=1e-5)

@@ -35,7 +35,7 @@ def _bearing_radius(u):
 
 def test_branch_folds_twice_with_an_unstable_middle(setup):
     _, _, br = setup
-    folds = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    folds = sorted(e.p for e in br.events if e.kind == "fold")
     assert len(folds) == 2
     lo, hi = folds
     assert abs(lo - 102.79) < 0.01 and abs(hi - 104.12) < 0.01   # as the README says
@@ -79,7 +79,7 @@ def test_run_up_and_run_down_jump_where_the_continuation_folds(setup):
     """Sweeps at +-0.5 rad/s^2 (quasi-static away from the folds; the run-up
     overshoots the fold by the sweep's lag, about 1.5 rad/s)."""
     rotor, parts, br = setup
-    lo, hi = sorted(e["p"] for e in br.events if e["kind"] == "fold")
+    lo, hi = sorted(e.p for e in br.events if e.kind == "fold")
     w, r = _envelope(rotor, parts, 96.0, 0.5, 30.0)
     for speed in (100.0, hi - 0.3):
         i = np.argmin(np.abs(w - speed))

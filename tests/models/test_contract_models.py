@@ -12,9 +12,10 @@ import pytest
 
 import rotorjax
 from rotorjax._errors import InputError
-from rotorjax.analysis import rotating_field
+from rotorjax.analysis import (balancing_response, least_stable_whirl, linear_margin, modal003_natural_frequencies,
+                               modal003_response, rotating_field, scene_unbalance_response, state_matrix)
 from rotorjax.flexible import ModalBalancerRotor, ModalShaft
-from rotorjax.models import CantileverRotor, ConstantSpeed, RunUp
+from rotorjax.models import BalancingMachine, CantileverRotor, ConstantSpeed, RunUp
 from tests.reference.model_004_scene import CantileverScene
 from rotorjax.models._contract import AbstractScene, MissingCapability, provides
 from rotorjax.models._frequency import frequency_response
@@ -97,7 +98,7 @@ def test_cantilever_scene_linear_matrices_are_the_rotors():
     scene = CantileverScene(rotor, 7.0, eps=1e-3, phase=0.4)
     for N in (0.0, 3.0, 7.0):
         np.testing.assert_allclose(np.asarray(scene.linear_matrices(N).state_matrix()),
-                                   np.asarray(rotor.state_matrix(N)), rtol=1e-14, atol=1e-14)
+                                   np.asarray(state_matrix(rotor, N)), rtol=1e-14, atol=1e-14)
     lin = scene.linear_matrices()
     assert np.array_equal(np.asarray(lin.G), np.asarray(7.0 * scene.G1))
     # reduced scenes: the same matrices projected on the modes
@@ -116,8 +117,9 @@ def test_unbalance_responses_equal_the_old_formulas():
         fx = eps * N**2 * jnp.exp(1j * phase)
         F = jnp.zeros(M.shape[0], dtype=jnp.complex128).at[d[0]].set(fx).at[d[1]].set(-1j * fx)
         old = jnp.linalg.solve(K + N * Ci @ J - N**2 * M + 1j * N * (C + Ci + N * G1), F)
-        np.testing.assert_allclose(np.asarray(rotor.unbalance_response(N, eps, phase)), np.asarray(old),
-                                   rtol=1e-13, atol=1e-20)
+        composed = rotorjax.models.cantilever_scene(rotor, N, eps=eps, phase=phase)
+        np.testing.assert_allclose(np.asarray(scene_unbalance_response(composed, jnp.array([N]))[0]),
+                                   np.asarray(old), rtol=1e-13, atol=1e-20)
         scene = CantileverScene(rotor, N, eps=eps, phase=phase)
         y = scene.synchronous_state()
         n = scene.n_coords
@@ -130,7 +132,7 @@ def test_unbalance_responses_equal_the_old_formulas():
     a, b, _ = shaft.mode_vectors()
     for w in (0.4, 2.0, 7.5):
         W = frequency_response(*shaft.synchronous_matrices(), shaft.m0 * w**2 * a, w)
-        disk, tilt = shaft.response(w)
+        disk, tilt = modal003_response(shaft, w)
         np.testing.assert_allclose(complex(disk), complex(a @ W), rtol=1e-10)
         np.testing.assert_allclose(complex(tilt), complex(b @ W), rtol=1e-10)
 
@@ -140,18 +142,52 @@ def test_speed_is_the_name_and_the_paper_symbols_are_aliases():
     assert float(ConstantSpeed(speed=2.0, theta0=0.5).omega) == 2.0
     assert RunUp(0.2, 0.1) == RunUp(speed0=0.2, acceleration=0.1) == RunUp(omega0=0.2, acceleration=0.1)
     rotor = cantilever()
-    for method in ("state_matrix", "eigenvalues", "stability_margin"):
-        np.testing.assert_array_equal(np.asarray(getattr(rotor, method)(4.0)),
-                                      np.asarray(getattr(rotor, method)(N=4.0)))
-    np.testing.assert_array_equal(np.asarray(rotor.unbalance_response(4.0, 1e-3)),
-                                  np.asarray(rotor.unbalance_response(N=4.0, eps=1e-3)))
+    with pytest.deprecated_call():   # the deprecated analysis methods keep the paper's N as well
+        for method in ("state_matrix", "eigenvalues", "stability_margin"):
+            np.testing.assert_array_equal(np.asarray(getattr(rotor, method)(4.0)),
+                                          np.asarray(getattr(rotor, method)(N=4.0)))
+        np.testing.assert_array_equal(np.asarray(rotor.unbalance_response(4.0, 1e-3)),
+                                      np.asarray(rotor.unbalance_response(N=4.0, eps=1e-3)))
     shaft = ModalShaft(6, 1.0, 0.5, d=0.1, m0=0.01)
     assert complex(shaft.sums(2.0)[0]) == complex(shaft.sums(w=2.0)[0])
-    assert complex(shaft.response(speed=2.0)[0]) == complex(shaft.response(w=2.0)[0])
+    with pytest.deprecated_call():
+        assert complex(shaft.response(speed=2.0)[0]) == complex(shaft.response(w=2.0)[0])
     with pytest.raises(InputError, match="as speed or as omega"):
         ConstantSpeed(1.0, omega=2.0)
     with pytest.raises(InputError, match="as speed or as N"):
         rotor.state_matrix(1.0, N=2.0)
+
+
+def test_deprecated_analysis_methods_warn_and_equal_the_analyses():
+    """Issue 29: the analyses of models 002-004 live in `rotorjax.analysis`; the old
+    methods stay one release, each warning with the function to call instead."""
+    rotor, N = cantilever(), 6.0
+
+    def old(obj, method, *args, **kw):
+        with pytest.warns(DeprecationWarning, match=f"{type(obj).__name__}.{method} is deprecated.*rotorjax.analysis"):
+            return getattr(obj, method)(*args, **kw)
+
+    np.testing.assert_array_equal(np.asarray(old(rotor, "state_matrix", N)), np.asarray(state_matrix(rotor, N)))
+    lam = np.asarray(old(rotor, "eigenvalues", N))
+    new = np.linalg.eigvals(np.asarray(state_matrix(rotor, N)))
+    np.testing.assert_allclose(np.sort_complex(lam), np.sort_complex(new), rtol=1e-12)
+    assert float(old(rotor, "stability_margin", N)) == pytest.approx(float(linear_margin(rotor, N)), rel=1e-12)
+    lam_old, fwd_old = old(rotor, "whirl_direction", N)
+    lam_new, fwd_new = least_stable_whirl(rotor, N, rotor.disk_dofs[:2])
+    assert complex(lam_old) == pytest.approx(complex(lam_new), rel=1e-12) and bool(fwd_old) == bool(fwd_new)
+    composed = rotorjax.models.cantilever_scene(rotor, N, eps=1e-3, phase=0.3)
+    np.testing.assert_allclose(np.asarray(old(rotor, "unbalance_response", N, 1e-3, 0.3)),
+                               np.asarray(scene_unbalance_response(composed, jnp.array([N]))[0]), rtol=1e-12,
+                               atol=1e-20)
+    shaft = ModalShaft(10, 0.8, 0.3, Jt=0.02, Jp=0.01, d=0.05, m0=0.01)
+    for a, b in zip(old(shaft, "natural_frequencies"), modal003_natural_frequencies(shaft)):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    for a, b in zip(old(shaft, "response", 2.0), modal003_response(shaft, 2.0)):
+        np.testing.assert_allclose(complex(a), complex(b), rtol=1e-10)
+    machine = BalancingMachine(10.0, 0.5, 0.8, 2e5, 3e5, 150.0, 200.0)
+    planes, D = jnp.array([0.15, 0.65]), jnp.array([2e-4j, -3e-4 + 1e-4j])
+    np.testing.assert_array_equal(np.asarray(old(machine, "response", 120.0, planes, D)),
+                                  np.asarray(balancing_response(machine, 120.0, planes, D)))
 
 
 @pytest.mark.parametrize("name", ["_modal", "_modal_balancer", "_cantilever", "_cantilever_scene", "_speed"])

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from rotorjax.flexible import campbell, critical_speeds_1x, synchronous_critical_speeds, unbalance_response
-from rotorjax.models import (AutoBalancer, BalancerAt, ClearanceBearing, ConstantSpeed, CubicBearing,
-                             FlexibleRotor, Gravity, InternalDamping, Limiters, LimitersAt, Race, RotorScene,
-                             Unbalance)
+from rotorjax.models import (AutoBalancer, BalancerAt, ClearanceBearing, ConstantSpeed, CubicBearing, DiskDamping,
+                             ExternalDamping, FlexibleRotor, Gravity, InternalDamping, Limiters, LimitersAt,
+                             NodeProbe, Race, RotorScene, Unbalance)
 from rotorjax.models._fe_elements import element_matrices
 from rotorjax.models._fe_rotor import cowper_shear_coefficient
 from rotorjax.models._frequency import frequency_response
@@ -116,6 +116,8 @@ def every_component_scene(reduce=None):
     parts = (
         Unbalance(2, 2e-4, 0.3), Unbalance(4, 5e-5, -1.2),
         InternalDamping(3e-5),
+        ExternalDamping(0.85),
+        DiskDamping(2, 15.0, 0.02), DiskDamping(4, 3.5),
         Gravity(9.80665, -1.4),
         CubicBearing(1, 2e13, 1e5, 20.0),
         ClearanceBearing(n, 2e-4, 4e7, 300.0),
@@ -123,6 +125,7 @@ def every_component_scene(reduce=None):
         BalancerAt(2, AutoBalancer(np.array([0.02, 0.025]), Race(0.08, 0.075, (1e-3, -2e-3)), 0.7,
                                    inertia_factor=1.2)),
         BalancerAt(4, AutoBalancer(np.full(3, 0.01), Race.circular(0.05), 0.3, kind="roller")),
+        NodeProbe(2), NodeProbe(4, "outboard_disk"),
     )
     return RotorScene(rotor, ConstantSpeed(321.5), parts)
 
@@ -130,8 +133,98 @@ def every_component_scene(reduce=None):
 def test_every_component_round_trips_exactly(tmp_path):
     again = _round_trip(every_component_scene(), tmp_path, name='rig "A"\tα')
     assert [type(c).__name__ for c in again.components] == [
-        "Unbalance", "Unbalance", "InternalDamping", "Gravity", "CubicBearing", "ClearanceBearing",
-        "LimitersAt", "BalancerAt", "BalancerAt"]
+        "Unbalance", "Unbalance", "InternalDamping", "ExternalDamping", "DiskDamping", "DiskDamping", "Gravity",
+        "CubicBearing", "ClearanceBearing", "LimitersAt", "BalancerAt", "BalancerAt", "NodeProbe", "NodeProbe"]
+
+
+DAMPING_AND_PROBES = """
+[external_damping]
+coefficient = 0.75          # N s/m^2
+
+[[disk_damping]]
+node = 2
+translational = 12.5        # N s/m
+angular = 0.03              # N m s
+
+[[disk_damping]]
+node = 4
+translational = 4.0
+
+[[probe]]
+node = 2
+
+[[probe]]
+node = 5
+name = "bearing_b"
+"""
+
+
+def test_damping_and_probe_tables_build_their_components(tmp_path):
+    """`[external_damping]`, `[[disk_damping]]`, `[[probe]]`: the loaded scene carries
+    the components with the file's values (defaults filled in), in the documented
+    order; the damping adds to the linear part exactly what the components do, and
+    the probes' outputs are the nodes' motion."""
+    path = tmp_path / "damped.toml"
+    path.write_text(ROSS.read_text() + DAMPING_AND_PROBES)
+    scene, plain = load_rotor(path), load_rotor(ROSS)
+    kinds = [type(c) for c in scene.components]
+    assert kinds == [type(c) for c in plain.components][:1] + [ExternalDamping, DiskDamping, DiskDamping,
+                                                               NodeProbe, NodeProbe]
+    ext, d2, d4, p2, p5 = scene.components[1:]
+    assert float(ext.coefficient) == 0.75
+    assert (d2.node, float(d2.translational), float(d2.angular)) == (2, 12.5, 0.03)
+    assert (d4.node, float(d4.translational), float(d4.angular)) == (4, 4.0, 0.0)
+    assert (p2.node, p2.name, p5.node, p5.name) == (2, "disk", 5, "bearing_b")
+    by_hand = RotorScene(plain.rotor, plain.speed, plain.components + (
+        ExternalDamping(0.75), DiskDamping(2, 12.5, 0.03), DiskDamping(4, 4.0), NodeProbe(2),
+        NodeProbe(5, "bearing_b")))
+    assert_identical(scene, by_hand)
+    extra = np.asarray(scene.linear_matrices(300.0).C - plain.linear_matrices(300.0).C)
+    assert np.max(np.abs(extra)) > 0
+    y = scene.rest_state() + 1e-5 * np.random.default_rng(1).standard_normal(scene.state_size)
+    out = scene.outputs(0.0, y)
+    for name, node in (("disk", 2), ("bearing_b", 5)):
+        assert float(out[f"{name}_x"]) == float(out["node_x"][node])
+        assert float(out[f"{name}_y"]) == float(out["node_y"][node])
+    # the damping values are --set keys like the other tables'
+    changed = load_rotor(path, {"external_damping.coefficient": "1.5", "disk_damping1.angular": 0.2,
+                                "probe1.node": 6})
+    assert float(changed.components[1].coefficient) == 1.5 and float(changed.components[3].angular) == 0.2
+    assert changed.components[5].node == 6
+
+
+def test_damping_and_probe_tables_round_trip(tmp_path):
+    """save_rotor then load_rotor: the same scene, so the same vector field and outputs."""
+    path = tmp_path / "damped.toml"
+    path.write_text(ROSS.read_text() + DAMPING_AND_PROBES)
+    scene = load_rotor(path)
+    again = _round_trip(scene, tmp_path)
+    text = (tmp_path / "first.toml").read_text()
+    for line in ("[external_damping]\ncoefficient = 0.75", "[[disk_damping]]\nnode = 4\ntranslational = 4.0\n"
+                 "angular = 0.0", '[[probe]]\nnode = 5\nname = "bearing_b"'):
+        assert line in text, line
+    y = scene.rest_state() + 1e-5 * np.random.default_rng(2).standard_normal(scene.state_size)
+    np.testing.assert_array_equal(np.asarray(again.vector_field(0.1, y)), np.asarray(scene.vector_field(0.1, y)))
+
+
+def test_model_004_scene_saves_to_a_file_with_the_same_vector_field(tmp_path):
+    """The cantilever-limiters preset's scene (a probe, internal, external and disk
+    damping, limiters: model 004's parts) now fits a rotor file; reloaded (its
+    components in the file's order) it has the same vector field and outputs."""
+    import warnings
+
+    from rotorjax.presets import cantilever_limiters as cl
+
+    scene = cl.build_scene(cl.PRESET.params())
+    assert {NodeProbe, ExternalDamping, DiskDamping} <= {type(c) for c in scene.components}
+    save_rotor(scene, tmp_path / "m004.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")      # dimensionless units: implausible in SI, on purpose
+        again = load_rotor(tmp_path / "m004.toml", track_work=scene.track_work)
+    y = scene.rest_state() + 1e-3 * np.random.default_rng(3).standard_normal(scene.state_size)
+    np.testing.assert_array_equal(np.asarray(again.vector_field(0.3, y)), np.asarray(scene.vector_field(0.3, y)))
+    a, b = scene.outputs(0.3, y), again.outputs(0.3, y)
+    assert sorted(a) == sorted(b) and all(np.array_equal(np.asarray(a[k]), np.asarray(b[k])) for k in a)
 
 
 def issue15_scene():
@@ -218,6 +311,12 @@ def test_save_refuses_what_a_file_cannot_hold(tmp_path):
         save_rotor(RotorScene(scene.rotor, RunUp(0.0, 10.0)), tmp_path / "r.toml")
     with pytest.raises(InputError, match="one \\[gravity\\]"):
         save_rotor(RotorScene(scene.rotor, 1.0, (Gravity(), Gravity())), tmp_path / "r.toml")
+    with pytest.raises(InputError, match="one \\[external_damping\\]"):
+        save_rotor(RotorScene(scene.rotor, 1.0, (ExternalDamping(1.0), ExternalDamping(2.0))), tmp_path / "r.toml")
+    with pytest.raises(InputError, match="2 probes are named 'disk'"):
+        save_rotor(RotorScene(scene.rotor, 1.0, (NodeProbe(1), NodeProbe(2))), tmp_path / "r.toml")
+    with pytest.raises(InputError, match="names a probe by a word"):
+        save_rotor(RotorScene(scene.rotor, 1.0, (NodeProbe(1, "left disk"),)), tmp_path / "r.toml")
 
 
 def test_evenly_spaced_limiters_equal_their_angles(tmp_path):

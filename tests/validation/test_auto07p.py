@@ -116,8 +116,8 @@ def rotorjax_duffing():
     """rotorjax on (a): the branch and the fold curve through its first fold."""
     br = continue_branch(lambda u, om: duffing(u, om, F0), duffing_start(), OM_RANGE[0], p_bounds=OM_RANGE,
                          ds=0.02, ds_max=0.05, max_points=400, name="om")
-    fold = [e for e in br.events if e["kind"] == "fold"][0]
-    fc = fold_curve(duffing, fold["u"], (fold["p"], F0), ds=0.01, ds_max=0.02, max_points=400, tol=1e-12,
+    fold = [e for e in br.events if e.kind == "fold"][0]
+    fc = fold_curve(duffing, fold.u, (fold.p, F0), ds=0.01, ds_max=0.02, max_points=400, tol=1e-12,
                     bounds=(np.array([np.nan, np.nan, FOLD_BOX[0][0], FOLD_BOX[1][0]]),
                             np.array([np.nan, np.nan, FOLD_BOX[0][1], FOLD_BOX[1][1]])), names=("om", "f"))
     return br, fc
@@ -186,8 +186,8 @@ def rotorjax_jeffcott():
     Hopf point."""
     br = continue_branch(lambda z, om: rotating_field(jeffcott(om, C_EXT0), 0.0, z), np.zeros(4), 0.0,
                          p_bounds=(0.0, 2.0), ds=0.05, ds_max=0.2, name="Om")
-    hopf = [e for e in br.events if e["kind"] == "hopf"][0]
-    curve = trace_boundary(jeffcott_margin, (hopf["p"], C_EXT0), bounds=tuple(np.array(b) for b in zip(*HOPF_BOX)),
+    hopf = [e for e in br.events if e.kind == "hopf"][0]
+    curve = trace_boundary(jeffcott_margin, (hopf.p, C_EXT0), bounds=tuple(np.array(b) for b in zip(*HOPF_BOX)),
                            ds=0.02, ds_max=0.05, tol=1e-12, names=("Om", "c_ext"))
     return br, curve
 
@@ -233,7 +233,7 @@ def duffing_deviation(auto, rj):
     y, res = _project_on_fold_curve(jnp.asarray(pts))
     y = np.asarray(y)
     lp = [b.point(i, ["U(1)", "U(2)", "PAR(1)"]) for b, i in auto["branch"].points("LP")]
-    ev = [np.concatenate([e["u"], [e["p"]]]) for e in br.events if e["kind"] == "fold"]
+    ev = [np.concatenate([e.u, [e.p]]) for e in br.events if e.kind == "fold"]
     ends_auto = np.array([pts[0, 2:], pts[-1, 2:]])
     ends_rj = np.array(sorted([fc.x[0, 2:], fc.x[-1, 2:]], key=lambda p: p[0]))
     ends_auto = ends_auto[np.argsort(ends_auto[:, 0])]
@@ -263,7 +263,7 @@ def jeffcott_deviation(auto, rj):
     order = np.argsort(curve.x[:, 1])
     sp = make_interp_spline(curve.x[order, 1], curve.x[order, 0], k=5)
     (hb,) = [auto["branch"].solutions[lab] for lab in auto["branch"].label("HB")]
-    (ev,) = [e for e in br.events if e["kind"] == "hopf"]
+    (ev,) = [e for e in br.events if e.kind == "hopf"]
     ends_auto = pts[[0, -1]][np.argsort(pts[[0, -1], 1])]
     ends_rj = curve.x[[0, -1]][np.argsort(curve.x[[0, -1], 1])]
     return {
@@ -272,9 +272,9 @@ def jeffcott_deviation(auto, rj):
         "corrector_residual_max": float(np.max(res)),
         "interpolated_max": float(np.max(np.abs(sp(pts[:, 1]) - pts[:, 0]))),
         "hopf_auto": {"Om": float(hb["par"][0]), "frequency": float(2 * np.pi / hb["par"][10])},
-        "hopf_rotorjax": {"Om": ev["p"], "frequency": float(ev["frequency"])},
-        "hopf_point": abs(float(hb["par"][0]) - ev["p"]),
-        "hopf_frequency": abs(float(2 * np.pi / hb["par"][10]) - float(ev["frequency"])),
+        "hopf_rotorjax": {"Om": ev.p, "frequency": float(ev.frequency)},
+        "hopf_point": abs(float(hb["par"][0]) - ev.p),
+        "hopf_frequency": abs(float(2 * np.pi / hb["par"][10]) - float(ev.frequency)),
         "ends_auto": ends_auto.tolist(), "ends_rotorjax": ends_rj.tolist(),
         "ends_max": float(np.max(np.abs(ends_auto - ends_rj))),
     }
