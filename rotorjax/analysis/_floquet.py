@@ -18,10 +18,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..solve._results import RESULTS, as_result, code_of, result_code
+from ..solve._results import AbstractOutcome, result_code
 
 
-class FloquetResult(eqx.Module):
+class FloquetResult(AbstractOutcome):
     """Monodromy matrix, multipliers, exponents, verdict and self-checks.
 
     - `margin`: the largest Floquet exponent `max log|mu| / T` (< 0: stable).
@@ -41,15 +41,6 @@ class FloquetResult(eqx.Module):
     liouville_error: jax.Array
     closure: jax.Array
     code: jax.Array
-
-    @property
-    def result(self):
-        """`code` as a `RESULTS` item (batched like `code`)."""
-        return as_result(self.code)
-
-    @property
-    def success(self):
-        return self.code == code_of(RESULTS.successful)
 
     @property
     def stable(self):

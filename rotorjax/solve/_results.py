@@ -92,7 +92,24 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class SimulationResult(eqx.Module):
+class AbstractOutcome(eqx.Module):
+    """A result that carries its outcome as `code` (an index in `RESULTS`):
+    `result` is it as a `RESULTS` item, `success` is `code == 0` (both batched
+    like `code`)."""
+
+    code: eqx.AbstractVar[jax.Array]
+
+    @property
+    def result(self):
+        """`code` as a `RESULTS` item (batched like `code`)."""
+        return as_result(self.code)
+
+    @property
+    def success(self) -> jax.Array:
+        return self.code == code_of(RESULTS.successful)
+
+
+class SimulationResult(AbstractOutcome):
     """What `simulate` returns.
 
     - `ts`, `ys`: saved times and states (`ys[i]` is the state at `ts[i]`).
@@ -115,15 +132,6 @@ class SimulationResult(eqx.Module):
     code: jax.Array
     stats: dict
     solver: str = eqx.field(static=True)
-
-    @property
-    def result(self):
-        """`code` as a `RESULTS` item (batched like `code`)."""
-        return as_result(self.code)
-
-    @property
-    def success(self) -> jax.Array:
-        return self.code == code_of(RESULTS.successful)
 
     @property
     def message(self) -> str:

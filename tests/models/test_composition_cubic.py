@@ -92,3 +92,42 @@ def test_run_up_and_run_down_jump_where_the_continuation_folds(setup):
         assert abs(r[i] - _branch_at(br, speed, upper=False)) < 0.05 * r[i]    # on the lower branch
     i = np.argmin(np.abs(w - (lo - 2.5)))
     assert abs(r[i] - _branch_at(br, lo - 2.5, upper=True)) < 0.05 * r[i]      # jumped up
+
+
+def test_harmonic_balance_equals_the_synchronous_branch(setup):
+    """Harmonic balance (any scene, in the fixed frame) against the branch of
+    rotating-frame rest points, at the three coexisting orbits between the folds:
+    the orbit is a rest point of the rotating frame (its equations, those the
+    branch continues, vanish there to 1e-8), it is the branch's point at that
+    speed, it has no higher harmonics (circular, so the cubic bearings' force on it
+    is purely 1x), and the middle one is Floquet-unstable as the branch says."""
+    from rotorjax.analysis import harmonic_balance, rotating_field
+
+    rotor, parts, br = setup
+    folds = sorted(e.p for e in br.events if e.kind == "fold")
+    w = 0.5 * sum(folds)
+    crossings = [i for i in range(len(br.p) - 1) if (br.p[i] - w) * (br.p[i + 1] - w) < 0]
+    scene = RotorScene(rotor, w, parts)
+    n, T = scene.n_dof, 2 * np.pi / w
+    ts = np.linspace(0.0, T, 5)
+    found = []
+    for i in crossings:
+        s = (w - br.p[i]) / (br.p[i + 1] - br.p[i])
+        u = (1 - s) * br.u[i] + s * br.u[i + 1]       # on the branch at w, to the step's accuracy
+        guess = np.stack([np.zeros_like(u), scene.to_fixed(0.0, u), scene.to_fixed(T / 4, u)])
+        hb = harmonic_balance(scene, T, guess, harmonics=3, stability=(i == crossings[1]))
+        assert int(hb.code) == 0 and float(hb.time_residual) < 1e-8
+        z = np.asarray(scene.to_rotating(0.0, hb.initial_state()))
+        for t in ts:   # a rest point of the rotating frame
+            np.testing.assert_allclose(np.asarray(scene.to_rotating(t, hb.state(t))), z, atol=1e-10 * np.abs(z).max())
+        acc = np.asarray(rotating_field(scene, 0.0, z))
+        assert np.abs(acc[:n]).max() < 1e-8 * w * np.abs(z[:n]).max()
+        assert np.abs(acc[n:]).max() < 1e-8 * w**2 * np.abs(z[:n]).max()
+        assert np.abs(z - u).max() < 5e-2 * np.abs(u).max()   # the branch's point (interpolated near a fold)
+        found.append(z)
+        c = np.asarray(hb.coefficients)
+        assert np.max(np.abs(c[3:])) < 1e-10 * np.max(np.abs(c[1:3]))
+        if i == crossings[1]:
+            assert not bool(br.stable[i]) and not bool(hb.stable)
+    radii = sorted(float(np.hypot(z[0], z[1])) for z in found)   # three distinct orbits
+    assert radii[1] > 1.1 * radii[0] and radii[2] > 1.1 * radii[1]

@@ -1,0 +1,167 @@
+"""Harmonic balance (`rotorjax.analysis.harmonic_balance`) on the forced Duffing
+oscillator: the one-harmonic balance against its closed form, many harmonics
+against shooting on the time integration, Floquet stability against Liouville's
+formula and the jump structure of the three coexisting branches."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from rotorjax.analysis import PeriodicSolution, floquet, harmonic_balance, periodic_orbit
+from rotorjax._errors import InputError
+from rotorjax.models import AbstractScene, ConstantSpeed
+from rotorjax.solve import RESULTS, code_of
+
+C, W0, BETA, F = 0.1, 1.0, 1.0, 0.2   # x'' + C x' + W0^2 x + BETA x^3 = F cos(om t)
+OM = 1.4                             # inside the hardening Duffing's three-solution band
+
+
+class Duffing(AbstractScene):
+    """The forcing's frequency is the scene's (constant) speed."""
+
+    speed: ConstantSpeed
+
+    def __init__(self, om):
+        self.speed = ConstantSpeed(om)
+
+    @property
+    def om(self):
+        return self.speed.constant
+
+    @property
+    def state_size(self):
+        return 2
+
+    def vector_field(self, t, y, args=None):
+        x, v = y
+        return jnp.stack([v, F * jnp.cos(self.om * t) - C * v - W0**2 * x - BETA * x**3])
+
+    def outputs(self, t, y):
+        return {"x": y[0]}
+
+    def describe(self):
+        return f"Duffing oscillator at om = {self.om}"
+
+
+def first_order_amplitudes(om):
+    """Closed form of the one-harmonic balance: `A = |x_1|` solves
+    `A^2 [(W0^2 - om^2 + 3/4 BETA A^2)^2 + C^2 om^2] = F^2` (a cubic in A^2)."""
+    d = W0**2 - om**2
+    b = 0.75 * BETA
+    # in s = A^2: b^2 s^3 + 2 d b s^2 + (d^2 + C^2 om^2) s - F^2 = 0
+    s = np.roots([b * b, 2 * d * b, d * d + C * C * om * om, -F * F])
+    return np.sort(np.sqrt(s[(np.abs(s.imag) < 1e-12) & (s.real > 0)].real))
+
+
+def phase_guess(A, om):
+    """The one-harmonic motion of amplitude A as coefficients `(c_0, a_1, b_1)` of
+    `(x, v)`: `x = p cos + q sin` with `p, q` from the balance's two equations."""
+    d = W0**2 - om**2 + 0.75 * BETA * A * A
+    p = F * d / (d * d + C * C * om * om)         # cosine: d p + C om q = F
+    q = F * C * om / (d * d + C * C * om * om)     # sine: d q - C om p = 0
+    return jnp.array([[0.0, 0.0], [p, q * om], [q, -p * om]])
+
+
+@pytest.fixture(scope="module")
+def three():
+    """The three coexisting motions at OM with 1 and with 16 harmonics."""
+    scene = Duffing(OM)
+    T = 2 * np.pi / OM
+    amps = first_order_amplitudes(OM)
+    assert amps.size == 3
+    one = [harmonic_balance(scene, T, phase_guess(A, OM), harmonics=1) for A in amps]
+    many = [harmonic_balance(scene, T, s, harmonics=16) for s in one]
+    return scene, T, amps, one, many
+
+
+def test_one_harmonic_equals_the_closed_form_balance(three):
+    _, _, amps, one, _ = three
+    for A, s in zip(amps, one):
+        assert int(s.code) == code_of(RESULTS.successful)
+        a1, b1 = np.asarray(s.coefficients[1:3, 0])
+        assert abs(np.hypot(a1, b1) - A) < 1e-10 * A
+        assert float(s.residual) < 1e-12
+
+
+def test_many_harmonics_equal_shooting_and_the_residual_falls(three):
+    scene, T, _, one, many = three
+    for s1, s in zip(one, many):
+        assert int(s.code) == code_of(RESULTS.successful)
+        assert float(s.time_residual) < 1e-9 and float(s1.time_residual) > 5e-3   # the README: 6e-3 to 0.18 with one
+        y0 = np.asarray(s.initial_state())
+        y_shoot, closure, ok = periodic_orbit(scene, y0 + 1e-4, T)
+        assert ok and closure < 1e-10
+        np.testing.assert_allclose(np.asarray(y_shoot), y0, atol=1e-9)
+
+
+def test_floquet_stability_of_the_three_motions(three):
+    """Outer branches stable, the middle one a saddle (one multiplier > 1); the
+    multipliers' product is Liouville's `exp(-C T)`."""
+    _, T, _, _, many = three
+    assert [bool(s.stable) for s in many] == [True, False, True]
+    for s in many:
+        mu = np.asarray(s.floquet.multipliers)
+        assert abs(np.prod(mu).real - np.exp(-C * T)) < 1e-9
+    assert np.max(np.abs(np.asarray(many[1].floquet.multipliers))) > 1.0
+
+
+def test_amplitude_and_reconstruction(three):
+    scene, T, _, _, many = three
+    s = many[2]
+    ts = np.linspace(0.0, T, 7)
+    ys = np.asarray(s.state(ts))
+    np.testing.assert_allclose(ys[0], ys[-1], atol=1e-12)
+    # the orbit integrated from its initial state stays on the series
+    import rotorjax as rj
+    r = rj.simulate(scene, s.initial_state(), (0.0, T), saveat=ts, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(r.ys), ys, atol=1e-9)
+    # the amplitude of the pair (x, v) is the largest radius over the period
+    xs = np.asarray(s.state(np.linspace(0, T, 20001)))
+    assert abs(float(s.amplitude((0, 1))) / np.max(np.hypot(xs[:, 0], xs[:, 1])) - 1) < 1e-3
+
+
+def test_vmapped_over_forcing_frequency_equals_one_by_one():
+    """A grid of frequencies as one compiled Newton (no stability)."""
+    oms = jnp.array([0.6, 0.8, 1.0, 1.2])
+
+    def one(om):
+        return harmonic_balance(Duffing(om), 2 * jnp.pi / om, jnp.zeros(2), harmonics=5, stability=False)
+
+    batch = jax.jit(jax.vmap(one))(oms)
+    for i, om in enumerate(np.asarray(oms)):
+        s = one(float(om))
+        np.testing.assert_allclose(np.asarray(batch.coefficients[i]), np.asarray(s.coefficients), atol=1e-12)
+    assert np.all(np.asarray(batch.code) == 0)
+
+
+def test_non_convergence_is_reported_not_returned_as_a_solution():
+    s = harmonic_balance(Duffing(OM), 2 * np.pi / OM, jnp.array([3.0, 0.0]), harmonics=3, max_iter=1,
+                         stability=False)
+    assert int(s.code) == code_of(RESULTS.root_not_converged) and not bool(s.success)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"harmonics": 0}, "harmonics must be an integer >= 1"),
+    ({"harmonics": 2.5}, "harmonics must be an integer >= 1"),
+    ({"harmonics": 4, "n_samples": 8}, "n_samples must be an integer >= 9"),
+    ({"period": -1.0}, "period must be"),
+    ({"guess": jnp.zeros(3)}, r"guess must be a state of shape \(2,\)"),
+    ({"guess": jnp.zeros((4, 2))}, r"guess must be .* got shape \(4, 2\)"),
+    ({"scene": "duffing"}, "scene must be a scene"),
+    ({"max_iter": 0}, "max_iter must be an integer >= 1"),
+    ({"tol": 0.0}, "tol must be"),
+])
+def test_bad_input_is_refused_by_name(kwargs, match):
+    call = {"scene": Duffing(OM), "period": 2 * np.pi / OM, "guess": jnp.zeros(2), "harmonics": 3,
+            "stability": False} | kwargs
+    with pytest.raises(InputError, match=match):
+        harmonic_balance(**call)
+
+
+def test_stable_without_stability_is_refused():
+    s = harmonic_balance(Duffing(0.5), 2 * np.pi / 0.5, jnp.zeros(2), harmonics=2, stability=False)
+    assert isinstance(s, PeriodicSolution) and s.floquet is None
+    with pytest.raises(InputError, match="stability=False"):
+        s.stable
