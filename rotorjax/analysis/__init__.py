@@ -20,6 +20,8 @@ from ._floquet import periodic_orbit as periodic_orbit
 from ._harmonic_balance import PeriodicSolution as PeriodicSolution
 from ._harmonic_balance import balance_residual as balance_residual
 from ._harmonic_balance import harmonic_balance as harmonic_balance
+from ._harmonic_balance import hill_exponents as hill_exponents
+from ._harmonic_balance import periodic_branch as periodic_branch
 from ._roots import Root as Root
 from ._roots import find_roots as find_roots
 from ._roots import root_gradient as root_gradient

@@ -676,7 +676,7 @@ def _newton(fun, x0, tol=1e-12, max_iter=30):
 
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
                     tol=1e-11, direction=None, start_tol=1e-8, ds_min=1e-9, max_turn=0.2, name="p",
-                    progress=False, dense_tol=None) -> Branch:
+                    progress=False, dense_tol=None, gtol=1e-8) -> Branch:
     """One-parameter continuation of `F(u, p) = 0` from a solution `(u0, p0)`
     within `p_bounds` (a missing bound: NaN or infinite).
 
@@ -686,7 +686,8 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     decreasing `p`. An end inside `p_bounds`' edge lands on it exactly. `name`
     names `p` in the stop reasons (`Branch.stops`, e.g. "box edge (nu = 4.0)").
     At most `max_points` points in all. `dense_tol`: as in `trace_curve` (the dense
-    branch is `Branch.curve.dense()`, rows `(u, p)`)."""
+    branch is `Branch.curve.dense()`, rows `(u, p)`). `gtol`: the largest `max |F|`
+    a corrected point may keep (as in `trace_curve`)."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 
@@ -702,7 +703,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
         d[n] = direction
     curve = _trace(G, np.concatenate([u0, [p0]]), ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points,
                    tol=tol, direction=d, bounds=(lo, hi), max_newton=8, start_tol=start_tol, gradient="autodiff",
-                   fd_step=1e-6, gtol=1e-8, max_turn=max_turn, names=[None] * n + [name], what="F",
+                   fd_step=1e-6, gtol=gtol, max_turn=max_turn, names=[None] * n + [name], what="F",
                    progress=progress, dense_tol=dense_tol)
     Jx = jax.jit(jax.jacfwd(G))   # [F_u F_p], one Jacobian per point
 

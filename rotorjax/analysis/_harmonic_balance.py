@@ -34,6 +34,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..models._contract import AbstractScene
+from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS, AbstractOutcome, code_of
 from ._floquet import FloquetResult, floquet
@@ -239,3 +240,96 @@ def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args) -> PeriodicSol
     return PeriodicSolution(coefficients=Y, period=period, t0=t0, residual=r, step=step,
                             time_residual=_time_residual(scene, Y, period, t0, args), iterations=it,
                             code=jnp.asarray(code, dtype=jnp.int32))
+
+
+def _physical_exponents(jac, n, omega):
+    """Hill's method: of the eigenvalues of the balance's linearisation `jac` (the
+    exponents `s + i k w` of every retained harmonic `k`, and spurious ones from
+    the truncation at the highest harmonics), the `n` with the smallest `|Im s|`:
+    the representatives in `(-w/2, w/2]`, one per Floquet exponent."""
+    lam = jnp.linalg.eigvals(jac)
+    return lam[jnp.argsort(jnp.abs(jnp.imag(lam)))[:n]]
+
+
+def hill_exponents(scene, solution, args=None):
+    """Floquet exponents of a `PeriodicSolution` by Hill's method (the
+    linearisation of the harmonic balance, no time integration): `n` complex
+    exponents `s`, the multipliers being `exp(s T)`; their largest real part is the
+    margin (< 0: stable). Agrees with `solution.floquet` as the harmonics converge."""
+    check_type("solution", solution, PeriodicSolution, "a PeriodicSolution (from harmonic_balance)")
+    Y = solution.coefficients
+    n = Y.shape[1]
+
+    def minus_residual(x):
+        return -balance_residual(scene, x.reshape(Y.shape), solution.period, solution.t0, None, args).ravel()
+
+    jac = jax.jacfwd(minus_residual)(Y.ravel())
+    return _physical_exponents(jac, n, 2 * jnp.pi / solution.period)
+
+
+def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, scale=None, name="p", ds=0.01,
+                    ds_max=0.2, max_points=300, tol=1e-11, gtol=1e-6, direction=None, progress=False):
+    """A branch of periodic forced motions `Y(p)` by harmonic balance and
+    pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
+    folds.
+
+    **Arguments:**
+    - `scene_at(p)`: the scene at `p` (traceable in `p`).
+    - `p0`, `guess`: the start (`guess` as in `harmonic_balance`: solved there first).
+    - `p_bounds`: `(lo, hi)`; `harmonics`: `H`.
+    - `period_at(p)`: the motion's period at `p` (default `2 pi / p`: `p` is the
+      speed or forcing frequency in rad/s).
+    - `scale`: one length per state (default: each state's largest coefficient at
+      the start, at least 1e-3 of the largest of all), so that the arclength weighs coefficients and `p` alike; time is
+      scaled by the start's `2 pi / period`.
+    - `tol`, `gtol`: a point is accepted when Newton's last step is below `tol`
+      (relative) and the scaled balance residual below `gtol` (its round-off floor
+      grows with the stiffness: an FE rotor's highest modes).
+
+    Returns `(branch, coefficients)`: the `Branch` (`p`; `margin` the largest real
+    part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
+    negative; `events`: folds, refined, and branch points; `u` the scaled
+    unknowns) and the coefficients `(points, 2H + 1, n)` in physical units.
+    Secondary bifurcations (period doubling, Neimark-Sacker) are not yet
+    classified: the Hill exponents' crossings other than at folds are not reported
+    as events."""
+    import dataclasses
+
+    from ._continuation import continue_branch
+
+    if period_at is None:
+        def period_at(p):
+            return 2 * jnp.pi / p
+    try:
+        lo, hi = p_bounds
+    except (TypeError, ValueError):
+        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
+    p0 = float(as_param("p0", p0, shape=()))
+    if not (lo <= p0 <= hi):
+        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    start = harmonic_balance(scene_at(p0), period_at(p0), guess, harmonics, stability=False)
+    if int(start.code) != 0:
+        raise NumericalError(f"periodic_branch: no periodic motion at {name} = {p0} from the guess "
+                             f"({RESULTS[start.result]})")
+    Y0 = start.coefficients
+    shape = Y0.shape
+    if scale is None:
+        top = jnp.max(jnp.abs(Y0), axis=0)
+        scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :]
+    w0 = float(2 * np.pi / period_at(p0))
+
+    def F(u, p):   # a similarity transform: Hill's exponents divided by w0
+        Y = u.reshape(shape) * scale
+        return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0)).ravel()
+
+    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max,
+                         max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
+                         start_tol=gtol, gtol=gtol)
+    events = tuple(e for e in br.events if e.kind in ("fold", "branch_point"))
+    jac_u = jax.jit(jax.jacfwd(F))
+    margin = np.array([float(jnp.max(jnp.real(_physical_exponents(jac_u(jnp.asarray(u), p), shape[1], 1.0))))
+                       for u, p in zip(br.u, br.p)]) * w0
+    br = dataclasses.replace(br, margin=margin, stable=margin < 0, events=events)
+    coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
+    return br, coefficients

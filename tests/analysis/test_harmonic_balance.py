@@ -165,3 +165,80 @@ def test_stable_without_stability_is_refused():
     assert isinstance(s, PeriodicSolution) and s.floquet is None
     with pytest.raises(InputError, match="stability=False"):
         s.stable
+
+
+def fold_frequencies():
+    """Where the one-harmonic balance's cubic in `A^2` has a double root: zeros of
+    its discriminant (closed form), bracketed by the root count."""
+    from scipy.optimize import brentq
+
+    def disc(om):
+        d, b = W0**2 - om**2, 0.75 * BETA
+        a3, a2, a1, a0 = b * b, 2 * d * b, d * d + C * C * om * om, -F * F
+        return (18 * a3 * a2 * a1 * a0 - 4 * a2**3 * a0 + a2**2 * a1**2 - 4 * a3 * a1**3
+                - 27 * a3**2 * a0**2)
+
+    grid = np.linspace(1.0, 2.0, 201)
+    counts = [first_order_amplitudes(om).size for om in grid]
+    return [brentq(disc, grid[i], grid[i + 1], xtol=1e-14) for i in range(200) if counts[i] != counts[i + 1]]
+
+
+def test_branch_through_the_folds_equals_the_closed_form_and_floquet():
+    """The frequency response continued in the forcing frequency: with one
+    harmonic its folds are the closed form's to 1e-8; with eight, Hill's margin
+    along the branch equals Floquet's at the same orbits, and the part between the
+    folds is unstable."""
+    from rotorjax.analysis import periodic_branch
+
+    folds_cf = fold_frequencies()
+    assert len(folds_cf) == 2
+    br1, _ = periodic_branch(Duffing, 1.0, jnp.zeros(2), (1.0, 2.0), harmonics=1, ds=0.05, ds_max=0.1)
+    folds = sorted(e.p for e in br1.events if e.kind == "fold")
+    np.testing.assert_allclose(folds, folds_cf, rtol=1e-8)
+    assert br1.curve.stops == ("box edge (p = 1.0)", "box edge (p = 2.0)")
+
+    br8, coefs = periodic_branch(Duffing, 1.0, jnp.zeros(2), (1.0, 2.0), harmonics=8, ds=0.05, ds_max=0.1)
+    f8 = sorted(e.p for e in br8.events if e.kind == "fold")
+    assert len(f8) == 2 and np.allclose(f8, folds_cf, rtol=2e-2)   # the higher harmonics move them a little
+    for i in np.linspace(0, len(br8.p) - 1, 7).astype(int):
+        om = float(br8.p[i])
+        s = harmonic_balance(Duffing(om), 2 * np.pi / om, coefs[i], harmonics=8)
+        np.testing.assert_allclose(np.asarray(s.coefficients), coefs[i], atol=1e-9)
+        assert abs(float(br8.margin[i]) - float(s.floquet.margin)) < 1e-6
+        assert bool(br8.stable[i]) == bool(s.stable)
+    stable, p = np.asarray(br8.stable), np.asarray(br8.p)
+    outside = (p < f8[0] - 1e-3) | (p > f8[1] + 1e-3)
+    assert np.all(stable[outside]) and not np.all(stable[~outside])   # one motion outside, three between
+
+
+def test_hill_exponents_equal_floquet_multipliers(three):
+    """Hill's exponents (no integration) against the monodromy's multipliers, on
+    the three coexisting motions with 16 harmonics."""
+    from rotorjax.analysis import hill_exponents
+
+    scene, T, _, _, many = three
+    for s in many:
+        mu_hill = np.sort_complex(np.exp(np.asarray(hill_exponents(scene, s)) * T))
+        mu = np.sort_complex(np.asarray(s.floquet.multipliers))
+        np.testing.assert_allclose(mu_hill, mu, atol=1e-8)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"p_bounds": 1.0}, r"p_bounds must be a pair \(lo, hi\)"),
+    ({"p0": 3.0}, r"p0 = 3.0 must lie in p_bounds = \(1.0, 2.0\)"),
+    ({"harmonics": 0}, "harmonics must be an integer >= 1"),
+])
+def test_periodic_branch_refuses_bad_input_by_name(kwargs, match):
+    from rotorjax.analysis import periodic_branch
+
+    call = {"p0": 1.4, "guess": jnp.zeros(2), "p_bounds": (1.0, 2.0), "harmonics": 1} | kwargs
+    with pytest.raises(InputError, match=match):
+        periodic_branch(Duffing, call["p0"], call["guess"], call["p_bounds"], call["harmonics"])
+
+
+def test_periodic_branch_start_that_fails_is_a_named_numerical_error():
+    from rotorjax._errors import NumericalError
+    from rotorjax.analysis import periodic_branch
+
+    with pytest.raises(NumericalError, match=r"periodic_branch: no periodic motion at p = 1.4 .*non-finite"):
+        periodic_branch(Duffing, 1.4, jnp.full(2, jnp.nan), (1.0, 2.0), harmonics=1)

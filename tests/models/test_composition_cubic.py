@@ -131,3 +131,26 @@ def test_harmonic_balance_equals_the_synchronous_branch(setup):
             assert not bool(br.stable[i]) and not bool(hb.stable)
     radii = sorted(float(np.hypot(z[0], z[1])) for z in found)   # three distinct orbits
     assert radii[1] > 1.1 * radii[0] and radii[2] > 1.1 * radii[1]
+
+
+def test_periodic_branch_folds_where_the_synchronous_branch_does(setup):
+    """Harmonic balance continued in the speed (fixed frame, one harmonic) folds at
+    the speeds where the rotating-frame branch folds, and is unstable between
+    them on its middle part, as that branch is."""
+    from rotorjax.analysis import periodic_branch
+
+    rotor, parts, br = setup
+    folds = sorted(e.p for e in br.events if e.kind == "fold")
+    w0 = 101.5
+    i = int(np.searchsorted(br.p, w0))   # below both folds: one orbit
+    s = (w0 - br.p[i - 1]) / (br.p[i] - br.p[i - 1])
+    u = (1 - s) * br.u[i - 1] + s * br.u[i]
+    scene = RotorScene(rotor, w0, parts)
+    T = 2 * np.pi / w0
+    guess = np.stack([np.zeros_like(u), scene.to_fixed(0.0, u), scene.to_fixed(T / 4, u)])
+    hb, _ = periodic_branch(lambda w: RotorScene(rotor, w, parts), w0, guess, (w0, 105.0), harmonics=1,
+                            name="speed", ds=0.05, ds_max=0.5, direction=1)
+    got = sorted(e.p for e in hb.events if e.kind == "fold")
+    np.testing.assert_allclose(got, folds, rtol=1e-8)
+    outside = (hb.p < folds[0] - 0.01) | (hb.p > folds[1] + 0.01)
+    assert np.all(hb.stable[outside]) and not np.all(hb.stable[~outside])
