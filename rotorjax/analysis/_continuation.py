@@ -676,7 +676,7 @@ def _newton(fun, x0, tol=1e-12, max_iter=30):
 
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
                     tol=1e-11, direction=None, start_tol=1e-8, ds_min=1e-9, max_turn=0.2, name="p",
-                    progress=False, dense_tol=None, gtol=1e-8) -> Branch:
+                    progress=False, dense_tol=None, gtol=1e-8, exponents=None) -> Branch:
     """One-parameter continuation of `F(u, p) = 0` from a solution `(u0, p0)`
     within `p_bounds` (a missing bound: NaN or infinite).
 
@@ -687,7 +687,10 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     names `p` in the stop reasons (`Branch.stops`, e.g. "box edge (nu = 4.0)").
     At most `max_points` points in all. `dense_tol`: as in `trace_curve` (the dense
     branch is `Branch.curve.dense()`, rows `(u, p)`). `gtol`: the largest `max |F|`
-    a corrected point may keep (as in `trace_curve`)."""
+    a corrected point may keep (as in `trace_curve`). `exponents(F_u)`: the
+    stability exponents at a point from its Jacobian (default: all its eigenvalues;
+    harmonic balance passes Hill's physical ones); the margin is their largest real
+    part."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 
@@ -712,7 +715,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
 
     xs = curve.x
     jacs = [np.asarray(Jx(jnp.asarray(x))) for x in xs]
-    eig = [np.linalg.eigvals(J[:, :n]) for J in jacs]
+    eig = [np.asarray((exponents or np.linalg.eigvals)(J[:, :n])) for J in jacs]
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
     tangents = np.array([_tangent(J) for J in jacs])

@@ -291,8 +291,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     negative; `events`: folds, refined, and branch points; `u` the scaled
     unknowns) and the coefficients `(points, 2H + 1, n)` in physical units.
     Secondary bifurcations (period doubling, Neimark-Sacker) are not yet
-    classified: the Hill exponents' crossings other than at folds are not reported
-    as events."""
+    classified: Hill's exponents crossing elsewhere than at folds are not reported
+    as events (the margin and `stable` show them)."""
     import dataclasses
 
     from ._continuation import continue_branch
@@ -325,11 +325,9 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
 
     br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max,
                          max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
-                         start_tol=gtol, gtol=gtol)
+                         start_tol=gtol, gtol=gtol,
+                         exponents=lambda J: _physical_exponents(jnp.asarray(J), shape[1], 1.0))
     events = tuple(e for e in br.events if e.kind in ("fold", "branch_point"))
-    jac_u = jax.jit(jax.jacfwd(F))
-    margin = np.array([float(jnp.max(jnp.real(_physical_exponents(jac_u(jnp.asarray(u), p), shape[1], 1.0))))
-                       for u, p in zip(br.u, br.p)]) * w0
-    br = dataclasses.replace(br, margin=margin, stable=margin < 0, events=events)
+    br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
     return br, coefficients
