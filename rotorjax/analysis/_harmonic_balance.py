@@ -28,15 +28,18 @@ Floquet's, from the monodromy along the reconstructed orbit
 (`rotorjax.analysis.floquet`, the variational equations integrated).
 """
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..models._contract import AbstractScene
 from .._errors import NumericalError
+from ..models._contract import AbstractScene
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS, AbstractOutcome, code_of
+from ._continuation import continue_branch
 from ._floquet import FloquetResult, floquet
 
 
@@ -280,8 +283,9 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     - `period_at(p)`: the motion's period at `p` (default `2 pi / p`: `p` is the
       speed or forcing frequency in rad/s).
     - `scale`: one length per state (default: each state's largest coefficient at
-      the start, at least 1e-3 of the largest of all), so that the arclength weighs coefficients and `p` alike; time is
-      scaled by the start's `2 pi / period`.
+      the start, at least 1e-3 of the largest of all), so that the arclength
+      weighs coefficients and `p` alike; time is scaled by the start's
+      `2 pi / period`.
     - `tol`, `gtol`: a point is accepted when Newton's last step is below `tol`
       (relative) and the scaled balance residual below `gtol` (its round-off floor
       grows with the stiffness: an FE rotor's highest modes).
@@ -293,10 +297,6 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     Secondary bifurcations (period doubling, Neimark-Sacker) are not yet
     classified: Hill's exponents crossing elsewhere than at folds are not reported
     as events (the margin and `stable` show them)."""
-    import dataclasses
-
-    from ._continuation import continue_branch
-
     if period_at is None:
         def period_at(p):
             return 2 * jnp.pi / p
