@@ -584,13 +584,15 @@ class BranchEvent:
     - `kind`: `"fold"` (refined by Newton on `{F = 0, det F_u = 0}`), `"hopf"`
       (refined by bisection along the branch on the crossing pair's real part) or
       `"branch_point"` (a sign change of the bordered determinant, located to the
-      step, not refined).
+      step, not refined); on a branch of periodic motions (`periodic_branch`) a
+      crossing pair is a `"period-doubling"` or a `"neimark-sacker"` point.
     - `p`, `u`: the parameter and the state there.
     - `residual`: max |.| of the defining system there (for a branch point, the
       larger residual of the two branch points around it).
     - `between`: `(i, i + 1)`, the branch's points it lies between.
-    - `frequency`: a Hopf point's `|Im lambda|` of the crossing pair (None for
-      the other kinds).
+    - `frequency`: a Hopf point's `|Im lambda|` of the crossing pair (a
+      Neimark-Sacker or period-doubling point's exponent frequency; None for the
+      other kinds).
     - `note`: a remark on how it was located (branch points), else None.
 
     `as_dict()` gives the JSON row; `event["p"]` style access still reads the same

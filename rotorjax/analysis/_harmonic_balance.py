@@ -37,6 +37,7 @@ import numpy as np
 
 from .._errors import NumericalError
 from ..models._contract import AbstractScene
+from ..models._speed import ConstantSpeed
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS, AbstractOutcome, code_of
 from ._continuation import continue_branch
@@ -97,6 +98,47 @@ class PeriodicSolution(AbstractOutcome):
         n = 16 * (2 * self.harmonics + 1)
         ys = self.state(self.t0 + self.period * jnp.arange(n) / n)
         return jnp.sqrt(jnp.max(ys[:, i] ** 2 + ys[:, j] ** 2))
+
+
+def forcing_period(scene, subharmonic=1):
+    """The period of a forced motion of `scene`: `subharmonic` times `2 pi / speed`
+    (the unbalance's, at the scene's constant speed, in its time unit)."""
+    k = as_count("subharmonic", subharmonic, minimum=1)
+    if not isinstance(scene.speed, ConstantSpeed):
+        raise InputError(f"a forced periodic motion needs a constant speed; {scene.describe()} runs at a "
+                         f"{type(scene.speed).__name__}")
+    return k * 2 * jnp.pi / scene.speed.constant
+
+
+def orbit_amplitude(scene, coefficients, period, t0=0.0, node=None, n_points=None):
+    """The amplitude of a periodic motion (coefficients `(2H + 1, n)` as in
+    `PeriodicSolution`): the largest radius over the period of the orbit of `node`
+    (the scene's outputs `node_x`, `node_y`: a shaft node, in the scene's length
+    unit) or, with `node=None`, the largest of the scene's output `whirl_amplitude`.
+    Sampled at `n_points` instants (default `16 (2H + 1)`). Traceable in the
+    coefficients and the period; vmap over a branch's points."""
+    Y = jnp.asarray(coefficients, dtype=jnp.float64)
+    H = (Y.shape[-2] - 1) // 2
+    m = n_points or 16 * (2 * H + 1)
+    phase = 2 * jnp.pi * jnp.arange(m) / m
+    ys = _basis_at(phase, H) @ Y
+    ts = t0 + period * jnp.arange(m) / m
+    probe = scene.outputs(ts[0], ys[0])
+    if node is None:
+        if "whirl_amplitude" not in probe:
+            raise InputError(f"{scene.describe()}: no output 'whirl_amplitude'; name a node")
+        return jnp.max(jax.vmap(lambda t, y: scene.outputs(t, y)["whirl_amplitude"])(ts, ys))
+    if "node_x" not in probe or "node_y" not in probe:
+        raise InputError(f"node {node}: {scene.describe()} has no nodes (no outputs 'node_x', 'node_y')")
+    n_nodes = int(jnp.shape(probe["node_x"])[0])
+    if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or not 0 <= node < n_nodes:
+        raise InputError(f"node {node!r}: the scene's nodes are 0..{n_nodes - 1}")
+
+    def radius2(t, y):
+        out = scene.outputs(t, y)
+        return out["node_x"][node] ** 2 + out["node_y"][node] ** 2
+
+    return jnp.sqrt(jnp.max(jax.vmap(radius2)(ts, ys)))
 
 
 def _basis_at(phase, H):
@@ -270,8 +312,9 @@ def hill_exponents(scene, solution, args=None):
     return _physical_exponents(jac, n, 2 * jnp.pi / solution.period)
 
 
-def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, scale=None, name="p", ds=0.01,
-                    ds_max=0.2, max_points=300, tol=1e-11, gtol=1e-6, direction=None, progress=False):
+def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, subharmonic=1, scale=None,
+                    name="p", ds=0.01, ds_max=0.2, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
+                    progress=False):
     """A branch of periodic forced motions `Y(p)` by harmonic balance and
     pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
     folds.
@@ -280,8 +323,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     - `scene_at(p)`: the scene at `p` (traceable in `p`).
     - `p0`, `guess`: the start (`guess` as in `harmonic_balance`: solved there first).
     - `p_bounds`: `(lo, hi)`; `harmonics`: `H`.
-    - `period_at(p)`: the motion's period at `p` (default `2 pi / p`: `p` is the
-      speed or forcing frequency in rad/s).
+    - `period_at(p)`: the motion's period at `p` (default `forcing_period(scene_at(p),
+      subharmonic)`: `subharmonic` times `2 pi / speed`).
     - `scale`: one length per state (default: each state's largest coefficient at
       the start, at least 1e-3 of the largest of all), so that the arclength
       weighs coefficients and `p` alike; time is scaled by the start's
@@ -292,14 +335,18 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
 
     Returns `(branch, coefficients)`: the `Branch` (`p`; `margin` the largest real
     part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
-    negative; `events`: folds, refined, and branch points; `u` the scaled
-    unknowns) and the coefficients `(points, 2H + 1, n)` in physical units.
-    Secondary bifurcations (period doubling, Neimark-Sacker) are not yet
-    classified: Hill's exponents crossing elsewhere than at folds are not reported
-    as events (the margin and `stable` show them)."""
+    negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
+    in physical units. `branch.events` (`u`: the coefficients there, flattened,
+    physical units): `"fold"` (refined: Newton on the balance
+    and `det dR/dY = 0`), `"branch_point"` (located to the step), and where a
+    complex pair of Hill's exponents crosses, refined by bisection along the
+    branch, `"period-doubling"` (its frequency half the motion's: a multiplier
+    through -1) or `"neimark-sacker"` (a pair of multipliers `exp(+-i 2 pi f / w)`
+    through the unit circle; `frequency` the exponent's `f` in (0, w/2), rad per
+    time unit)."""
     if period_at is None:
         def period_at(p):
-            return 2 * jnp.pi / p
+            return forcing_period(scene_at(p), subharmonic)
     try:
         lo, hi = p_bounds
     except (TypeError, ValueError):
@@ -327,7 +374,45 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
                          max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
                          start_tol=gtol, gtol=gtol,
                          exponents=lambda J: _physical_exponents(jnp.asarray(J), shape[1], 1.0))
-    events = tuple(e for e in br.events if e.kind in ("fold", "branch_point"))
+    events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
     return br, coefficients
+
+
+#: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling
+PERIOD_DOUBLING_TOL = 1e-3
+
+
+def _physical(event, scale, w0, period_at):
+    """An event of the scaled continuation in physical units, a crossing pair
+    classified."""
+    event = dataclasses.replace(event, u=(np.asarray(event.u).reshape((-1,) + scale.shape[1:])
+                                          * np.asarray(scale)).ravel())
+    if event.kind == "hopf":
+        event = _secondary(event, w0, float(2 * np.pi / period_at(event.p)))
+    return event
+
+
+def _secondary(event, w0, w):
+    """A crossing of a complex pair of Hill's exponents (continue_branch's "hopf",
+    in units of `w0`) as a period doubling or a Neimark-Sacker bifurcation: the
+    exponent's frequency reduced to `[0, w/2]` (each exponent recurs shifted by
+    every `k w`)."""
+    f = float(np.abs(np.mod(event.frequency * w0 + 0.5 * w, w) - 0.5 * w))
+    kind = "period-doubling" if abs(f - 0.5 * w) < PERIOD_DOUBLING_TOL * w else "neimark-sacker"
+    return dataclasses.replace(event, kind=kind, frequency=f)
+
+
+def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1):
+    """`orbit_amplitude` at every point of a branch from `periodic_branch`
+    (`p` its parameter values, `coefficients` `(points, 2H + 1, n)`), vmapped."""
+    if period_at is None:
+        def period_at(v):
+            return forcing_period(scene_at(v), subharmonic)
+    orbit_amplitude(scene_at(float(p[0])), coefficients[0], period_at(float(p[0])), node=node)   # checks node
+
+    def one(v, Y):
+        return orbit_amplitude(scene_at(v), Y, period_at(v), node=node)
+
+    return np.asarray(jax.jit(jax.vmap(one))(jnp.asarray(p), jnp.asarray(coefficients)))
