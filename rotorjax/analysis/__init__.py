@@ -20,9 +20,13 @@ from ._floquet import periodic_orbit as periodic_orbit
 from ._harmonic_balance import PeriodicSolution as PeriodicSolution
 from ._harmonic_balance import balance_residual as balance_residual
 from ._harmonic_balance import branch_amplitude as branch_amplitude
+from ._harmonic_balance import coefficients_from_samples as coefficients_from_samples
 from ._harmonic_balance import forcing_period as forcing_period
 from ._harmonic_balance import harmonic_balance as harmonic_balance
 from ._harmonic_balance import hill_exponents as hill_exponents
+from ._harmonic_balance import hopf_cycle as hopf_cycle
+from ._harmonic_balance import limit_cycle as limit_cycle
+from ._harmonic_balance import limit_cycle_branch as limit_cycle_branch
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
 from ._harmonic_balance import periodic_branch as periodic_branch
 from ._roots import Root as Root

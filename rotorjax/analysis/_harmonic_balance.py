@@ -58,6 +58,9 @@ class PeriodicSolution(AbstractOutcome):
     - `code`: a `rotorjax.solve.RESULTS` index: `successful`, or
       `root_not_converged` (Newton did not reach its tolerance), `nonfinite`.
     - `floquet`: the `FloquetResult` along the orbit (None when not asked for).
+    - `autonomous`, `phase`: a limit cycle of an autonomous scene (its period
+      solved for), and the state whose first-harmonic sine part its phase
+      condition holds at 0.
     """
 
     coefficients: jax.Array
@@ -69,17 +72,42 @@ class PeriodicSolution(AbstractOutcome):
     iterations: jax.Array
     code: jax.Array
     floquet: FloquetResult | None = None
+    autonomous: bool = eqx.field(static=True, default=False)
+    phase: int | None = eqx.field(static=True, default=None)
 
     @property
     def harmonics(self) -> int:
         return (self.coefficients.shape[-2] - 1) // 2
 
+    def _checked_floquet(self, what):
+        if self.floquet is None:
+            raise InputError(f"{what}: this solution was computed with stability=False")
+        return self.floquet
+
+    @property
+    def trivial_multiplier(self):
+        """An autonomous cycle's multiplier along the orbit (the one nearest 1): it
+        is exactly 1, so its distance from 1 is the Floquet computation's accuracy
+        check."""
+        mu = self._checked_floquet("trivial_multiplier").multipliers
+        return mu[jnp.argmin(jnp.abs(mu - 1.0))]
+
+    @property
+    def margin(self):
+        """The largest Floquet exponent `log|mu| / T` (1/time unit), an autonomous
+        cycle's trivial multiplier left out (< 0: stable)."""
+        fq = self._checked_floquet("margin")
+        if not self.autonomous:
+            return fq.margin
+        mu = fq.multipliers
+        others = jnp.where(jnp.arange(mu.shape[0]) == jnp.argmin(jnp.abs(mu - 1.0)), 0.0, jnp.abs(mu))
+        return jnp.log(jnp.max(others)) / self.period
+
     @property
     def stable(self):
-        """Floquet stability (all multipliers inside the unit circle)."""
-        if self.floquet is None:
-            raise InputError("stable: this solution was computed with stability=False")
-        return self.floquet.stable
+        """Floquet stability: every multiplier inside the unit circle (an
+        autonomous cycle's trivial one left out)."""
+        return self.margin < 0
 
     def state(self, t):
         """The state at time(s) `t`: shape `t.shape + (n,)`."""
@@ -94,10 +122,7 @@ class PeriodicSolution(AbstractOutcome):
     def amplitude(self, rows):
         """Largest radius `max_t sqrt(y_i^2 + y_j^2)` of the orbit of the state pair
         `rows = (i, j)` (a node's x and y), on a grid of `16 (2H + 1)` instants."""
-        i, j = rows
-        n = 16 * (2 * self.harmonics + 1)
-        ys = self.state(self.t0 + self.period * jnp.arange(n) / n)
-        return jnp.sqrt(jnp.max(ys[:, i] ** 2 + ys[:, j] ** 2))
+        return orbit_amplitude(None, self.coefficients, self.period, self.t0, rows=rows)
 
 
 def forcing_period(scene, subharmonic=1):
@@ -110,18 +135,22 @@ def forcing_period(scene, subharmonic=1):
     return k * 2 * jnp.pi / scene.speed.constant
 
 
-def orbit_amplitude(scene, coefficients, period, t0=0.0, node=None, n_points=None):
+def orbit_amplitude(scene, coefficients, period, t0=0.0, node=None, n_points=None, rows=None):
     """The amplitude of a periodic motion (coefficients `(2H + 1, n)` as in
     `PeriodicSolution`): the largest radius over the period of the orbit of `node`
     (the scene's outputs `node_x`, `node_y`: a shaft node, in the scene's length
-    unit) or, with `node=None`, the largest of the scene's output `whirl_amplitude`.
-    Sampled at `n_points` instants (default `16 (2H + 1)`). Traceable in the
-    coefficients and the period; vmap over a branch's points."""
+    unit), or of the state pair `rows = (i, j)`, or, with neither, the largest of
+    the scene's output `whirl_amplitude`. Sampled at `n_points` instants (default
+    `16 (2H + 1)`). Traceable in the coefficients and the period; vmap over a
+    branch's points."""
     Y = jnp.asarray(coefficients, dtype=jnp.float64)
     H = (Y.shape[-2] - 1) // 2
     m = n_points or 16 * (2 * H + 1)
     phase = 2 * jnp.pi * jnp.arange(m) / m
     ys = _basis_at(phase, H) @ Y
+    if rows is not None:
+        i, j = rows
+        return jnp.sqrt(jnp.max(ys[:, i] ** 2 + ys[:, j] ** 2))
     ts = t0 + period * jnp.arange(m) / m
     probe = scene.outputs(ts[0], ys[0])
     if node is None:
@@ -256,35 +285,199 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
     return sol
 
 
+def _newton(residual, x0, tol, max_iter):
+    """Newton's method with the exact Jacobian (forward mode), in one compiled
+    loop, differentiable by the implicit function theorem (`lax.custom_root`: the
+    derivative of the root with respect to anything `residual` closes over is
+    `-R_x^{-1} R_theta`, one linear solve, not the iterations unrolled). Returns
+    `(x, (step, iterations))`, `step` the last relative step."""
+
+    def solve(f, x):
+        def body(state):
+            x, _, it = state
+            r, jvp = jax.linearize(f, x)
+            J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
+            dx = jnp.linalg.solve(J, r)
+            x = x - dx
+            step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
+            return x, step, it + 1
+
+        def cond(state):
+            _, step, it = state
+            return (it < max_iter) & ~(step <= tol)
+
+        x, step, it = jax.lax.while_loop(cond, body, (x, jnp.asarray(jnp.inf), 0))
+        return x, (step, it.astype(jnp.float64))   # float aux: custom_root differentiates through it
+
+    def tangent_solve(g, y):
+        return jnp.linalg.solve(jax.jacfwd(g)(y), y)
+
+    return jax.lax.custom_root(residual, x0, solve, tangent_solve, has_aux=True)
+
+
 def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args) -> PeriodicSolution:
     shape = Y0.shape
 
     def residual(x):
         return balance_residual(scene, x.reshape(shape), period, t0, n_samples, args).ravel()
 
-    def body(state):
-        x, _, _, it = state
-        r, jvp = jax.linearize(residual, x)
-        J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
-        dx = jnp.linalg.solve(J, r)
-        x = x - dx
-        step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
-        return x, step, jnp.max(jnp.abs(r)), it + 1
+    x, (step, it) = _newton(residual, Y0.ravel(), tol, max_iter)
+    step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
+    return _outcome(scene, x.reshape(shape), period, t0, jnp.max(jnp.abs(residual(x))), step, it, tol, args)
 
-    def cond(state):
-        _, step, _, it = state
-        return (it < max_iter) & ~(step <= tol)
 
-    x0 = Y0.ravel()
-    x, step, _, it = jax.lax.while_loop(cond, body, (x0, jnp.inf, jnp.inf, 0))
-    r = jnp.max(jnp.abs(residual(x)))
-    Y = x.reshape(shape)
-    finite = jnp.all(jnp.isfinite(x)) & jnp.isfinite(r)
+#: an autonomous "cycle" whose harmonics fell below this fraction of its guess's is an equilibrium
+COLLAPSE_TOL = 1e-9
+
+
+def _outcome(scene, Y, period, t0, r, step, it, tol, args, guess=None, phase=None) -> PeriodicSolution:
+    """The solution with its code: `nonfinite`, `root_not_converged` (Newton's
+    step above `tol`, or an autonomous cycle, `guess` its starting coefficients,
+    collapsed onto an equilibrium: its harmonics vanish and its period is
+    arbitrary), else `successful`."""
+    autonomous = guess is not None
+    finite = jnp.all(jnp.isfinite(Y)) & jnp.isfinite(r) & jnp.isfinite(period)
+    converged = step <= tol
+    if autonomous:
+        converged &= jnp.max(jnp.abs(Y[1:])) > COLLAPSE_TOL * jnp.max(jnp.abs(guess[1:]))
     code = jnp.where(~finite, code_of(RESULTS.nonfinite),
-                     jnp.where(step <= tol, code_of(RESULTS.successful), code_of(RESULTS.root_not_converged)))
+                     jnp.where(converged, code_of(RESULTS.successful), code_of(RESULTS.root_not_converged)))
     return PeriodicSolution(coefficients=Y, period=period, t0=t0, residual=r, step=step,
                             time_residual=_time_residual(scene, Y, period, t0, args), iterations=it,
-                            code=jnp.asarray(code, dtype=jnp.int32))
+                            code=jnp.asarray(code, dtype=jnp.int32), autonomous=autonomous, phase=phase)
+
+
+def _phase_state(Y, phase, guess=None):
+    """The state whose first-harmonic sine coefficient the phase condition fixes at
+    0: `phase`, else a guessed cycle's, else the one with the largest first-harmonic
+    cosine part in `Y` (the nearest to holding it already)."""
+    if phase is not None:
+        return as_count("phase", phase, minimum=0)
+    if isinstance(guess, PeriodicSolution) and guess.phase is not None:
+        return guess.phase
+    if not is_concrete(Y):
+        raise InputError("phase: name the state of the phase condition when the guess is traced")
+    return int(np.argmax(np.abs(np.asarray(Y[1]))))
+
+
+def limit_cycle(scene, period, guess, harmonics=8, *, phase=None, t0=0.0, n_samples=None, tol=1e-10,
+                max_iter=30, stability=True, args=None, rtol=1e-10, atol=1e-12) -> PeriodicSolution:
+    """A limit cycle of an autonomous scene (a field that does not depend on
+    time: a rotor at constant speed with no unbalance, self-excited by internal
+    friction or a fluid film), its period unknown, by harmonic balance.
+
+    The unknowns are the coefficients and the frequency `w = 2 pi / T`; the phase
+    condition `b_1 = 0` of the state `phase` (the sine part of its first harmonic:
+    the time origin at its first harmonic's maximum) closes the system. `period`
+    is the guess of `T`; `guess` as in `harmonic_balance` (with harmonics: a
+    constant state is a rest point, from which Newton cannot leave). Start from a
+    Hopf point (`hopf_cycle`) or from a time simulation (`coefficients_from_samples`).
+    `phase` defaults to the guess's own (a `PeriodicSolution`'s), else the state
+    with the largest first-harmonic cosine part in the guess.
+
+    Returns a `PeriodicSolution` with `autonomous=True`: its Floquet analysis has
+    the trivial multiplier 1 (`trivial_multiplier`, the accuracy check) left out
+    of `margin` and `stable`."""
+    check_type("scene", scene, AbstractScene, "a scene (an AbstractScene: Scene, RotorScene, ...)")
+    H = as_count("harmonics", harmonics, minimum=1)
+    if n_samples is not None:
+        n_samples = as_count("n_samples", n_samples, minimum=2 * H + 1)
+    max_iter = as_count("max_iter", max_iter, minimum=1)
+    period = as_param("period", period, sign="positive", shape=())
+    t0 = as_param("t0", t0, shape=())
+    n = scene.state_size
+    Y0 = _guess_coefficients(guess, H, n)
+    k = _phase_state(Y0, phase, guess)
+    if k >= n:
+        raise InputError(f"phase = {k}: the scene has {n} states")
+    shape = Y0.shape
+    m = Y0.size
+
+    def residual(x):
+        Y = x[:m].reshape(shape)
+        r = balance_residual(scene, Y, 2 * jnp.pi / x[m], t0, n_samples, args).ravel()
+        return jnp.concatenate([r, Y[2, k][None]])
+
+    x0 = jnp.concatenate([Y0.ravel(), (2 * jnp.pi / period)[None]])
+    x, (step, it) = _newton(residual, x0, tol, max_iter)
+    step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
+    sol = _outcome(scene, x[:m].reshape(shape), 2 * jnp.pi / x[m], t0, jnp.max(jnp.abs(residual(x))), step,
+                   it, tol, args, guess=Y0, phase=k)
+    if stability:
+        fq = floquet(scene, sol.initial_state(), sol.period, t0, rtol=rtol, atol=atol)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return sol
+
+
+def coefficients_from_samples(ys, harmonics):
+    """Fourier coefficients `(2H + 1, n)` (the layout of `PeriodicSolution`) of a
+    motion sampled at `N > 2H` equally spaced instants over one period (`ys`:
+    `(N, n)`, the last instant one step before the period closes): a time
+    simulation's last period as the guess of `limit_cycle` or `harmonic_balance`."""
+    ys = jnp.asarray(ys, dtype=jnp.float64)
+    H = as_count("harmonics", harmonics, minimum=1)
+    if ys.ndim != 2 or ys.shape[0] <= 2 * H:
+        raise InputError(f"ys must be (N, n) samples with N > 2 harmonics = {2 * H}, got shape {ys.shape}")
+    _, P = _collocation(H, ys.shape[0])
+    return P @ ys
+
+
+def hopf_cycle(scene_at, p, y_eq, amplitude, harmonics=8, *, frequency=None, tol=1e-10, max_iter=30,
+               stability=True, args=None):
+    """Onto the branch of limit cycles born at a Hopf point of an equilibrium:
+    the cycle whose first harmonic has amplitude `amplitude` (in the state `k`
+    where the critical eigenvector is largest), and the parameter where it lives.
+
+    `scene_at(p)`: the autonomous scene at `p`; `p`, `y_eq`: the Hopf point and
+    the equilibrium there (e.g. a `"hopf"` event of `continue_branch`);
+    `frequency`: the crossing pair's `|Im lambda|` (default: the eigenvalue pair
+    of the Jacobian at `y_eq` nearest the imaginary axis). The guess is the
+    equilibrium plus the critical eigenvector at `amplitude`; Newton solves the
+    balance for the coefficients, the frequency and the parameter, with the first
+    harmonic's cosine part of state `k` fixed at `amplitude` and its sine part at
+    0. Small amplitudes follow the Hopf normal form (the parameter moves as
+    `amplitude^2`); its side gives the bifurcation's criticality.
+
+    Returns `(p, solution)`: the parameter and the `PeriodicSolution` (autonomous)
+    there; continue it with `limit_cycle_branch`."""
+    H = as_count("harmonics", harmonics, minimum=1)
+    p = as_param("p", p, shape=())
+    amplitude = as_param("amplitude", amplitude, sign="positive", shape=())
+    y_eq = jnp.asarray(y_eq, dtype=jnp.float64)
+    scene = scene_at(p)
+    n = scene.state_size
+    if y_eq.shape != (n,):
+        raise InputError(f"y_eq must be a state of shape ({n},), got {y_eq.shape}")
+    J = jax.jacfwd(lambda y: scene.vector_field(0.0, y, args))(y_eq)
+    lam, vecs = jnp.linalg.eig(J)
+    cand = jnp.where(jnp.imag(lam) > 0, jnp.abs(jnp.real(lam)), jnp.inf)
+    j = jnp.argmin(cand) if frequency is None else jnp.argmin(jnp.abs(lam - 1j * frequency))
+    w0, v = jnp.abs(jnp.imag(lam[j])), vecs[:, j]
+    k = int(jnp.argmax(jnp.abs(v)))
+    v = v * jnp.conj(v[k]) / jnp.abs(v[k]) ** 2        # v[k] = 1: the cosine part of state k
+    Y0 = jnp.zeros((2 * H + 1, n)).at[0].set(y_eq).at[1].set(amplitude * jnp.real(v)).at[2].set(
+        -amplitude * jnp.imag(v))
+    shape, m = Y0.shape, Y0.size
+
+    def residual(x):
+        Y = x[:m].reshape(shape)
+        r = balance_residual(scene_at(x[m + 1]), Y, 2 * jnp.pi / x[m], 0.0, None, args).ravel()
+        return jnp.concatenate([r, jnp.stack([Y[2, k], Y[1, k] - amplitude])])
+
+    x0 = jnp.concatenate([Y0.ravel(), jnp.stack([w0, p])])
+    x, (step, it) = _newton(residual, x0, tol, max_iter)
+    step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
+    pc = x[m + 1]
+    sc = scene_at(pc)
+    sol = _outcome(sc, x[:m].reshape(shape), 2 * jnp.pi / x[m], jnp.asarray(0.0), jnp.max(jnp.abs(residual(x))),
+                   step, it, tol, args, guess=Y0, phase=k)
+    if int(sol.code) != 0:
+        raise NumericalError(f"hopf_cycle: no limit cycle of amplitude {float(amplitude):g} near the Hopf point "
+                             f"p = {float(p):g} ({RESULTS[sol.result]}); try a smaller amplitude")
+    if stability:
+        fq = floquet(sc, sol.initial_state(), sol.period, 0.0)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return pc, sol
 
 
 def _physical_exponents(jac, n, omega):
@@ -378,6 +571,64 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
     return br, coefficients
+
+
+def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None, name="p", ds=0.01, ds_max=0.2,
+                       max_points=300, tol=1e-11, gtol=1e-6, direction=None, progress=False):
+    """A branch of limit cycles of autonomous scenes `scene_at(p)` (their period
+    unknown) by harmonic balance and pseudo-arclength continuation in `p`, through
+    folds: the unknowns are the coefficients and the frequency, closed by the phase
+    condition of `limit_cycle`.
+
+    `start`: a `PeriodicSolution` of `scene_at(p0)` (from `limit_cycle` or
+    `hopf_cycle`; its harmonics are the branch's). `scale`, `tol`, `gtol` and the
+    rest as in `periodic_branch`.
+
+    Returns `(branch, coefficients, periods)`: the `Branch` (`margin` the largest
+    real part of Hill's exponents with the trivial one, nearest 0, left out;
+    events folds, branch points, period doublings and Neimark-Sacker points as in
+    `periodic_branch`), the coefficients `(points, 2H + 1, n)` and the periods."""
+    check_type("start", start, PeriodicSolution, "a PeriodicSolution (from limit_cycle or hopf_cycle)")
+    try:
+        lo, hi = p_bounds
+    except (TypeError, ValueError):
+        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
+    p0 = float(as_param("p0", p0, shape=()))
+    if not (lo <= p0 <= hi):
+        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    Y0 = start.coefficients
+    shape, m = Y0.shape, Y0.size
+    k = _phase_state(Y0, phase, start)
+    if scale is None:
+        top = jnp.max(jnp.abs(Y0), axis=0)
+        scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :]
+    w0 = float(2 * np.pi / start.period)
+
+    def F(u, p):
+        Y = u[:m].reshape(shape) * scale
+        r = -(balance_residual(scene_at(p), Y, 2 * jnp.pi / (w0 * u[m])) / (scale * w0)).ravel()
+        return jnp.concatenate([r, (Y[2, k] / scale[0, k])[None]])
+
+    def exponents(J):
+        e = _physical_exponents(jnp.asarray(J)[:m, :m], shape[1], 1.0)
+        return jnp.delete(e, jnp.argmin(jnp.abs(e)), assume_unique_indices=True)
+
+    u0 = np.concatenate([np.asarray(Y0 / scale).ravel(), [1.0]])
+    br = continue_branch(F, u0, p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max, max_points=max_points, tol=tol,
+                         direction=direction, name=name, progress=progress, start_tol=gtol, gtol=gtol,
+                         exponents=exponents)
+    u = np.asarray(br.u)
+    periods = 2 * np.pi / (w0 * u[:, m])
+    events = []
+    for e in br.events:
+        e = dataclasses.replace(e, u=(np.asarray(e.u)[:m].reshape(shape) * np.asarray(scale)).ravel())
+        if e.kind == "hopf":
+            i = e.between[0]
+            e = _secondary(e, w0, 2 * np.pi / periods[i])
+        events.append(e)
+    br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
+    return br, u[:, :m].reshape((-1,) + shape) * np.asarray(scale), periods
 
 
 #: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling

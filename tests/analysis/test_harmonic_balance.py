@@ -9,7 +9,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from rotorjax.analysis import PeriodicSolution, floquet, harmonic_balance, periodic_orbit
+from rotorjax.analysis import PeriodicSolution, floquet, harmonic_balance, orbit_amplitude, periodic_orbit
 from rotorjax._errors import InputError
 from rotorjax.models import AbstractScene, ConstantSpeed
 from rotorjax.solve import RESULTS, code_of
@@ -134,6 +134,24 @@ def test_vmapped_over_forcing_frequency_equals_one_by_one():
         s = one(float(om))
         np.testing.assert_allclose(np.asarray(batch.coefficients[i]), np.asarray(s.coefficients), atol=1e-12)
     assert np.all(np.asarray(batch.code) == 0)
+
+
+def test_amplitude_gradient_by_the_implicit_function_theorem(three):
+    """`jax.grad` of an orbit's amplitude through `harmonic_balance` (Newton is
+    differentiated implicitly: one linear solve with the balance's Jacobian) in the
+    forcing frequency (which moves both the field and the period) equals central
+    differences, on each of the three coexisting motions."""
+    _, _, _, _, many = three
+
+    def amplitude(om, guess):
+        s = harmonic_balance(Duffing(om), 2 * jnp.pi / om, guess, harmonics=16, stability=False)
+        return orbit_amplitude(Duffing(om), s.coefficients, s.period, node=None, rows=(0, 1))
+
+    h = 1e-6
+    for s in many:
+        d = float(jax.grad(amplitude)(OM, s))
+        fd = (float(amplitude(OM + h, s)) - float(amplitude(OM - h, s))) / (2 * h)
+        assert abs(d - fd) < 1e-6 * max(1.0, abs(d))
 
 
 def test_non_convergence_is_reported_not_returned_as_a_solution():
