@@ -28,6 +28,7 @@ from ._harmonic_balance import hopf_cycle as hopf_cycle
 from ._harmonic_balance import limit_cycle as limit_cycle
 from ._harmonic_balance import limit_cycle_branch as limit_cycle_branch
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
+from ._harmonic_balance import period_doubling_start as period_doubling_start
 from ._harmonic_balance import periodic_branch as periodic_branch
 from ._roots import Root as Root
 from ._roots import find_roots as find_roots

@@ -689,7 +689,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     names `p` in the stop reasons (`Branch.stops`, e.g. "box edge (nu = 4.0)").
     At most `max_points` points in all. `dense_tol`: as in `trace_curve` (the dense
     branch is `Branch.curve.dense()`, rows `(u, p)`). `gtol`: the largest `max |F|`
-    a corrected point may keep (as in `trace_curve`). `exponents(F_u)`: the
+    a corrected point may keep (as in `trace_curve`). `exponents(F_u, u, p)`: the
     stability exponents at a point from its Jacobian (default: all its eigenvalues;
     harmonic balance passes Hill's physical ones); the margin is their largest real
     part."""
@@ -717,7 +717,10 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
 
     xs = curve.x
     jacs = [np.asarray(Jx(jnp.asarray(x))) for x in xs]
-    eig = [np.asarray((exponents or np.linalg.eigvals)(J[:, :n])) for J in jacs]
+    if exponents is None:
+        def exponents(J, u, p):
+            return np.linalg.eigvals(J)
+    eig = [np.asarray(exponents(J[:, :n], x[:n], x[n])) for J, x in zip(jacs, xs)]
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
     tangents = np.array([_tangent(J) for J in jacs])
@@ -744,14 +747,15 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
             crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                events.append(_refine_hopf(F, Fu, a, b, n, between=(i, i + 1)))
+                events.append(_refine_hopf(F, Fu, a, b, n, between=(i, i + 1), exponents=exponents))
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
-def _refine_hopf(F, Fu, a, b, n, between) -> BranchEvent:
+def _refine_hopf(F, Fu, a, b, n, between, exponents) -> BranchEvent:
     """Bisection between two branch points on the real part of the eigenvalue pair
-    nearest the imaginary axis, each trial point corrected onto the branch (one
-    compiled corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
+    nearest the imaginary axis (of `exponents(F_u, u, p)`, as in
+    `continue_branch`), each trial point corrected onto the branch (one compiled
+    corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
     tt = jnp.asarray((b - a) / np.linalg.norm(b - a))
 
     @jax.jit
@@ -767,7 +771,7 @@ def _refine_hopf(F, Fu, a, b, n, between) -> BranchEvent:
         return np.asarray(correct(jnp.asarray(a + s * (b - a))))
 
     def pair_real(y):
-        e = np.linalg.eigvals(np.asarray(Fu(y[:n], y[n])))
+        e = np.asarray(exponents(np.asarray(Fu(y[:n], y[n])), y[:n], y[n]))
         k = np.argsort(np.abs(e.real))
         cand = [e[j] for j in k if abs(e[j].imag) > 1e-10]
         return cand[0].real, abs(cand[0].imag)

@@ -480,13 +480,22 @@ def hopf_cycle(scene_at, p, y_eq, amplitude, harmonics=8, *, frequency=None, tol
     return pc, sol
 
 
+#: Hill's exponents within this fraction of `w / 2` of `-w / 2` are the copies of those at `+w / 2`
+HALF_FREQUENCY_TOL = 1e-6
+
+
 def _physical_exponents(jac, n, omega):
     """Hill's method: of the eigenvalues of the balance's linearisation `jac` (the
     exponents `s + i k w` of every retained harmonic `k`, and spurious ones from
     the truncation at the highest harmonics), the `n` with the smallest `|Im s|`:
-    the representatives in `(-w/2, w/2]`, one per Floquet exponent."""
+    the representatives in `(-w/2, w/2]`, one per Floquet exponent. An exponent
+    with `Im s = w/2` (a negative real multiplier) has two such copies, `s` and
+    its conjugate at `-w/2`: the one at `-w/2` goes to the back, or a pair of
+    multipliers on the negative axis would count one of them twice."""
     lam = jnp.linalg.eigvals(jac)
-    return lam[jnp.argsort(jnp.abs(jnp.imag(lam)))[:n]]
+    im = jnp.imag(lam)
+    key = jnp.abs(im) + jnp.where(im < -(0.5 - HALF_FREQUENCY_TOL) * omega, omega, 0.0)
+    return lam[jnp.argsort(key)[:n]]
 
 
 def hill_exponents(scene, solution, args=None):
@@ -566,7 +575,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max,
                          max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
                          start_tol=gtol, gtol=gtol,
-                         exponents=lambda J: _physical_exponents(jnp.asarray(J), shape[1], 1.0))
+                         exponents=lambda J, u, p: _physical_exponents(jnp.asarray(J), shape[1],
+                                                                       2 * np.pi / (w0 * period_at(p))))
     events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
@@ -610,8 +620,8 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
         r = -(balance_residual(scene_at(p), Y, 2 * jnp.pi / (w0 * u[m])) / (scale * w0)).ravel()
         return jnp.concatenate([r, (Y[2, k] / scale[0, k])[None]])
 
-    def exponents(J):
-        e = _physical_exponents(jnp.asarray(J)[:m, :m], shape[1], 1.0)
+    def exponents(J, u, p):
+        e = _physical_exponents(jnp.asarray(J)[:m, :m], shape[1], u[m])
         return jnp.delete(e, jnp.argmin(jnp.abs(e)), assume_unique_indices=True)
 
     u0 = np.concatenate([np.asarray(Y0 / scale).ravel(), [1.0]])
@@ -629,6 +639,73 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
         events.append(e)
     br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
     return br, u[:, :m].reshape((-1,) + shape) * np.asarray(scale), periods
+
+
+def period_doubling_start(scene_at, p, coefficients, amplitude, *, period_at=None, subharmonic=1, tol=1e-10,
+                          max_iter=30, stability=True):
+    """Onto the branch of period-doubled motions born at a period-doubling point
+    of a branch from `periodic_branch` (`p`, and the coefficients there: the
+    event's `u` reshaped to `(2H + 1, n)`).
+
+    The critical direction is the eigenvector of Hill's matrix whose exponent's
+    frequency is half the motion's (a multiplier -1), made real as the
+    perturbation `Re[e^{i w t / 2} z(t)]` and written with `2H` harmonics of the
+    doubled period, as is the motion itself. Newton solves the doubled balance for
+    the coefficients and the parameter with the component along that direction
+    fixed at `amplitude` (the length of its coefficient vector).
+
+    `period_at`, `subharmonic`: the motion's period as in `periodic_branch`.
+    Returns `(p, solution)`: continue it with `periodic_branch(...,
+    harmonics=2H, subharmonic=2 * subharmonic)` (or `period_at` doubled)."""
+    if period_at is None:
+        def period_at(v):
+            return forcing_period(scene_at(v), subharmonic)
+    p = as_param("p", p, shape=())
+    amplitude = as_param("amplitude", amplitude, sign="positive", shape=())
+    Y = jnp.asarray(coefficients, dtype=jnp.float64)
+    scene = scene_at(p)
+    n = scene.state_size
+    if Y.ndim != 2 or Y.shape[1] != n or Y.shape[0] % 2 != 1:
+        raise InputError(f"coefficients must be (2H + 1, {n}), got shape {Y.shape}")
+    H = (Y.shape[0] - 1) // 2
+    T = period_at(p)
+    w = 2 * jnp.pi / T
+    jac = jax.jacfwd(lambda x: -balance_residual(scene, x.reshape(Y.shape), T).ravel())(Y.ravel())
+    lam, vecs = jnp.linalg.eig(jac)
+    j = jnp.argmin(jnp.abs(jnp.real(lam)) + jnp.abs(jnp.abs(jnp.imag(lam)) - 0.5 * w))
+    z = vecs[:, j].reshape(Y.shape)
+    # the motion and the perturbation sampled over the doubled period
+    N2 = 2 * _samples(2 * H, None)
+    phase = 2 * jnp.pi * jnp.arange(N2) / N2 * 2            # w t over two periods
+    B = _basis_at(phase, H)
+    ys = B @ Y
+    d = jnp.exp(0.5j * phase)[:, None] * (B @ z)
+    d = jnp.where(jnp.linalg.norm(jnp.real(d)) >= jnp.linalg.norm(jnp.imag(d)), jnp.real(d), jnp.imag(d))
+    Y2 = coefficients_from_samples(ys, 2 * H)
+    D = coefficients_from_samples(d, 2 * H)
+    D = D / jnp.linalg.norm(D)
+    shape, m = Y2.shape, Y2.size
+
+    def residual(x):
+        Yd = x[:m].reshape(shape)
+        r = balance_residual(scene_at(x[m]), Yd, 2 * period_at(x[m])).ravel()
+        return jnp.concatenate([r, jnp.vdot(D, Yd - Y2)[None] - amplitude])
+
+    x0 = jnp.concatenate([(Y2 + amplitude * D).ravel(), p[None]])
+    x, (step, it) = _newton(residual, x0, tol, max_iter)
+    step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
+    pc = x[m]
+    sc = scene_at(pc)
+    T2 = 2 * period_at(pc)
+    sol = _outcome(sc, x[:m].reshape(shape), T2, jnp.asarray(0.0), jnp.max(jnp.abs(residual(x))), step, it,
+                   tol, None)
+    if int(sol.code) != 0:
+        raise NumericalError(f"period_doubling_start: no doubled motion of amplitude {float(amplitude):g} near "
+                             f"p = {float(p):g} ({RESULTS[sol.result]}); try a smaller amplitude")
+    if stability:
+        fq = floquet(sc, sol.initial_state(), T2, 0.0)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return pc, sol
 
 
 #: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling
