@@ -16,7 +16,6 @@ from ._steady import steady_states as steady_states
 from ._floquet import FloquetResult as FloquetResult
 from ._floquet import floquet as floquet
 from ._floquet import monodromy as monodromy
-from ._floquet import periodic_orbit as periodic_orbit
 from ._harmonic_balance import PeriodicSolution as PeriodicSolution
 from ._harmonic_balance import balance_residual as balance_residual
 from ._harmonic_balance import branch_amplitude as branch_amplitude
@@ -30,6 +29,7 @@ from ._harmonic_balance import limit_cycle_branch as limit_cycle_branch
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
 from ._harmonic_balance import period_doubling_start as period_doubling_start
 from ._harmonic_balance import periodic_branch as periodic_branch
+from ._harmonic_balance import periodic_orbit as periodic_orbit
 from ._roots import Root as Root
 from ._roots import find_roots as find_roots
 from ._roots import root_gradient as root_gradient

@@ -91,18 +91,37 @@ def floquet(scene, y0, period, t0=0.0, rtol=1e-10, atol=1e-12, max_steps=100_000
     )
 
 
-def periodic_orbit(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e-11, atol=1e-13):
-    """Shooting: Newton on `y(T) - y(0) = 0` with the monodromy as the Jacobian.
-    Returns `(y0, closure, converged)`; for an equilibrium-like motion (such as
-    model 001's main motion) one iteration confirms it."""
+def shoot(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e-11, atol=1e-13, autonomous=False):
+    """Shooting: Newton on `y(t0 + T) - y(t0) = 0` with the monodromy as the
+    Jacobian. With `autonomous`, the period is an unknown too, closed by the phase
+    condition `f(y_guess) . (y - y_guess) = 0` (the orbit's start on the plane
+    through the guess across the flow), the Jacobian bordered by `f(y(T))` and
+    `f(y_guess)`. Returns `(y0, period, closure, iterations, converged)`, `closure`
+    the max-norm of `y(t0 + T) - y(t0)` at the last iterate."""
     y = jnp.asarray(y_guess, dtype=jnp.float64)
+    T = jnp.asarray(period, dtype=jnp.float64)
     n = y.shape[0]
+    normal = scene.vector_field(t0, y)
     closure = jnp.inf
-    for _ in range(max_iter):
-        y1, m, _, _ = monodromy(scene, y, period, t0, rtol, atol)
+    for it in range(max_iter):
+        y1, m, _, _ = monodromy(scene, y, T, t0, rtol, atol)
         g = y1 - y
         closure = float(jnp.max(jnp.abs(g)))
         if closure < tol:
-            return y, closure, True
-        y = y - jnp.linalg.solve(m - jnp.eye(n), g)
-    return y, closure, False
+            return y, T, closure, it, True
+        if not autonomous:
+            y = y - jnp.linalg.solve(m - jnp.eye(n), g)
+            continue
+        J = jnp.block([[m - jnp.eye(n), scene.vector_field(t0 + T, y1)[:, None]],
+                       [normal[None, :], jnp.zeros((1, 1))]])
+        dx = jnp.linalg.solve(J, jnp.concatenate([g, jnp.dot(normal, y - y_guess)[None]]))
+        y, T = y - dx[:n], T - dx[n]
+    return y, T, closure, max_iter, False
+
+
+def periodic_orbit_by_shooting(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e-11, atol=1e-13):
+    """The legacy form of `periodic_orbit` (no `method`): shooting at the fixed
+    period, returning `(y0, closure, converged)`; for an equilibrium-like motion
+    (such as model 001's main motion) one iteration confirms it."""
+    y, _, closure, _, ok = shoot(scene, y_guess, period, t0, max_iter, tol, rtol, atol)
+    return y, closure, ok

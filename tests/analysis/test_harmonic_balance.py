@@ -154,6 +154,27 @@ def test_amplitude_gradient_by_the_implicit_function_theorem(three):
         assert abs(d - fd) < 1e-6 * max(1.0, abs(d))
 
 
+def test_periodic_orbit_by_either_method_is_the_same_motion(three):
+    """`periodic_orbit(method=...)`: harmonic balance and shooting (Newton on the
+    integrated closure, then the same series of its samples) give the same
+    coefficients, multipliers and verdict; the former call still returns
+    `(y0, closure, converged)`; an unknown method is refused by name."""
+    scene, T, _, _, many = three
+    for s in many:
+        hb = periodic_orbit(scene, s, method="harmonic-balance", harmonics=16)
+        sh = periodic_orbit(scene, s.initial_state() + 1e-3, method="shooting", harmonics=16)
+        assert int(hb.code) == 0 and int(sh.code) == 0 and float(sh.residual) < 1e-11
+        np.testing.assert_allclose(np.asarray(sh.coefficients), np.asarray(hb.coefficients), atol=1e-9)
+        mu_hb = np.sort_complex(np.asarray(hb.floquet.multipliers))
+        mu_sh = np.sort_complex(np.asarray(sh.floquet.multipliers))
+        np.testing.assert_allclose(mu_sh, mu_hb, atol=1e-8)
+        assert bool(sh.stable) == bool(hb.stable)
+    y0, closure, ok = periodic_orbit(scene, many[0].initial_state(), T)
+    assert ok and closure < 1e-11
+    with pytest.raises(InputError, match="method 'collocation'"):
+        periodic_orbit(scene, many[0], method="collocation")
+
+
 def test_non_convergence_is_reported_not_returned_as_a_solution():
     s = harmonic_balance(Duffing(OM), 2 * np.pi / OM, jnp.array([3.0, 0.0]), harmonics=3, max_iter=1,
                          stability=False)

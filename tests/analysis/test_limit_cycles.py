@@ -24,7 +24,7 @@ import pytest
 
 import rotorjax
 from rotorjax.analysis import (coefficients_from_samples, hill_exponents, hopf_cycle, limit_cycle,
-                               limit_cycle_branch)
+                               limit_cycle_branch, periodic_orbit)
 from rotorjax.models import AbstractScene, ConstantSpeed
 from rotorjax.solve import RESULTS, code_of
 
@@ -163,6 +163,20 @@ def test_van_der_pol_cycle_from_a_simulation(vdp):
     mu = np.asarray(sol.floquet.multipliers)
     mu_other = mu[np.argmin(np.abs(mu))]
     assert abs(s_other.real - np.log(abs(mu_other)) / float(sol.period)) < 1e-6
+
+
+def test_van_der_pol_cycle_by_shooting_with_unknown_period(vdp):
+    """`periodic_orbit(..., method="shooting", autonomous=True)`: Newton on the
+    closure and the period with a phase condition; the same cycle."""
+    scene, hb = vdp
+    sh = periodic_orbit(scene, jnp.array([2.0, 0.0]), 6.6, method="shooting", autonomous=True, harmonics=40,
+                        rtol=1e-12, atol=1e-12)
+    assert int(sh.code) == 0 and abs(float(sh.period) - VDP_PERIOD) < 1e-9
+    assert abs(complex(sh.trivial_multiplier) - 1) < 1e-8 and bool(sh.stable)
+    # the same orbit: the harmonic balance's passes through the shooting's start
+    ts = np.linspace(0.0, float(hb.period), 100_001)
+    d = np.min(np.linalg.norm(np.asarray(hb.state(ts)) - np.asarray(sh.initial_state()), axis=1))
+    assert d < 2e-4   # the grid's resolution (speeds up to 2.7)
 
 
 def test_a_guess_without_motion_is_refused():
