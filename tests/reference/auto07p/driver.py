@@ -117,6 +117,20 @@ def _number(v):
     return float(re.sub(r"(?<=[0-9.])([-+][0-9]+)$", r"E\1", v) if "E" not in v.upper() else v)
 
 
+def _header(words):
+    """Column names of a fort.7 header: a periodic problem's `MAX U(1)`, `MIN U(1)`
+    and `INTEGRAL U(1)` are one name each (two words in the file)."""
+    names, i = [], 0
+    while i < len(words):
+        if words[i] in ("MAX", "MIN", "INTEGRAL") and i + 1 < len(words):
+            names.append(f"{words[i]} {words[i + 1]}")
+            i += 2
+        else:
+            names.append(words[i])
+            i += 1
+    return names
+
+
 def parse_b(text):
     """The branches of a fort.7 / b.* file."""
     branches, header, rows = [], None, []
@@ -135,7 +149,7 @@ def parse_b(text):
         if f[0] == "0":
             if len(f) > 4 and f[1:4] == ["PT", "TY", "LAB"]:
                 flush()
-                header = f[4:]
+                header = _header(f[4:])
             continue
         rows.append([_number(v) for v in f])
     flush()
@@ -158,6 +172,26 @@ def parse_s(text):
     return out
 
 
+def parse_d_multipliers(text):
+    """The Floquet multipliers a periodic run (IPS = 2, ISP = 2) prints in its
+    fort.9 / d.* file: `{(branch, point): complex array}`, the point numbers as in
+    the b-file (unsigned), in AUTO's order (the one nearest 1 first). AUTO writes
+    them with 6 significant digits (`PVLS` can copy them into parameters, which
+    the b-file prints with 11: `GETP('EIG', ...)`); a point corrected twice (a
+    special point located) keeps its last."""
+    out, current = {}, {}
+    for line in text.splitlines():
+        m = re.match(r"^\s*(-?\d+)\s+(-?\d+)\s+Multiplier\s+(\d+)\s+(\S+)\s+(\S+)\s+Abs\. Val\.", line)
+        if m:
+            key = (abs(int(m.group(1))), abs(int(m.group(2))))
+            k = int(m.group(3))
+            if k == 1:
+                current[key] = []
+            current[key].append(complex(_number(m.group(4)), _number(m.group(5))))
+            out[key] = np.array(current[key])
+    return out
+
+
 @dataclasses.dataclass
 class Run:
     name: str
@@ -169,6 +203,7 @@ class Run:
     auto_seconds: float     # AUTO's own "Total Time"
     branches: list
     solutions: dict         # from the s-file: label -> {"type", "u", "par"}
+    diagnostics: str = ""   # the d-file's text (`parse_d_multipliers` reads a periodic run's multipliers)
 
     @property
     def ok(self):
@@ -287,6 +322,12 @@ class Equation:
         if os.path.exists(spath):
             with open(spath) as f:
                 solutions = parse_s(f.read())
+        dpath = os.path.join(self.workdir, f"d.{name}")
+        diagnostics = ""
+        if os.path.exists(dpath):
+            with open(dpath) as f:
+                diagnostics = f.read()
         m = re.search(r"Total Time\s+(\S+)", p.stdout)
         auto_seconds = _number(m.group(1)) if m else float("nan")
-        return Run(name, text, p.returncode, p.stdout, p.stderr, seconds, auto_seconds, branches, solutions)
+        return Run(name, text, p.returncode, p.stdout, p.stderr, seconds, auto_seconds, branches, solutions,
+                   diagnostics)
