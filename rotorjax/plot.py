@@ -689,6 +689,41 @@ def plot_boundaries(branches, crossings, path=None, key="", key2="", box=None, t
     return _finish(fig, [ax], layout=layout)
 
 
+
+#: how `plot_periodic_branch` marks each kind of bifurcation
+_BIFURCATION_MARKERS = {"fold": "o", "branch-point": "s", "period-doubling": "D", "neimark-sacker": "^", "hopf": "v"}
+
+
+def plot_periodic_branch(p, amplitude, stable, bifurcations=(), path=None, x_label="", y_label="amplitude",
+                         title="", *, ax=None):
+    """A branch of periodic motions: `amplitude` against the parameter `p`, stable
+    parts solid and unstable parts dashed (`stable`, one flag per point), and the
+    `bifurcations` marked and labelled by kind (dicts with `kind`, `p` and
+    `amplitude`, or `BranchEvent`-like objects with `kind`, `p`, `amplitude`), on
+    `ax` or a new figure. Returns the `Figure`."""
+    fig, ax, layout = _on_axes(ax, (8, 4.5), path, "plot_periodic_branch")
+    p, amplitude = np.asarray(p, dtype=float), np.asarray(amplitude, dtype=float)
+    stable = np.asarray(stable, dtype=bool)
+    labelled = set()
+    start = 0
+    for i in range(1, len(p) + 1):   # runs of equal stability, each joined to the next run's first point
+        if i == len(p) or stable[i] != stable[start]:
+            label = "stable" if stable[start] else "unstable"
+            ax.plot(p[start:i + 1], amplitude[start:i + 1], "-" if stable[start] else "--", color="tab:blue",
+                    lw=1.3, label=None if label in labelled else label)
+            labelled.add(label)
+            start = i
+    for b in bifurcations:
+        kind, bp, ba = (b["kind"], b["p"], b["amplitude"]) if isinstance(b, dict) else (b.kind, b.p, b.amplitude)
+        ax.plot([bp], [ba], _BIFURCATION_MARKERS.get(kind, "x"), color="tab:red", ms=6,
+                label=None if kind in labelled else kind)
+        labelled.add(kind)
+        ax.annotate(f"{kind} ({bp:.6g})", (bp, ba), textcoords="offset points", xytext=(5, 5), fontsize=7)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(title)
+    return _finish(fig, [ax], layout=layout)
+
 # ---- finite-element rotor: static deflection, mode shapes, tracked Campbell diagram ----
 
 def plot_static(result, path=None, title="", *, fig=None):

@@ -542,6 +542,8 @@ FE_BALANCE = _ns(speeds=np.array([100.0, 200.0]), X0=np.array([1e-5, 2e-5]), pre
 CALLS = {
     "plot_simulation": ("fig", lambda **kw: rplot.plot_simulation(RUN, title="run", **kw)),
     "plot_curves": ("ax", lambda **kw: rplot.plot_curves(S, {"a": S}, x_label="x", y_label="y", **kw)),
+    "plot_periodic_branch": ("ax", lambda **kw: rplot.plot_periodic_branch(
+        S, S, S < 100, [{"kind": "fold", "p": 100.0, "amplitude": 100.0}], **kw)),
     "plot_stability_map": ("ax", lambda **kw: rplot.plot_stability_map(W[:5], W[:4], np.ones((5, 4)) - 2, **kw)),
     "plot_campbell": ("ax", lambda **kw: rplot.plot_campbell(S, F3, np.ones((30, 3), bool), critical=[150.0], **kw)),
     "plot_response": ("fig", lambda **kw: rplot.plot_response(W, H, 2 * H, **kw)),

@@ -316,7 +316,10 @@ def _newton(residual, x0, tol, max_iter):
     return jax.lax.custom_root(residual, x0, solve, tangent_solve, has_aux=True)
 
 
+@eqx.filter_jit
 def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args) -> PeriodicSolution:
+    """One compiled Newton per scene structure and size (a new speed or guess
+    reuses it)."""
     shape = Y0.shape
 
     def residual(x):
@@ -391,8 +394,29 @@ def limit_cycle(scene, period, guess, harmonics=8, *, phase=None, t0=0.0, n_samp
     k = _phase_state(Y0, phase, guess)
     if k >= n:
         raise InputError(f"phase = {k}: the scene has {n} states")
-    shape = Y0.shape
-    m = Y0.size
+    sol = _solve_cycle(scene, _aligned(Y0, k), period, t0, n_samples, tol, max_iter, args, k)
+    if stability:
+        fq = floquet(scene, sol.initial_state(), sol.period, t0, rtol=rtol, atol=atol)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return sol
+
+
+def _aligned(Y, k):
+    """The coefficients of the same motion shifted in time so that state `k`'s
+    first harmonic is a pure cosine (the phase condition holds at the guess:
+    Newton need not find the time shift, which it does poorly when it is large)."""
+    H = (Y.shape[0] - 1) // 2
+    theta = jnp.arctan2(Y[2, k], Y[1, k])
+    j = jnp.arange(1, H + 1, dtype=jnp.float64)[:, None]
+    c, s = jnp.cos(j * theta), jnp.sin(j * theta)
+    a, b = Y[1::2], Y[2::2]
+    ab = jnp.stack([a * c + b * s, -a * s + b * c], axis=1).reshape(2 * H, -1)
+    return jnp.concatenate([Y[:1], ab], axis=0)
+
+
+@eqx.filter_jit
+def _solve_cycle(scene, Y0, period, t0, n_samples, tol, max_iter, args, k) -> PeriodicSolution:
+    shape, m = Y0.shape, Y0.size
 
     def residual(x):
         Y = x[:m].reshape(shape)
@@ -402,12 +426,8 @@ def limit_cycle(scene, period, guess, harmonics=8, *, phase=None, t0=0.0, n_samp
     x0 = jnp.concatenate([Y0.ravel(), (2 * jnp.pi / period)[None]])
     x, (step, it) = _newton(residual, x0, tol, max_iter)
     step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
-    sol = _outcome(scene, x[:m].reshape(shape), 2 * jnp.pi / x[m], t0, jnp.max(jnp.abs(residual(x))), step,
-                   it, tol, args, guess=Y0, phase=k)
-    if stability:
-        fq = floquet(scene, sol.initial_state(), sol.period, t0, rtol=rtol, atol=atol)
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return sol
+    return _outcome(scene, x[:m].reshape(shape), 2 * jnp.pi / x[m], t0, jnp.max(jnp.abs(residual(x))), step,
+                    it, tol, args, guess=Y0, phase=k)
 
 
 def coefficients_from_samples(ys, harmonics):

@@ -17,6 +17,7 @@ from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
 from ._info import cmd_data, cmd_demo, cmd_presets
+from ._periodic import cmd_periodic
 from ._phasors import cmd_phasors
 from ._simulate import cmd_simulate
 from ._stability import HOPF_RANGE, cmd_critical_speeds, cmd_hopf, cmd_stability_map, cmd_steady
@@ -261,6 +262,32 @@ def build_parser():
                  (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"),
                                         help="tangents by autodiff or central differences (Floquet margins)")),
              ], kinds="all presets with a reference regime")
+    _command(sub, "periodic", "periodic forced motions continued in one parameter (harmonic balance): amplitude, "
+             "stability, folds and bifurcations", cmd_periodic, [
+                 (("--param",), dict(required=True, metavar="KEY",
+                                     help="the continued --set key (a rotor file: speed)")),
+                 _range(help="range of --param (the start must lie in it)"),
+                 (("--from",), dict(dest="start", type=finite, default=None, metavar="V",
+                                    help="starting value of --param (default: the preset's)")),
+                 (("--harmonics",), dict(type=at_least(1), default=8, metavar="H",
+                                         help="harmonics of the Fourier series")),
+                 (("--method",), dict(default="hb", choices=("hb", "shooting"),
+                                      help="hb: harmonic balance; shooting: where offered")),
+                 (("--node",), dict(type=at_least(0), default=None, metavar="N",
+                                    help="amplitude of this node's orbit (default: the scene's whirl_amplitude)")),
+                 (("--subharmonic",), dict(type=at_least(1), default=1, metavar="K",
+                                           help="period K times the forcing's (2 pi / speed)")),
+                 (("--ds",), dict(type=positive, default=None,
+                                  help="first arclength step (default: the range / 100)")),
+                 (("--ds-max",), dict(type=positive, default=None,
+                                      help="largest arclength step (default: the range / 10)")),
+                 (("--max-points",), dict(type=at_least(2), default=300, help="points per direction at most")),
+             ], kinds="rotor files (in speed); presets with a constant speed and a rest state",
+             description="the branch of periodic motions forced at the speed (or a subharmonic of it), by harmonic "
+                         "balance continued by pseudo-arclength through folds, from the rest state at --from: the "
+                         "amplitude, Floquet stability (Hill's exponents) and the folds, branch points, period "
+                         "doublings and Neimark-Sacker points along it; writes a CSV, a JSON summary and a plot. "
+                         "Exit 3 when the start does not converge or the branch stops inside the range.")
     bal = sub.add_parser("balance", help="correction weights from runs with trial weights (balancing machine, "
                                          "or any rotor file: several planes and speeds)",
                          formatter_class=_Formatter,

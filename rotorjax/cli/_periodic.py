@@ -1,0 +1,171 @@
+"""`periodic`: the branch of periodic forced motions in one parameter (harmonic
+balance continued through folds), its stability and bifurcations."""
+
+import inspect
+import json
+import os
+
+import numpy as np
+
+from ._common import InputError, NumericalError, build, get_preset, out_stem, prepare_out, preset_params, write_json
+from ._continue import _check_key
+
+#: `--method` as the library names it
+METHODS = {"hb": "harmonic-balance", "shooting": "shooting"}
+
+#: a branch end that stopped for one of these reasons inside the range is a numerical failure (exit 3)
+FAILED_STOPS = ("corrector failed", "non-finite")
+
+
+def _scene_at(preset, params, key, setup):
+    """`p -> scene` with `key` at `p`, traceable in `p`: the speed leaf replaced
+    where `key` is the speed, else the preset rebuilt (refused where that does not
+    trace, e.g. a rotor file's entries)."""
+    import equinox as eqx
+    import jax
+
+    from rotorjax.models import ConstantSpeed
+
+    scene = setup.scene
+    if not isinstance(scene.speed, ConstantSpeed):
+        raise InputError(f"`periodic` needs a constant speed: {preset.name}'s scene runs at a "
+                         f"{type(scene.speed).__name__}")
+    if key == preset.speed_key and float(scene.speed.constant) == float(params[key]):
+        return lambda p: eqx.tree_at(lambda s: s.speed.constant, scene, p)
+    if preset.kind == "rotor":
+        raise InputError(f"--param {key}: a rotor file is continued in `speed` only (--param speed)")
+
+    def at(p):
+        return preset.build(dict(params, **{key: p})).scene
+
+    try:
+        jax.eval_shape(lambda p: at(p).vector_field(0.0, setup.y0, None), float(params[key]))
+    except Exception:  # noqa: BLE001 - any failure to trace means the build is not a function of a traced value
+        raise InputError(f"--param {key}: {preset.name}'s scene cannot be built as a function of {key} "
+                         f"(it does not trace); continue in {preset.speed_key}") from None
+    return at
+
+
+def _amplitude_of(scene, y0, node):
+    """The phrase for what the amplitude is, after checking that the scene has it."""
+    out = scene.outputs(0.0, y0)
+    if node is None:
+        if "whirl_amplitude" in out:
+            return "largest whirl_amplitude over the period"
+        if "node_x" in out:
+            raise InputError("the scene has no output whirl_amplitude: give --node N (a shaft node, 0.."
+                             f"{np.shape(out['node_x'])[0] - 1})")
+        raise InputError("the scene has neither nodes nor an output whirl_amplitude: `periodic` has no amplitude "
+                         "to report")
+    if "node_x" not in out or "node_y" not in out:
+        raise InputError(f"--node {node}: the scene has no nodes (no outputs node_x, node_y); leave --node out")
+    n_nodes = int(np.shape(out["node_x"])[0])
+    if not node < n_nodes:
+        raise InputError(f"--node {node}: the scene's nodes are 0..{n_nodes - 1}")
+    return f"largest radius of node {node}'s orbit over the period"
+
+
+def _method_kwargs(method):
+    from rotorjax.analysis import periodic_branch
+
+    if "method" in inspect.signature(periodic_branch).parameters:
+        return {"method": METHODS[method]}
+    if method != "hb":
+        raise InputError(f"--method {method}: not offered for this command yet; use --method hb (harmonic balance)")
+    return {}
+
+
+def cmd_periodic(args) -> int:
+    from rotorjax.analysis import branch_amplitude, periodic_branch
+    from rotorjax.plot import plot_periodic_branch
+    from ._common import save_figure
+
+    preset = get_preset(args.preset)
+    params = preset_params(preset, args.set)
+    key = args.param
+    _check_key(preset, "--param", key)
+    lo, hi = args.range
+    if not lo < hi:
+        raise InputError(f"--range {lo:g} {hi:g}: need LO < HI")
+    for v in (lo, hi):
+        try:
+            preset.check(key, v)
+        except InputError as e:
+            raise InputError(f"--range {lo:g} {hi:g}: {e}") from None
+    if key == preset.speed_key and not lo > 0:
+        raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
+    start = params[key] if args.start is None else args.start
+    try:
+        start = preset.check(key, start)
+    except InputError as e:
+        raise InputError(f"--from: {e}") from None
+    if not lo <= start <= hi:
+        raise InputError(f"--range {lo:g} {hi:g}: the start {key} = {start:g} lies outside"
+                         + ("" if args.start is not None else "; give --from V"))
+    if args.ds_max is not None and args.ds is not None and args.ds_max < args.ds:
+        raise InputError(f"--ds {args.ds:g} --ds-max {args.ds_max:g}: need DS <= DS_MAX")
+    # default steps in proportion to the range (the arclength's parameter part is in its units)
+    ds_max = max((hi - lo) / 10, args.ds or 0.0) if args.ds_max is None else args.ds_max
+    ds = min((hi - lo) / 100, ds_max) if args.ds is None else args.ds
+    method_kwargs = _method_kwargs(args.method)
+    setup = build(preset, dict(params, **{key: start}))
+    if setup.y0 is None:
+        raise InputError(f"`periodic` starts from the scene's rest state; {preset.name} has none")
+    scene_at = _scene_at(preset, dict(params, **{key: start}), key, setup)
+    amplitude_of = _amplitude_of(setup.scene, setup.y0, args.node)
+    prepare_out(args.out)
+    stem = out_stem(args.out, preset, "periodic_", f"_{key}")
+
+    br, coefficients = periodic_branch(scene_at, start, setup.y0, (lo, hi), args.harmonics,
+                                       subharmonic=args.subharmonic, name=key, ds=ds, ds_max=ds_max,
+                                       max_points=args.max_points, progress=not args.json, **method_kwargs)
+    amp = branch_amplitude(scene_at, br.p, coefficients, node=args.node, subharmonic=args.subharmonic)
+    events = sorted(br.events, key=lambda e: e.p)
+    if events:
+        ev_amp = branch_amplitude(scene_at, np.array([e.p for e in events]),
+                                  np.stack([np.reshape(e.u, coefficients.shape[1:]) for e in events]),
+                                  node=args.node, subharmonic=args.subharmonic)
+    bifurcations = []
+    for i, e in enumerate(events):
+        row = {"kind": e.kind.replace("_", "-"), key: float(e.p), "amplitude": float(ev_amp[i]),
+               "residual": float(e.residual)}
+        if e.frequency is not None and e.kind != "fold":
+            row["frequency"] = float(e.frequency)
+        bifurcations.append(row)
+    out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
+           "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
+           "subharmonic": args.subharmonic, "range": [lo, hi], "start": start,
+           "start_source": "--from" if args.start is not None else "the preset's value",
+           "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
+                         "margin": br.margin.tolist(), "harmonics": args.harmonics, "n_points": int(br.p.size),
+                         "stop": br.curve.stop, "stops": list(br.stops)}],
+           "bifurcations": bifurcations}
+    np.savetxt(stem + ".csv", np.column_stack([br.p, amp, br.stable.astype(int), br.margin]), delimiter=",",
+               header=f"{key},amplitude,stable,margin", comments="", fmt="%.17g")
+    unit = f" ({preset.length_unit})" if preset.length_unit else ""
+    key_unit = preset.units.get(key, "")
+    save_figure(plot_periodic_branch(br.p, amp, br.stable, [dict(b, p=b[key]) for b in bifurcations],
+                                     x_label=key + (f" ({key_unit})" if key_unit not in ("", "dimensionless") else ""),
+                                     y_label=f"amplitude{unit}",
+                                     title=f"{os.path.basename(preset.name)}: periodic motions in {key} "
+                                           f"({args.harmonics} harmonic{'s' if args.harmonics > 1 else ''}); "
+                                           f"amplitude: {amplitude_of}"), stem + ".png")
+    out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
+    write_json(stem + ".json", out, indent=2)
+    failed = [s for s in br.stops if s.startswith(FAILED_STOPS)]
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: periodic motions in {key} by {METHODS[args.method]}, {args.harmonics} harmonic(s)"
+              + (f", period {args.subharmonic} x the forcing's" if args.subharmonic > 1 else "")
+              + f"; wrote {stem}.csv, .json, .png")
+        print(f"  {key} in [{lo:g}, {hi:g}] from {start:g} ({out['start_source']}); {br.p.size} points, "
+              f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
+        for b in bifurcations:
+            print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
+                  f"(residual {b['residual']:.1e})")
+        print(f"  stops: {'; '.join(br.stops)}")
+    if failed:
+        raise NumericalError(f"the branch stopped inside --range {lo:g} {hi:g}: {failed[0]} (files written: "
+                             f"{os.path.basename(stem)}.*)")
+    return 0

@@ -1,0 +1,175 @@
+"""`rotorjax periodic` (issue 30, item 6): the branch of periodic forced motions of
+the shipped rotor file `cubic_rig.toml` (ROSS's example rotor on cubic bearings)
+continued in the speed by harmonic balance. One run, shared: its folds are those of
+`synchronous_branch` (the rotating frame's rest points, computed here on the same
+scene), its middle part is unstable, both ends stop on the range's edges, and a
+node's amplitude is the largest radius of that node's orbit from `harmonic_balance`
+at the start, sampled here from the solution's outputs."""
+
+import json
+import os
+import re
+
+import numpy as np
+import pytest
+
+import rotorjax
+from rotorjax import presets
+from rotorjax.cli import main
+
+ROTOR = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
+README = os.path.join(os.path.dirname(__file__), "..", "README.md")
+ARGV = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--harmonics", "1"]
+NODE = 1   # disk 1
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("periodic")
+    import io
+    from contextlib import redirect_stderr, redirect_stdout
+
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with redirect_stdout(stdout), redirect_stderr(stderr):
+        rc = main(ARGV + ["--node", str(NODE), "--json", "--out", str(out)])
+    assert rc == 0, stderr.getvalue()
+    return json.loads(stdout.getvalue()), out
+
+
+@pytest.fixture(scope="module")
+def scene():
+    preset = presets.get(ROTOR)
+    return preset.build(preset.params()).scene
+
+
+def test_json_has_the_branch_and_its_bifurcations(run):
+    d, _ = run
+    assert {"param", "node", "amplitude_unit", "amplitude_of", "method", "harmonics", "subharmonic", "range",
+            "branches", "bifurcations", "files"} <= set(d)
+    assert (d["param"], d["node"], d["amplitude_unit"], d["method"], d["harmonics"], d["subharmonic"], d["range"]) \
+        == ("speed", NODE, "m", "harmonic-balance", 1, 1, [100.0, 106.0])
+    assert d["amplitude_of"] == f"largest radius of node {NODE}'s orbit over the period"
+    (b,) = d["branches"]
+    n = len(b["speed"])
+    assert n > 10 and len(b["amplitude"]) == n and len(b["stable"]) == n and b["harmonics"] == 1
+    assert all(isinstance(s, bool) for s in b["stable"]) and min(b["amplitude"]) > 0
+    for e in d["bifurcations"]:
+        assert set(e) >= {"kind", "speed", "amplitude", "residual"}
+        assert e["kind"] in ("fold", "branch-point", "period-doubling", "neimark-sacker", "hopf")
+
+
+def test_folds_are_the_synchronous_branchs(run, scene):
+    """Exactly two folds in (100, 106), equal to the rotating-frame branch's (a
+    different problem: rest points of the rotating frame) to 1e-6."""
+    from rotorjax.analysis import synchronous_branch
+
+    d, _ = run
+    folds = sorted(e["speed"] for e in d["bifurcations"] if e["kind"] == "fold")
+    assert len(folds) == 2 and all(100.0 < f < 106.0 for f in folds)
+    ref = sorted(e.p for e in synchronous_branch(scene, (100.0, 106.0)).events if e.kind == "fold")
+    np.testing.assert_allclose(folds, ref, rtol=1e-6)
+
+
+def test_middle_part_unstable_and_the_ends_on_the_range(run):
+    d, _ = run
+    (b,) = d["branches"]
+    lo, hi = sorted(e["speed"] for e in d["bifurcations"] if e["kind"] == "fold")
+    p, stable = np.array(b["speed"]), np.array(b["stable"])
+    outside = (p < lo - 0.01) | (p > hi + 0.01)
+    assert stable[outside].all() and not stable.all()
+    # between the folds, three motions at a speed: the unstable one has the middle amplitude
+    w = 0.5 * (lo + hi)
+    amp = np.array(b["amplitude"])
+    at_w = [(np.interp(w, p[i:i + 2], amp[i:i + 2]) if p[i] < p[i + 1] else
+             np.interp(w, p[i:i + 2][::-1], amp[i:i + 2][::-1]), bool(stable[i] and stable[i + 1]))
+            for i in range(len(p) - 1) if (p[i] - w) * (p[i + 1] - w) < 0]
+    assert [s for _, s in sorted(at_w)] == [True, False, True]
+    assert b["stops"] == ["box edge (speed = 100.0)", "box edge (speed = 106.0)"]
+    assert b["stop"] == "box edge"
+
+
+def test_node_amplitude_is_the_orbits_largest_radius(run, scene):
+    """At the start (speed 100, one motion) the branch's amplitude is the largest
+    radius of node 1's orbit, sampled densely from `harmonic_balance`'s solution
+    through the scene's outputs."""
+    import jax
+
+    from rotorjax.analysis import harmonic_balance
+
+    d, _ = run
+    (b,) = d["branches"]
+    i = int(np.argmin(np.abs(np.array(b["speed"]) - 100.0)))
+    assert b["speed"][i] == 100.0
+    T = 2 * np.pi / 100.0
+    hb = harmonic_balance(scene, T, scene.rest_state(), harmonics=1, stability=False)
+    assert int(hb.code) == 0
+    ts = np.linspace(0.0, T, 2001)
+    out = jax.vmap(lambda t: scene.outputs(t, hb.state(t)))(ts)
+    radius = np.hypot(np.asarray(out["node_x"])[:, NODE], np.asarray(out["node_y"])[:, NODE]).max()
+    np.testing.assert_allclose(b["amplitude"][i], radius, rtol=1e-6)
+
+
+def test_files_are_written(run):
+    d, out = run
+    stem = os.path.join(str(out), "periodic_cubic_rig_speed")
+    assert d["files"] == {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
+    assert all(os.path.getsize(f) > 0 for f in d["files"].values())
+    with open(stem + ".json") as f:
+        assert json.load(f) == d
+    rows = np.loadtxt(stem + ".csv", delimiter=",", skiprows=1)
+    with open(stem + ".csv") as f:
+        assert f.readline().strip() == "speed,amplitude,stable,margin"
+    (b,) = d["branches"]
+    np.testing.assert_allclose(rows[:, 0], b["speed"])
+    np.testing.assert_array_equal(rows[:, 2].astype(bool), b["stable"])
+
+
+def test_readme_states_the_folds(run):
+    """The README's `periodic` entry: its command is this run's (without `--node`),
+    and the fold speeds it states are this run's, to the digits stated."""
+    d, _ = run
+    text = open(README).read()
+    cli = text[text.index("## CLI"):]
+    assert " ".join(ARGV) in re.sub(r"\s+", " ", cli)
+    m = re.search(r"folds at ([\d.]+) and ([\d.]+) rad/s", re.sub(r"\s+", " ", cli))
+    assert m, "the README's CLI section no longer states the folds of `periodic`"
+    folds = sorted(e["speed"] for e in d["bifurcations"] if e["kind"] == "fold")
+    np.testing.assert_allclose(folds, [float(g) for g in m.groups()], atol=0.006)
+
+
+def test_summary_without_json(tmp_path, capsys):
+    """The human summary (a short branch: two points each way at most)."""
+    rc = main(ARGV + ["--max-points", "2", "--out", str(tmp_path)])
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    lines = cap.out.splitlines()
+    assert lines[0].endswith("wrote " + os.path.join(str(tmp_path), "periodic_cubic_rig_speed") + ".csv, .json, .png")
+    assert "speed in [100, 106] from 100 (the preset's value)" in lines[1]
+    assert lines[-1].startswith("  stops: ") and lines[-1].endswith("max_points reached")
+
+
+def test_a_branch_that_fails_inside_the_range_exits_3_after_writing(tmp_path, capsys, monkeypatch):
+    """A branch end whose corrector failed inside the range is a numerical failure:
+    the files are written first, then exit 3 with the reason (the library's branch,
+    its end's stop reason replaced by a failure: none occurs on this rotor)."""
+    import dataclasses
+
+    import rotorjax.analysis
+
+    real = rotorjax.analysis.periodic_branch
+
+    def failing(*args, **kwargs):
+        br, coefficients = real(*args, **kwargs)
+        stops = (br.curve.stops[0], "corrector failed (step below ds_min) at speed = 100.1")
+        return dataclasses.replace(br, curve=dataclasses.replace(br.curve, stops=stops)), coefficients
+
+    monkeypatch.setattr(rotorjax.analysis, "periodic_branch", failing)
+    rc = main(ARGV + ["--max-points", "2", "--out", str(tmp_path)])
+    cap = capsys.readouterr()
+    assert rc == 3
+    last = cap.err.strip().splitlines()[-1]
+    assert last.startswith("rotorjax: numerical failure: the branch stopped inside --range 100 106: corrector "
+                           "failed (step below ds_min) at speed = 100.1")
+    assert "Traceback" not in cap.err
+    for ext in ("csv", "json", "png"):
+        assert (tmp_path / f"periodic_cubic_rig_speed.{ext}").exists()
