@@ -581,7 +581,8 @@ class BranchEvent:
     """A fold, Hopf point or branch point found along a `Branch` (one of its
     `events`).
 
-    - `kind`: `"fold"` (refined by Newton on `{F = 0, det F_u = 0}`), `"hopf"`
+    - `kind`: `"fold"` (refined by Newton on `F = 0` and `F_u` singular, a
+      bordered test function), `"hopf"`
       (refined by bisection along the branch on the crossing pair's real part) or
       `"branch_point"` (a sign change of the bordered determinant, located to the
       step, not refined); on a branch of periodic motions (`periodic_branch`) a
@@ -664,6 +665,24 @@ class Branch:
                 "stops": list(self.curve.stops), "start": int(self.curve.start), "n_points": int(self.p.size)}
 
 
+def _fold_function(J0):
+    """`g(F_u)`: the bordered test function of a fold, zero exactly where `F_u` is
+    singular: the last component of the solution of
+    `[[F_u, b], [c^T, 0]] [v; g] = [0; 1]`, with `b`, `c` the left and right
+    singular vectors of the smallest singular value of `J0` (`F_u` near the
+    fold). Unlike `det F_u` it is of the size of `F_u`'s smallest singular value,
+    whatever the dimension (a determinant of a few hundred unknowns overflows)."""
+    U, _, Vt = np.linalg.svd(np.asarray(J0))
+    b, c = jnp.asarray(U[:, -1]), jnp.asarray(Vt[-1])
+
+    def g(J):
+        n = J.shape[0]
+        A = jnp.block([[J, b[:, None]], [c[None, :], jnp.zeros((1, 1))]])
+        return jnp.linalg.solve(A, jnp.zeros(n + 1).at[n].set(1.0))[n]
+
+    return g
+
+
 def _newton(fun, x0, tol=1e-12, max_iter=30):
     x = jnp.asarray(x0, dtype=jnp.float64)
     J = jax.jit(jax.jacfwd(fun))
@@ -727,28 +746,42 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     for i in range(1, len(tangents)):
         if tangents[i] @ tangents[i - 1] < 0:
             tangents[i] = -tangents[i]
-    bordered = np.array([np.linalg.det(np.vstack([J, t[None, :]])) for J, t in zip(jacs, tangents)])
+    # the sign of the bordered determinant (slogdet's: a determinant of a few hundred unknowns overflows)
+    bordered = np.array([np.linalg.slogdet(np.vstack([J, t[None, :]]))[0] for J, t in zip(jacs, tangents)])
     events = []
     for i in range(len(xs) - 1):
         a, b = xs[i], xs[i + 1]
-        if np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n]):
-            def ext(z):
-                return jnp.concatenate([F(z[:n], z[n]), jnp.linalg.det(jax.jacfwd(F)(z[:n], z[n]))[None]])
-            z, r = _newton(ext, 0.5 * (a + b))
+        fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
+        if fold:
+            z0 = 0.5 * (a + b)
+            g = _fold_function(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n])
+                               else jacs[i + 1][:, :n])
+
+            def ext(z, g=g):
+                return jnp.concatenate([F(z[:n], z[n]), g(jax.jacfwd(F)(z[:n], z[n]))[None]])
+            z, r = _newton(ext, z0)
             events.append(BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=(i, i + 1)))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
             events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),
                                       residual=float(max(curve.residuals[i], curve.residuals[i + 1])),
                                       between=(i, i + 1), note="located to the step; not refined"))
-        if n_unstable[i] != n_unstable[i + 1]:
+        if n_unstable[i] != n_unstable[i + 1] and not fold:   # at a fold a real eigenvalue crosses
             # the eigenvalue that crossed: the least unstable one on the more unstable
             # side (not the one nearest the axis, which may be a lightly damped
             # high mode that never crosses)
             e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
             crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                events.append(_refine_hopf(F, Fu, a, b, n, between=(i, i + 1), exponents=exponents))
+                hopf = _refine_hopf(F, Fu, a, b, n, between=(i, i + 1), exponents=exponents)
+                # a pair whose real part did not change sign across the step (two real
+                # eigenvalues on one side meeting as a pair): no crossing to report
+                if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
+                    events.append(hopf)
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
+
+
+#: a refined Hopf point's largest residual (the pair's real part, F), relative to its frequency
+HOPF_TOL = 1e-8
 
 
 def _refine_hopf(F, Fu, a, b, n, between, exponents) -> BranchEvent:
@@ -1112,14 +1145,17 @@ def boundary_sensitivity(sigma3: Callable, point, q, axis=0) -> float:
 def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-11, bounds=None,
                direction=None, names=("p1", "p2")) -> Curve:
     """Two-parameter continuation of folds of `F(u, p1, p2) = 0`: the curve
-    `{F = 0, det F_u = 0}` in `(u, p1, p2)` from a fold `(u0, p0 = (p1, p2))`;
-    both ways from it unless `direction` (a vector in `(u, p1, p2)`) is given."""
+    `{F = 0, F_u singular}` in `(u, p1, p2)` from a fold `(u0, p0 = (p1, p2))`
+    (singular: the bordered test function of the fold, bordered by `F_u`'s
+    singular vectors at the start); both ways from it unless `direction` (a
+    vector in `(u, p1, p2)`) is given."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
+    g = _fold_function(jax.jacfwd(F)(jnp.asarray(u0), *(jnp.float64(v) for v in p0)))
 
     def G(x):
         u, p1, p2 = x[:n], x[n], x[n + 1]
-        return jnp.concatenate([F(u, p1, p2), jnp.linalg.det(jax.jacfwd(F)(u, p1, p2))[None]])
+        return jnp.concatenate([F(u, p1, p2), g(jax.jacfwd(F)(u, p1, p2))[None]])
 
     return trace_curve(G, np.concatenate([u0, np.asarray(p0, dtype=float)]), ds=ds, ds_max=ds_max,
                        max_points=max_points, tol=tol, bounds=bounds, direction=direction,

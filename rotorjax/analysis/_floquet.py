@@ -91,6 +91,28 @@ def floquet(scene, y0, period, t0=0.0, rtol=1e-10, atol=1e-12, max_steps=100_000
     )
 
 
+def _field(t, y, scene):
+    return scene.vector_field(t, y)
+
+
+def flow_samples(scene, y0, period, t0=0.0, steps=256, n_samples=None):
+    """The states at `n_samples` equally spaced instants over one period from `y0`
+    (the last the state after the whole period), integrated in `steps` fixed steps
+    of Dopri8: the discrete map is what forward-mode differentiation sees, so its
+    derivatives are exact for it (an adaptive controller's are not: see
+    shared/PERFORMANCE.md). `n_samples` must divide `steps` (default: just the end
+    state, shape `(1, n)`)."""
+    period = jnp.asarray(period, dtype=jnp.float64)
+    m = n_samples or 1
+    ts = t0 + period * jnp.arange(1, m + 1) / m
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(_field), diffrax.Dopri8(), t0=t0, t1=t0 + period, dt0=period / steps, y0=y0, args=scene,
+        stepsize_controller=diffrax.ConstantStepSize(), saveat=diffrax.SaveAt(ts=ts), max_steps=steps + 2,
+        adjoint=diffrax.ForwardMode(), throw=False,
+    )
+    return sol.ys
+
+
 def shoot(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e-11, atol=1e-13, autonomous=False):
     """Shooting: Newton on `y(t0 + T) - y(t0) = 0` with the monodromy as the
     Jacobian. With `autonomous`, the period is an unknown too, closed by the phase

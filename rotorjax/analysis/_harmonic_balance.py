@@ -42,7 +42,7 @@ from ..models._validate import InputError, as_count, as_param, check_type, is_co
 from ..solve._results import RESULTS, AbstractOutcome, code_of
 from ..solve._simulate import simulate
 from ._continuation import continue_branch
-from ._floquet import FloquetResult, floquet, periodic_orbit_by_shooting, shoot
+from ._floquet import FloquetResult, floquet, flow_samples, periodic_orbit_by_shooting, shoot
 
 
 class PeriodicSolution(AbstractOutcome):
@@ -591,8 +591,8 @@ def hill_exponents(scene, solution, args=None):
 
 
 def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, subharmonic=1, scale=None,
-                    name="p", ds=0.01, ds_max=0.2, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
-                    progress=False):
+                    name="p", ds=None, ds_max=None, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
+                    progress=False, method="harmonic-balance", steps=256):
     """A branch of periodic forced motions `Y(p)` by harmonic balance and
     pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
     folds.
@@ -603,13 +603,25 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     - `p_bounds`: `(lo, hi)`; `harmonics`: `H`.
     - `period_at(p)`: the motion's period at `p` (default `forcing_period(scene_at(p),
       subharmonic)`: `subharmonic` times `2 pi / speed`).
-    - `scale`: one length per state (default: each state's largest coefficient at
-      the start, at least 1e-3 of the largest of all), so that the arclength
-      weighs coefficients and `p` alike; time is scaled by the start's
+    - `scale`: one length per state (default: each state's largest coefficient
+      over a survey of the range, `SURVEY` points solved from the start's motion
+      in one compiled batch, and at least 1e-3 of the largest of all). The
+      unknowns are the coefficients over `scale`, times the range's length `L =
+      hi - lo`, so that the arclength weighs a motion's growth from nothing to its
+      largest and a walk across the range alike; time is scaled by the start's
       `2 pi / period`.
+    - `ds`, `ds_max`: the first and the largest arclength step (default `L / 100`,
+      `L / 10`).
     - `tol`, `gtol`: a point is accepted when Newton's last step is below `tol`
       (relative) and the scaled balance residual below `gtol` (its round-off floor
       grows with the stiffness: an FE rotor's highest modes).
+    - `method`: `"harmonic-balance"`, or `"shooting"`: the unknowns are the state at
+      the period's start and the equations its closure after one period, integrated
+      in `steps` fixed steps of Dopri8 (exact derivatives of the discrete map; its
+      truncation error is the user's to check, e.g. against harmonic balance);
+      stability from the multipliers `eig(dF/du + I)` (the monodromy), exponents
+      `log(mu) / T`; `coefficients` then `harmonics` harmonics of each orbit's
+      samples.
 
     Returns `(branch, coefficients)`: the `Branch` (`p`; `margin` the largest real
     part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
@@ -632,6 +644,15 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     p0 = float(as_param("p0", p0, shape=()))
     if not (lo <= p0 <= hi):
         raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    if method not in METHODS:
+        raise InputError(f"method {method!r}: one of {', '.join(map(repr, METHODS))}")
+    L = _span(lo, hi, p0)
+    options = dict(ds=L / 100 if ds is None else ds, ds_max=L / 10 if ds_max is None else ds_max,
+                   max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
+                   start_tol=gtol * L, gtol=gtol * L)
+    if method == "shooting":
+        return _shooting_branch(scene_at, p0, guess, (lo, hi), as_count("harmonics", harmonics, minimum=1),
+                                period_at, scale, as_count("steps", steps, minimum=1), L, options)
     start = harmonic_balance(scene_at(p0), period_at(p0), guess, harmonics, stability=False)
     if int(start.code) != 0:
         raise NumericalError(f"periodic_branch: no periodic motion at {name} = {p0} from the guess "
@@ -639,18 +660,15 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     Y0 = start.coefficients
     shape = Y0.shape
     if scale is None:
-        top = jnp.max(jnp.abs(Y0), axis=0)
-        scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
-    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :]
+        scale = _survey_scale(scene_at, period_at, Y0, lo, hi)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :] / L
     w0 = float(2 * np.pi / period_at(p0))
 
-    def F(u, p):   # a similarity transform: Hill's exponents divided by w0
+    def F(u, p):   # a similarity transform (times L): Hill's exponents divided by w0
         Y = u.reshape(shape) * scale
         return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0)).ravel()
 
-    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max,
-                         max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
-                         start_tol=gtol, gtol=gtol,
+    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), **options,
                          exponents=lambda J, u, p: _physical_exponents(jnp.asarray(J), shape[1],
                                                                        2 * np.pi / (w0 * period_at(p))))
     events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
@@ -782,6 +800,109 @@ def period_doubling_start(scene_at, p, coefficients, amplitude, *, period_at=Non
         fq = floquet(sc, sol.initial_state(), T2, 0.0)
         sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
     return pc, sol
+
+
+def _start_state(guess, n):
+    """A state at the period's start from a guess: a state, coefficients or a
+    `PeriodicSolution`."""
+    if isinstance(guess, PeriodicSolution):
+        return guess.initial_state()
+    g = jnp.asarray(guess, dtype=jnp.float64)
+    if g.shape == (n,):
+        return g
+    if g.ndim == 2 and g.shape[1] == n and g.shape[0] % 2 == 1:
+        return _basis_at(jnp.zeros(()), (g.shape[0] - 1) // 2) @ g
+    raise InputError(f"guess must be a state of shape ({n},), coefficients of shape (2H + 1, {n}) or a "
+                     f"PeriodicSolution, got shape {g.shape}")
+
+
+def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L, options):
+    """`periodic_branch(method="shooting")`: see there."""
+    n = scene_at(p0).state_size
+    N = _samples(H, None)
+    steps = -(-max(steps, N) // N) * N          # a multiple of the samples
+
+    def closure(y, p):
+        return flow_samples(scene_at(p), y, period_at(p), steps=steps)[-1] - y
+
+    @jax.jit
+    def newton_direction(y):
+        g, J = closure(y, p0), jax.jacfwd(closure)(y, p0)
+        return jnp.linalg.solve(J, g), jnp.max(jnp.abs(g))
+
+    gap = jax.jit(lambda y: jnp.max(jnp.abs(closure(y, p0))))
+    y = _start_state(guess, n)
+    for _ in range(40):            # Newton, the step halved until the closure shrinks
+        dy, g = newton_direction(y)
+        if not float(g) > 1e-12 * max(1.0, float(jnp.max(jnp.abs(y)))):
+            break
+        step = 1.0
+        while step > 1e-3 and not float(gap(y - step * dy)) < float(g):
+            step /= 2
+        y = y - step * dy
+    samples = flow_samples(scene_at(p0), y, period_at(p0), steps=steps, n_samples=N)
+    if not bool(jnp.all(jnp.isfinite(samples))) or not float(jnp.max(jnp.abs(samples[-1] - y))) < 1e-8 * max(
+            1.0, float(jnp.max(jnp.abs(samples)))):
+        raise NumericalError(f"periodic_branch: shooting found no periodic motion at {options['name']} = {p0} from "
+                             f"the guess (closure {float(jnp.max(jnp.abs(samples[-1] - y))):.2e})")
+    if scale is None:
+        top = jnp.max(jnp.abs(samples), axis=0)
+        scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (n,)) / L
+    w0 = float(2 * np.pi / period_at(p0))
+
+    def F(u, p):
+        return closure(u * scale, p) / scale
+
+    def exponents(J, u, p):
+        mu = jnp.linalg.eigvals(jnp.asarray(J) + jnp.eye(n))
+        return jnp.log(mu.astype(jnp.complex128)) / (period_at(p) * w0)
+
+    br = continue_branch(F, np.asarray(y / scale), p0, p_bounds=bounds, exponents=exponents, **options)
+    events = []
+    for e in br.events:
+        e = dataclasses.replace(e, u=np.asarray(e.u) * np.asarray(scale))
+        if e.kind == "hopf":
+            e = _secondary(e, w0, float(2 * np.pi / period_at(e.p)))
+        events.append(e)
+    br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
+
+    @jax.jit
+    @jax.vmap
+    def series(u, p):
+        ys = flow_samples(scene_at(p), u, period_at(p), steps=steps, n_samples=N)
+        return coefficients_from_samples(jnp.roll(ys, 1, axis=0), H)
+
+    ys0 = np.asarray(br.u) * np.asarray(scale)
+    coefficients = np.asarray(series(jnp.asarray(ys0), jnp.asarray(br.p)))
+    ev = [dataclasses.replace(e, u=np.asarray(series(jnp.asarray(e.u)[None], jnp.asarray([e.p]))[0]).ravel())
+          for e in events]
+    return dataclasses.replace(br, events=tuple(ev)), coefficients
+
+
+#: parameter values at which `periodic_branch` surveys the motion's size before continuing
+SURVEY = 9
+
+
+def _span(lo, hi, p0):
+    """The length `L` of the continued range (`max(|p0|, 1)` when unbounded)."""
+    span = float(hi) - float(lo)
+    return span if np.isfinite(span) and span > 0 else max(abs(float(p0)), 1.0)
+
+
+def _survey_scale(scene_at, period_at, Y0, lo, hi):
+    """Each state's largest coefficient over the start and the motions solved from
+    it at `SURVEY` parameter values across a finite range (one vmapped Newton; the
+    ones that do not converge are left out), at least 1e-3 of the largest of all."""
+    top = jnp.max(jnp.abs(Y0), axis=0)
+    if np.isfinite(lo) and np.isfinite(hi):
+        def one(p):
+            return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None)
+
+        sols = jax.jit(jax.vmap(one))(jnp.linspace(lo, hi, SURVEY))
+        ok = (sols.code == 0)[:, None]
+        top = jnp.maximum(top, jnp.max(jnp.where(ok, jnp.max(jnp.abs(sols.coefficients), axis=1), 0.0), axis=0))
+    return jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
 
 
 #: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling

@@ -262,8 +262,8 @@ def build_parser():
                  (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"),
                                         help="tangents by autodiff or central differences (Floquet margins)")),
              ], kinds="all presets with a reference regime")
-    _command(sub, "periodic", "periodic forced motions continued in one parameter (harmonic balance): amplitude, "
-             "stability, folds and bifurcations", cmd_periodic, [
+    _command(sub, "periodic", "periodic forced motions continued in one parameter (harmonic balance or "
+             "shooting): amplitude, stability, folds and bifurcations", cmd_periodic, [
                  (("--param",), dict(required=True, metavar="KEY",
                                      help="the continued --set key (a rotor file: speed)")),
                  _range(help="range of --param (the start must lie in it)"),
@@ -272,7 +272,10 @@ def build_parser():
                  (("--harmonics",), dict(type=at_least(1), default=8, metavar="H",
                                          help="harmonics of the Fourier series")),
                  (("--method",), dict(default="hb", choices=("hb", "shooting"),
-                                      help="hb: harmonic balance; shooting: where offered")),
+                                      help="hb: harmonic balance; shooting: Newton on the closure after one "
+                                           "period, integrated in --steps fixed Dopri8 steps")),
+                 (("--steps",), dict(type=at_least(1), default=256,
+                                     help="--method shooting: fixed integration steps per period")),
                  (("--node",), dict(type=at_least(0), default=None, metavar="N",
                                     help="amplitude of this node's orbit (default: the scene's whirl_amplitude)")),
                  (("--subharmonic",), dict(type=at_least(1), default=1, metavar="K",

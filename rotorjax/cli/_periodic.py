@@ -1,7 +1,6 @@
 """`periodic`: the branch of periodic forced motions in one parameter (harmonic
 balance continued through folds), its stability and bifurcations."""
 
-import inspect
 import json
 import os
 
@@ -12,6 +11,16 @@ from ._continue import _check_key
 
 #: `--method` as the library names it
 METHODS = {"hb": "harmonic-balance", "shooting": "shooting"}
+
+#: what each bifurcation means for the motion, as the summary says it
+MEANING = {
+    "fold": "two periodic motions meet and end (a jump)",
+    "period-doubling": "a multiplier leaves through -1: a motion of twice the period is born",
+    "neimark-sacker": "a pair of multipliers leaves the unit circle: the motion turns quasi-periodic, with a "
+                      "second frequency",
+    "branch-point": "another branch of periodic motions crosses this one",
+    "hopf": "a pair of exponents crosses the imaginary axis",
+}
 
 #: a branch end that stopped for one of these reasons inside the range is a numerical failure (exit 3)
 FAILED_STOPS = ("corrector failed", "non-finite")
@@ -46,6 +55,17 @@ def _scene_at(preset, params, key, setup):
     return at
 
 
+def _periodic_scene(scene_at, scene, y0):
+    """`scene_at` and the guess without a work state (it grows along a periodic
+    motion), where the scene keeps one."""
+    from rotorjax.models import provides
+
+    if not provides(scene, "without_work"):
+        return scene_at, y0
+    n = scene.without_work().state_size
+    return (lambda p: scene_at(p).without_work()), y0[:n]
+
+
 def _amplitude_of(scene, y0, node):
     """The phrase for what the amplitude is, after checking that the scene has it."""
     out = scene.outputs(0.0, y0)
@@ -63,16 +83,6 @@ def _amplitude_of(scene, y0, node):
     if not node < n_nodes:
         raise InputError(f"--node {node}: the scene's nodes are 0..{n_nodes - 1}")
     return f"largest radius of node {node}'s orbit over the period"
-
-
-def _method_kwargs(method):
-    from rotorjax.analysis import periodic_branch
-
-    if "method" in inspect.signature(periodic_branch).parameters:
-        return {"method": METHODS[method]}
-    if method != "hb":
-        raise InputError(f"--method {method}: not offered for this command yet; use --method hb (harmonic balance)")
-    return {}
 
 
 def cmd_periodic(args) -> int:
@@ -104,21 +114,26 @@ def cmd_periodic(args) -> int:
                          + ("" if args.start is not None else "; give --from V"))
     if args.ds_max is not None and args.ds is not None and args.ds_max < args.ds:
         raise InputError(f"--ds {args.ds:g} --ds-max {args.ds_max:g}: need DS <= DS_MAX")
-    # default steps in proportion to the range (the arclength's parameter part is in its units)
+    # default steps in proportion to the range (the library's: range / 100, range / 10)
     ds_max = max((hi - lo) / 10, args.ds or 0.0) if args.ds_max is None else args.ds_max
     ds = min((hi - lo) / 100, ds_max) if args.ds is None else args.ds
-    method_kwargs = _method_kwargs(args.method)
     setup = build(preset, dict(params, **{key: start}))
     if setup.y0 is None:
         raise InputError(f"`periodic` starts from the scene's rest state; {preset.name} has none")
-    scene_at = _scene_at(preset, dict(params, **{key: start}), key, setup)
+    if setup.extras.get("events"):
+        raise InputError(f"--method {args.method}: the exact (event-located) contact of --set events=1 is not "
+                         "offered by `periodic` (harmonic balance and fixed-step shooting use the smoothed "
+                         "contact: --set events=0)")
+    scene_at, guess = _periodic_scene(_scene_at(preset, dict(params, **{key: start}), key, setup), setup.scene,
+                                      setup.y0)
     amplitude_of = _amplitude_of(setup.scene, setup.y0, args.node)
     prepare_out(args.out)
     stem = out_stem(args.out, preset, "periodic_", f"_{key}")
 
-    br, coefficients = periodic_branch(scene_at, start, setup.y0, (lo, hi), args.harmonics,
+    br, coefficients = periodic_branch(scene_at, start, guess, (lo, hi), args.harmonics,
                                        subharmonic=args.subharmonic, name=key, ds=ds, ds_max=ds_max,
-                                       max_points=args.max_points, progress=not args.json, **method_kwargs)
+                                       max_points=args.max_points, progress=not args.json,
+                                       method=METHODS[args.method], steps=args.steps)
     amp = branch_amplitude(scene_at, br.p, coefficients, node=args.node, subharmonic=args.subharmonic)
     events = sorted(br.events, key=lambda e: e.p)
     if events:
@@ -127,8 +142,9 @@ def cmd_periodic(args) -> int:
                                   node=args.node, subharmonic=args.subharmonic)
     bifurcations = []
     for i, e in enumerate(events):
-        row = {"kind": e.kind.replace("_", "-"), key: float(e.p), "amplitude": float(ev_amp[i]),
-               "residual": float(e.residual)}
+        kind = e.kind.replace("_", "-")
+        row = {"kind": kind, key: float(e.p), "amplitude": float(ev_amp[i]), "residual": float(e.residual),
+               "meaning": MEANING[kind]}
         if e.frequency is not None and e.kind != "fold":
             row["frequency"] = float(e.frequency)
         bifurcations.append(row)
@@ -162,8 +178,9 @@ def cmd_periodic(args) -> int:
         print(f"  {key} in [{lo:g}, {hi:g}] from {start:g} ({out['start_source']}); {br.p.size} points, "
               f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
         for b in bifurcations:
+            second = f" {b['frequency']:.6g} rad per time unit" if b["kind"] == "neimark-sacker" else ""
             print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
-                  f"(residual {b['residual']:.1e})")
+                  f"(residual {b['residual']:.1e}): {b['meaning']}{second}")
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
         raise NumericalError(f"the branch stopped inside --range {lo:g} {hi:g}: {failed[0]} (files written: "

@@ -208,6 +208,12 @@ class AbstractEnergyScene(AbstractScene):
     def energy(self, y) -> jax.Array:
         """Mechanical energy of state `y`."""
 
+    @abc.abstractmethod
+    def without_work(self) -> "AbstractScene":
+        """The same scene without the work state (which grows along a periodic
+        motion: harmonic balance and shooting need a state that returns), its state
+        the first `state_size` entries of this one's."""
+
 
 def rotating_field(scene, t, z):
     """`dz/dt` of the rotating-frame state `z` of `scene` at time `t`, by the chain
@@ -223,7 +229,7 @@ def rotating_field(scene, t, z):
 CAPABILITIES = {
     "linear_matrices": AbstractLinearScene, "unbalance_load": AbstractLinearScene,
     "n_dof": AbstractRotatingScene, "to_rotating": AbstractRotatingScene, "to_fixed": AbstractRotatingScene,
-    "contact_indicator": AbstractContactScene, "energy": AbstractEnergyScene,
+    "contact_indicator": AbstractContactScene, "energy": AbstractEnergyScene, "without_work": AbstractEnergyScene,
     "shaft": AbstractShaftModel, "linear_system": AbstractLinearSystem,
 }
 

@@ -307,6 +307,11 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         """Shaft coordinates (vector or columns) to all dofs."""
         return self.rotor.expand(q_shaft)
 
+    def without_work(self):
+        if not self.track_work:
+            return self
+        return RotorScene(self.rotor, self.speed, self.components, track_work=False)
+
     def energy(self, y):
         """`q'^T M q' / 2 + q^T K_sym q / 2` (shaft coordinates; every other force's
         work is in the work state)."""

@@ -137,6 +137,9 @@ class CantileverScene(AbstractLinearScene, AbstractContactScene, AbstractEnergyS
         power = qd @ f_nc - qd @ (self.D @ qd) - self.N * qd @ (self.CiJ @ q)
         return jnp.concatenate([qd, qdd, power[None]])
 
+    def without_work(self):
+        raise NotImplementedError("the reference formulation always keeps its work state")
+
     def energy(self, y):
         q, qd, _ = self.split(y)
         return 0.5 * qd @ (self.M @ qd) + 0.5 * q @ (self.K @ q) - self.gamma * self.unit_weight @ q
