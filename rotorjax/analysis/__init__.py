@@ -18,6 +18,7 @@ from ._floquet import floquet as floquet
 from ._floquet import monodromy as monodromy
 from ._harmonic_balance import PeriodicSolution as PeriodicSolution
 from ._harmonic_balance import balance_residual as balance_residual
+from ._harmonic_balance import balance_grid as balance_grid
 from ._harmonic_balance import branch_amplitude as branch_amplitude
 from ._harmonic_balance import coefficients_from_samples as coefficients_from_samples
 from ._harmonic_balance import forcing_period as forcing_period
@@ -28,6 +29,8 @@ from ._harmonic_balance import limit_cycle as limit_cycle
 from ._harmonic_balance import limit_cycle_branch as limit_cycle_branch
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
 from ._harmonic_balance import period_doubling_start as period_doubling_start
+from ._harmonic_balance import periodic_fold_curve as periodic_fold_curve
+from ._harmonic_balance import periodic_fold_gradient as periodic_fold_gradient
 from ._harmonic_balance import periodic_branch as periodic_branch
 from ._harmonic_balance import periodic_orbit as periodic_orbit
 from ._roots import Root as Root
@@ -57,6 +60,7 @@ from ._continuation import boundary_sensitivity as boundary_sensitivity
 from ._continuation import continue_branch as continue_branch
 from ._continuation import floquet_crossings as floquet_crossings
 from ._continuation import fold_curve as fold_curve
+from ._continuation import fold_gradient as fold_gradient
 from ._continuation import trace_boundaries as trace_boundaries
 from ._continuation import trace_boundary as trace_boundary
 from ._continuation import trace_curve as trace_curve

@@ -1162,6 +1162,24 @@ def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-
                        names=[None] * n + list(names))
 
 
+def fold_gradient(F: Callable, u, p, q):
+    """How a fold `(u*, p*)` of `F(u, p, q) = 0` moves with a third parameter `q`:
+    `dp*/dq`, by the implicit function theorem on the fold's defining system
+    `[F; g(F_u)] = 0` (`g` the bordered test function, bordered at the fold itself):
+    `d(u*, p*)/dq = -G_(u,p)^{-1} G_q`, all by autodiff (`q` a scalar)."""
+    u = jnp.asarray(u, dtype=jnp.float64)
+    n = u.size
+    p, q = jnp.float64(p), jnp.float64(q)
+    g = _fold_function(jax.jacfwd(F)(u, p, q))
+
+    def G(z, qq):
+        return jnp.concatenate([F(z[:n], z[n], qq), g(jax.jacfwd(F)(z[:n], z[n], qq))[None]])
+
+    z = jnp.concatenate([u, p[None]])
+    Gz, Gq = jax.jacfwd(G, argnums=(0, 1))(z, q)
+    return float(-jnp.linalg.solve(Gz, Gq)[n])
+
+
 @dataclasses.dataclass(frozen=True)
 class FloquetCrossing:
     """Where a periodic regime's Floquet multiplier crosses the unit circle (one

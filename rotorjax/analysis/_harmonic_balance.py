@@ -41,7 +41,7 @@ from ..models._speed import ConstantSpeed
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS, AbstractOutcome, code_of
 from ..solve._simulate import simulate
-from ._continuation import continue_branch
+from ._continuation import continue_branch, fold_curve, fold_gradient
 from ._floquet import FloquetResult, floquet, flow_samples, periodic_orbit_by_shooting, shoot
 
 
@@ -878,6 +878,97 @@ def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L,
     ev = [dataclasses.replace(e, u=np.asarray(series(jnp.asarray(e.u)[None], jnp.asarray([e.p]))[0]).ravel())
           for e in events]
     return dataclasses.replace(br, events=tuple(ev)), coefficients
+
+
+def _balance_in_two(scene_at2, Y0, period_at2, scale, w0):
+    """`F(u, p1, p2)`: the balance of `scene_at2(p1, p2)`, scaled as in
+    `periodic_branch` (u the coefficients over `scale`, Hill's exponents over w0)."""
+    shape = Y0.shape
+
+    def F(u, p1, p2):
+        Y = u.reshape(shape) * scale
+        return -(balance_residual(scene_at2(p1, p2), Y, period_at2(p1, p2)) / (scale * w0)).ravel()
+
+    return F
+
+
+def _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic):
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    Y0 = jnp.asarray(coefficients, dtype=jnp.float64)
+    top = jnp.max(jnp.abs(Y0), axis=0)
+    scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)[None, :]
+    w0 = float(2 * np.pi / period_at2(*p))
+    return _balance_in_two(scene_at2, Y0, period_at2, scale, w0), np.asarray(Y0 / scale).ravel(), scale
+
+
+def periodic_fold_curve(scene_at2, p, coefficients, *, period_at2=None, subharmonic=1, bounds=None, ds=0.01,
+                        ds_max=0.2, max_points=200, tol=1e-11, direction=None, names=("p1", "p2")):
+    """Two-parameter continuation of a fold of periodic motions (the jump's
+    boundary, e.g. in speed and cubic stiffness): the curve of `(p1, p2)` where the
+    harmonic balance of `scene_at2(p1, p2)` folds, from a fold at `p = (p1, p2)`
+    with its `coefficients` `(2H + 1, n)` (a `"fold"` event of `periodic_branch`
+    with `p2` fixed: its `u` reshaped). `fold_curve` on the scaled balance; both
+    ways from the start unless `direction`; `bounds` `((lo1, lo2), (hi1, hi2))`.
+    Returns its `Curve` (rows `(u, p1, p2)`, the coefficients scaled)."""
+    F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
+    if bounds is not None:
+        lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+        n = u0.size
+        bounds = (np.concatenate([np.full(n, np.nan), lo]), np.concatenate([np.full(n, np.nan), hi]))
+    return fold_curve(F, u0, p, ds=ds, ds_max=ds_max, max_points=max_points, tol=tol, bounds=bounds,
+                      direction=direction, names=names)
+
+
+def periodic_fold_gradient(scene_at2, p, coefficients, *, period_at2=None, subharmonic=1):
+    """`dp1*/dp2`: how the fold of periodic motions at `p = (p1, p2)` (with its
+    `coefficients`) moves in `p1` per unit of `p2`, by the implicit function
+    theorem on the fold's defining system (`fold_gradient`)."""
+    F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
+    return fold_gradient(F, u0, p[0], p[1])
+
+
+def balance_grid(scene_at2, p1, p2, guess, harmonics=8, *, period_at2=None, subharmonic=1, node=None, rows=None,
+                 tol=1e-10, max_iter=30):
+    """The periodic motions over a grid: along `p1` by natural continuation (each
+    point's Newton starts from the previous point's motion, as a slow sweep: on a
+    branch that folds it jumps where a run-up would), across `p2` vmapped, all in
+    one compiled program (a `lax.scan` per column, the columns vmapped).
+
+    `scene_at2(a, b)`: the scene at `p1 = a`, `p2 = b`; `guess` as in
+    `harmonic_balance` (at `p1[0]`, every `p2`). Returns `(coefficients, code,
+    time_residual, amplitude)`, each `(len(p2), len(p1), ...)`: the amplitude as
+    `orbit_amplitude` (`node`, `rows`, or the scene's `whirl_amplitude`). Where
+    Newton from the previous point fails (past a fold) it starts again from
+    `guess`; a point that still does not converge keeps its code, and the next
+    starts from the last converged one."""
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    H = as_count("harmonics", harmonics, minimum=1)
+    p1 = jnp.asarray(p1, dtype=jnp.float64)
+    p2 = jnp.asarray(p2, dtype=jnp.float64)
+    if p1.ndim != 1 or p2.ndim != 1:
+        raise InputError(f"p1 and p2 must be 1-D grids, got shapes {p1.shape} and {p2.shape}")
+    n = scene_at2(p1[0], p2[0]).state_size
+    Y0 = _guess_coefficients(guess, H, n)
+
+    def column(b):
+        def step(Y, a):
+            sc = scene_at2(a, b)
+            T = period_at2(a, b)
+            sol = _solve(sc, Y, T, jnp.asarray(0.0), None, tol, max_iter, None)
+            # past a fold the branch swept ends: start again from the guess (the jump)
+            sol = jax.lax.cond(sol.code == 0, lambda: sol,
+                               lambda: _solve(sc, Y0, T, jnp.asarray(0.0), None, tol, max_iter, None))
+            amp = orbit_amplitude(sc, sol.coefficients, T, node=node, rows=rows)
+            return jnp.where(sol.code == 0, sol.coefficients, Y), (sol.coefficients, sol.code,
+                                                                     sol.time_residual, amp)
+
+        return jax.lax.scan(step, Y0, p1)[1]
+
+    return jax.jit(jax.vmap(column))(p2)
 
 
 #: parameter values at which `periodic_branch` surveys the motion's size before continuing
