@@ -1020,15 +1020,19 @@ def _secondary(event, w0, w):
     return dataclasses.replace(event, kind=kind, frequency=f)
 
 
-def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1):
+def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1, truncation=False):
     """`orbit_amplitude` at every point of a branch from `periodic_branch`
-    (`p` its parameter values, `coefficients` `(points, 2H + 1, n)`), vmapped."""
+    (`p` its parameter values, `coefficients` `(points, 2H + 1, n)`), vmapped; with
+    `truncation`, also each point's time-domain residual (`PeriodicSolution`'s
+    `time_residual`: the truncation error of the harmonics) as a second array."""
     if period_at is None:
         def period_at(v):
             return forcing_period(scene_at(v), subharmonic)
     orbit_amplitude(scene_at(float(p[0])), coefficients[0], period_at(float(p[0])), node=node)   # checks node
 
     def one(v, Y):
-        return orbit_amplitude(scene_at(v), Y, period_at(v), node=node)
+        sc, T = scene_at(v), period_at(v)
+        return orbit_amplitude(sc, Y, T, node=node), _time_residual(sc, Y, T, 0.0, None)
 
-    return np.asarray(jax.jit(jax.vmap(one))(jnp.asarray(p), jnp.asarray(coefficients)))
+    amp, res = jax.jit(jax.vmap(one))(jnp.asarray(p), jnp.asarray(coefficients))
+    return (np.asarray(amp), np.asarray(res)) if truncation else np.asarray(amp)

@@ -276,6 +276,9 @@ def build_parser():
                                            "period, integrated in --steps fixed Dopri8 steps")),
                  (("--steps",), dict(type=at_least(1), default=256,
                                      help="--method shooting: fixed integration steps per period")),
+                 (("--max-time-residual",), dict(type=positive, default=1e-3,
+                                                 help="the largest time-domain residual of a point's reconstructed "
+                                                      "orbit (relative truncation error) accepted before exit 3")),
                  (("--node",), dict(type=at_least(0), default=None, metavar="N",
                                     help="amplitude of this node's orbit (default: the scene's whirl_amplitude)")),
                  (("--subharmonic",), dict(type=at_least(1), default=1, metavar="K",

@@ -134,7 +134,8 @@ def cmd_periodic(args) -> int:
                                        subharmonic=args.subharmonic, name=key, ds=ds, ds_max=ds_max,
                                        max_points=args.max_points, progress=not args.json,
                                        method=METHODS[args.method], steps=args.steps)
-    amp = branch_amplitude(scene_at, br.p, coefficients, node=args.node, subharmonic=args.subharmonic)
+    amp, truncation = branch_amplitude(scene_at, br.p, coefficients, node=args.node,
+                                       subharmonic=args.subharmonic, truncation=True)
     events = sorted(br.events, key=lambda e: e.p)
     if events:
         ev_amp = branch_amplitude(scene_at, np.array([e.p for e in events]),
@@ -153,7 +154,8 @@ def cmd_periodic(args) -> int:
            "subharmonic": args.subharmonic, "range": [lo, hi], "start": start,
            "start_source": "--from" if args.start is not None else "the preset's value",
            "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
-                         "margin": br.margin.tolist(), "harmonics": args.harmonics, "n_points": int(br.p.size),
+                         "margin": br.margin.tolist(), "time_residual": truncation.tolist(),
+                         "harmonics": args.harmonics, "n_points": int(br.p.size),
                          "stop": br.curve.stop, "stops": list(br.stops)}],
            "bifurcations": bifurcations}
     np.savetxt(stem + ".csv", np.column_stack([br.p, amp, br.stable.astype(int), br.margin]), delimiter=",",
@@ -168,7 +170,12 @@ def cmd_periodic(args) -> int:
                                            f"amplitude: {amplitude_of}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
-    failed = [s for s in br.stops if s.startswith(FAILED_STOPS)]
+    failed = [f"the branch stopped inside --range {lo:g} {hi:g}: {s}" for s in br.stops if s.startswith(FAILED_STOPS)]
+    worst = int(np.argmax(truncation))
+    if truncation[worst] > args.max_time_residual:
+        failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed orbit is "
+                      f"{truncation[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
+                      f"{br.p[worst]:.8g}; raise --harmonics")
     if args.json:
         print(json.dumps(out, indent=2))
     else:
@@ -183,6 +190,5 @@ def cmd_periodic(args) -> int:
                   f"(residual {b['residual']:.1e}): {b['meaning']}{second}")
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
-        raise NumericalError(f"the branch stopped inside --range {lo:g} {hi:g}: {failed[0]} (files written: "
-                             f"{os.path.basename(stem)}.*)")
+        raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
     return 0
