@@ -1,0 +1,411 @@
+"""Branches of periodic forced motions: harmonic balance (or shooting) continued
+by pseudo-arclength in a parameter through folds, with Hill's (or the monodromy's)
+stability at every point and its events (folds, branch points, period doublings,
+Neimark-Sacker points); switching onto a period-doubled branch; a fold continued in
+two parameters and its gradient; a grid of motions in one compiled program."""
+
+import dataclasses
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._errors import NumericalError
+from ..models._validate import InputError, as_count, as_param
+from ..solve._results import RESULTS
+from ._continuation import continue_branch, fold_curve, fold_gradient
+from ._floquet import floquet, flow_samples
+from ._harmonic_balance import (METHODS, PeriodicSolution, _basis_at, _guess_coefficients, _newton, _outcome,
+                                _physical_exponents, _samples, _solve, _time_residual, balance_residual,
+                                coefficients_from_samples, forcing_period, harmonic_balance, orbit_amplitude)
+
+
+def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, subharmonic=1, scale=None,
+                    name="p", ds=None, ds_max=None, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
+                    progress=False, method="harmonic-balance", steps=256):
+    """A branch of periodic forced motions `Y(p)` by harmonic balance and
+    pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
+    folds.
+
+    **Arguments:**
+    - `scene_at(p)`: the scene at `p` (traceable in `p`).
+    - `p0`, `guess`: the start (`guess` as in `harmonic_balance`: solved there first).
+    - `p_bounds`: `(lo, hi)`; `harmonics`: `H`.
+    - `period_at(p)`: the motion's period at `p` (default `forcing_period(scene_at(p),
+      subharmonic)`: `subharmonic` times `2 pi / speed`).
+    - `scale`: one length per state (default: each state's largest coefficient
+      over a survey of the range, `SURVEY` points solved from the start's motion
+      in one compiled batch, and at least 1e-3 of the largest of all). The
+      unknowns are the coefficients over `scale`, times the range's length `L =
+      hi - lo`, so that the arclength weighs a motion's growth from nothing to its
+      largest and a walk across the range alike; time is scaled by the start's
+      `2 pi / period`.
+    - `ds`, `ds_max`: the first and the largest arclength step (default `L / 100`,
+      `L / 10`).
+    - `tol`, `gtol`: a point is accepted when Newton's last step is below `tol`
+      (relative) and the scaled balance residual below `gtol` (its round-off floor
+      grows with the stiffness: an FE rotor's highest modes).
+    - `method`: `"harmonic-balance"`, or `"shooting"`: the unknowns are the state at
+      the period's start and the equations its closure after one period, integrated
+      in `steps` fixed steps of Dopri8 (exact derivatives of the discrete map; its
+      truncation error is the user's to check, e.g. against harmonic balance);
+      stability from the multipliers `eig(dF/du + I)` (the monodromy), exponents
+      `log(mu) / T`; `coefficients` then `harmonics` harmonics of each orbit's
+      samples.
+
+    Returns `(branch, coefficients)`: the `Branch` (`p`; `margin` the largest real
+    part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
+    negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
+    in physical units. `branch.events` (`u`: the coefficients there, flattened,
+    physical units): `"fold"` (refined: Newton on the balance
+    and `det dR/dY = 0`), `"branch_point"` (located to the step), and where a
+    complex pair of Hill's exponents crosses, refined by bisection along the
+    branch, `"period-doubling"` (its frequency half the motion's: a multiplier
+    through -1) or `"neimark-sacker"` (a pair of multipliers `exp(+-i 2 pi f / w)`
+    through the unit circle; `frequency` the exponent's `f` in (0, w/2), rad per
+    time unit)."""
+    if period_at is None:
+        def period_at(p):
+            return forcing_period(scene_at(p), subharmonic)
+    try:
+        lo, hi = p_bounds
+    except (TypeError, ValueError):
+        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
+    p0 = float(as_param("p0", p0, shape=()))
+    if not (lo <= p0 <= hi):
+        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    if method not in METHODS:
+        raise InputError(f"method {method!r}: one of {', '.join(map(repr, METHODS))}")
+    L = _span(lo, hi, p0)
+    options = dict(ds=L / 100 if ds is None else ds, ds_max=L / 10 if ds_max is None else ds_max,
+                   max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
+                   start_tol=gtol * L, gtol=gtol * L)
+    if method == "shooting":
+        return _shooting_branch(scene_at, p0, guess, (lo, hi), as_count("harmonics", harmonics, minimum=1),
+                                period_at, scale, as_count("steps", steps, minimum=1), L, options)
+    start = harmonic_balance(scene_at(p0), period_at(p0), guess, harmonics, stability=False)
+    if int(start.code) != 0:
+        raise NumericalError(f"periodic_branch: no periodic motion at {name} = {p0} from the guess "
+                             f"({RESULTS[start.result]})")
+    Y0 = start.coefficients
+    shape = Y0.shape
+    if scale is None:
+        scale = _survey_scale(scene_at, period_at, Y0, lo, hi)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :] / L
+    w0 = float(2 * np.pi / period_at(p0))
+
+    def F(u, p):   # a similarity transform (times L): Hill's exponents divided by w0
+        Y = u.reshape(shape) * scale
+        return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0)).ravel()
+
+    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), **options,
+                         exponents=lambda J, u, p: _physical_exponents(jnp.asarray(J), shape[1],
+                                                                       2 * np.pi / (w0 * period_at(p))))
+    events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
+    br = dataclasses.replace(br, margin=br.margin * w0, events=events)
+    coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
+    return br, coefficients
+
+
+def _start_state(guess, n):
+    """A state at the period's start from a guess: a state, coefficients or a
+    `PeriodicSolution`."""
+    if isinstance(guess, PeriodicSolution):
+        return guess.initial_state()
+    g = jnp.asarray(guess, dtype=jnp.float64)
+    if g.shape == (n,):
+        return g
+    if g.ndim == 2 and g.shape[1] == n and g.shape[0] % 2 == 1:
+        return _basis_at(jnp.zeros(()), (g.shape[0] - 1) // 2) @ g
+    raise InputError(f"guess must be a state of shape ({n},), coefficients of shape (2H + 1, {n}) or a "
+                     f"PeriodicSolution, got shape {g.shape}")
+
+
+def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L, options):
+    """`periodic_branch(method="shooting")`: see there."""
+    n = scene_at(p0).state_size
+    N = _samples(H, None)
+    steps = -(-max(steps, N) // N) * N          # a multiple of the samples
+
+    def closure(y, p):
+        return flow_samples(scene_at(p), y, period_at(p), steps=steps)[-1] - y
+
+    @jax.jit
+    def newton_direction(y):
+        g, J = closure(y, p0), jax.jacfwd(closure)(y, p0)
+        return jnp.linalg.solve(J, g), jnp.max(jnp.abs(g))
+
+    gap = jax.jit(lambda y: jnp.max(jnp.abs(closure(y, p0))))
+    y = _start_state(guess, n)
+    for _ in range(40):            # Newton, the step halved until the closure shrinks
+        dy, g = newton_direction(y)
+        if not float(g) > 1e-12 * max(1.0, float(jnp.max(jnp.abs(y)))):
+            break
+        step = 1.0
+        while step > 1e-3 and not float(gap(y - step * dy)) < float(g):
+            step /= 2
+        y = y - step * dy
+    samples = flow_samples(scene_at(p0), y, period_at(p0), steps=steps, n_samples=N)
+    if not bool(jnp.all(jnp.isfinite(samples))) or not float(jnp.max(jnp.abs(samples[-1] - y))) < 1e-8 * max(
+            1.0, float(jnp.max(jnp.abs(samples)))):
+        raise NumericalError(f"periodic_branch: shooting found no periodic motion at {options['name']} = {p0} from "
+                             f"the guess (closure {float(jnp.max(jnp.abs(samples[-1] - y))):.2e})")
+    if scale is None:
+        top = jnp.max(jnp.abs(samples), axis=0)
+        scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (n,)) / L
+    w0 = float(2 * np.pi / period_at(p0))
+
+    def F(u, p):
+        return closure(u * scale, p) / scale
+
+    def exponents(J, u, p):
+        mu = jnp.linalg.eigvals(jnp.asarray(J) + jnp.eye(n))
+        return jnp.log(mu.astype(jnp.complex128)) / (period_at(p) * w0)
+
+    br = continue_branch(F, np.asarray(y / scale), p0, p_bounds=bounds, exponents=exponents, **options)
+    events = []
+    for e in br.events:
+        e = dataclasses.replace(e, u=np.asarray(e.u) * np.asarray(scale))
+        if e.kind == "hopf":
+            e = _secondary(e, w0, float(2 * np.pi / period_at(e.p)))
+        events.append(e)
+    br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
+
+    @jax.jit
+    @jax.vmap
+    def series(u, p):
+        ys = flow_samples(scene_at(p), u, period_at(p), steps=steps, n_samples=N)
+        return coefficients_from_samples(jnp.roll(ys, 1, axis=0), H)
+
+    ys0 = np.asarray(br.u) * np.asarray(scale)
+    coefficients = np.asarray(series(jnp.asarray(ys0), jnp.asarray(br.p)))
+    ev = [dataclasses.replace(e, u=np.asarray(series(jnp.asarray(e.u)[None], jnp.asarray([e.p]))[0]).ravel())
+          for e in events]
+    return dataclasses.replace(br, events=tuple(ev)), coefficients
+
+
+def period_doubling_start(scene_at, p, coefficients, amplitude, *, period_at=None, subharmonic=1, tol=1e-10,
+                          max_iter=30, stability=True):
+    """Onto the branch of period-doubled motions born at a period-doubling point
+    of a branch from `periodic_branch` (`p`, and the coefficients there: the
+    event's `u` reshaped to `(2H + 1, n)`).
+
+    The critical direction is the eigenvector of Hill's matrix whose exponent's
+    frequency is half the motion's (a multiplier -1), made real as the
+    perturbation `Re[e^{i w t / 2} z(t)]` and written with `2H` harmonics of the
+    doubled period, as is the motion itself. Newton solves the doubled balance for
+    the coefficients and the parameter with the component along that direction
+    fixed at `amplitude` (the length of its coefficient vector).
+
+    `period_at`, `subharmonic`: the motion's period as in `periodic_branch`.
+    Returns `(p, solution)`: continue it with `periodic_branch(...,
+    harmonics=2H, subharmonic=2 * subharmonic)` (or `period_at` doubled)."""
+    if period_at is None:
+        def period_at(v):
+            return forcing_period(scene_at(v), subharmonic)
+    p = as_param("p", p, shape=())
+    amplitude = as_param("amplitude", amplitude, sign="positive", shape=())
+    Y = jnp.asarray(coefficients, dtype=jnp.float64)
+    scene = scene_at(p)
+    n = scene.state_size
+    if Y.ndim != 2 or Y.shape[1] != n or Y.shape[0] % 2 != 1:
+        raise InputError(f"coefficients must be (2H + 1, {n}), got shape {Y.shape}")
+    H = (Y.shape[0] - 1) // 2
+    T = period_at(p)
+    w = 2 * jnp.pi / T
+    jac = jax.jacfwd(lambda x: -balance_residual(scene, x.reshape(Y.shape), T).ravel())(Y.ravel())
+    lam, vecs = jnp.linalg.eig(jac)
+    j = jnp.argmin(jnp.abs(jnp.real(lam)) + jnp.abs(jnp.abs(jnp.imag(lam)) - 0.5 * w))
+    z = vecs[:, j].reshape(Y.shape)
+    # the motion and the perturbation sampled over the doubled period
+    N2 = 2 * _samples(2 * H, None)
+    phase = 2 * jnp.pi * jnp.arange(N2) / N2 * 2            # w t over two periods
+    B = _basis_at(phase, H)
+    ys = B @ Y
+    d = jnp.exp(0.5j * phase)[:, None] * (B @ z)
+    d = jnp.where(jnp.linalg.norm(jnp.real(d)) >= jnp.linalg.norm(jnp.imag(d)), jnp.real(d), jnp.imag(d))
+    Y2 = coefficients_from_samples(ys, 2 * H)
+    D = coefficients_from_samples(d, 2 * H)
+    D = D / jnp.linalg.norm(D)
+    shape, m = Y2.shape, Y2.size
+
+    def residual(x):
+        Yd = x[:m].reshape(shape)
+        r = balance_residual(scene_at(x[m]), Yd, 2 * period_at(x[m])).ravel()
+        return jnp.concatenate([r, jnp.vdot(D, Yd - Y2)[None] - amplitude])
+
+    x0 = jnp.concatenate([(Y2 + amplitude * D).ravel(), p[None]])
+    x, (step, it) = _newton(residual, x0, tol, max_iter)
+    step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
+    pc = x[m]
+    sc = scene_at(pc)
+    T2 = 2 * period_at(pc)
+    sol = _outcome(sc, x[:m].reshape(shape), T2, jnp.asarray(0.0), jnp.max(jnp.abs(residual(x))), step, it,
+                   tol, None)
+    if int(sol.code) != 0:
+        raise NumericalError(f"period_doubling_start: no doubled motion of amplitude {float(amplitude):g} near "
+                             f"p = {float(p):g} ({RESULTS[sol.result]}); try a smaller amplitude")
+    if stability:
+        fq = floquet(sc, sol.initial_state(), T2, 0.0)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return pc, sol
+
+
+def _balance_in_two(scene_at2, Y0, period_at2, scale, w0):
+    """`F(u, p1, p2)`: the balance of `scene_at2(p1, p2)`, scaled as in
+    `periodic_branch` (u the coefficients over `scale`, Hill's exponents over w0)."""
+    shape = Y0.shape
+
+    def F(u, p1, p2):
+        Y = u.reshape(shape) * scale
+        return -(balance_residual(scene_at2(p1, p2), Y, period_at2(p1, p2)) / (scale * w0)).ravel()
+
+    return F
+
+
+def _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic):
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    Y0 = jnp.asarray(coefficients, dtype=jnp.float64)
+    top = jnp.max(jnp.abs(Y0), axis=0)
+    scale = jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)[None, :]
+    w0 = float(2 * np.pi / period_at2(*p))
+    return _balance_in_two(scene_at2, Y0, period_at2, scale, w0), np.asarray(Y0 / scale).ravel(), scale
+
+
+def periodic_fold_curve(scene_at2, p, coefficients, *, period_at2=None, subharmonic=1, bounds=None, ds=0.01,
+                        ds_max=0.2, max_points=200, tol=1e-11, direction=None, names=("p1", "p2")):
+    """Two-parameter continuation of a fold of periodic motions (the jump's
+    boundary, e.g. in speed and cubic stiffness): the curve of `(p1, p2)` where the
+    harmonic balance of `scene_at2(p1, p2)` folds, from a fold at `p = (p1, p2)`
+    with its `coefficients` `(2H + 1, n)` (a `"fold"` event of `periodic_branch`
+    with `p2` fixed: its `u` reshaped). `fold_curve` on the scaled balance; both
+    ways from the start unless `direction`; `bounds` `((lo1, lo2), (hi1, hi2))`.
+    Returns its `Curve` (rows `(u, p1, p2)`, the coefficients scaled)."""
+    F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
+    if bounds is not None:
+        lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+        n = u0.size
+        bounds = (np.concatenate([np.full(n, np.nan), lo]), np.concatenate([np.full(n, np.nan), hi]))
+    return fold_curve(F, u0, p, ds=ds, ds_max=ds_max, max_points=max_points, tol=tol, bounds=bounds,
+                      direction=direction, names=names)
+
+
+def periodic_fold_gradient(scene_at2, p, coefficients, *, period_at2=None, subharmonic=1):
+    """`dp1*/dp2`: how the fold of periodic motions at `p = (p1, p2)` (with its
+    `coefficients`) moves in `p1` per unit of `p2`, by the implicit function
+    theorem on the fold's defining system (`fold_gradient`)."""
+    F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
+    return fold_gradient(F, u0, p[0], p[1])
+
+
+def balance_grid(scene_at2, p1, p2, guess, harmonics=8, *, period_at2=None, subharmonic=1, node=None, rows=None,
+                 tol=1e-10, max_iter=30):
+    """The periodic motions over a grid: along `p1` by natural continuation (each
+    point's Newton starts from the previous point's motion, as a slow sweep: on a
+    branch that folds it jumps where a run-up would), across `p2` vmapped, all in
+    one compiled program (a `lax.scan` per column, the columns vmapped).
+
+    `scene_at2(a, b)`: the scene at `p1 = a`, `p2 = b`; `guess` as in
+    `harmonic_balance` (at `p1[0]`, every `p2`). Returns `(coefficients, code,
+    time_residual, amplitude)`, each `(len(p2), len(p1), ...)`: the amplitude as
+    `orbit_amplitude` (`node`, `rows`, or the scene's `whirl_amplitude`). Where
+    Newton from the previous point fails (past a fold) it starts again from
+    `guess`; a point that still does not converge keeps its code, and the next
+    starts from the last converged one."""
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    H = as_count("harmonics", harmonics, minimum=1)
+    p1 = jnp.asarray(p1, dtype=jnp.float64)
+    p2 = jnp.asarray(p2, dtype=jnp.float64)
+    if p1.ndim != 1 or p2.ndim != 1:
+        raise InputError(f"p1 and p2 must be 1-D grids, got shapes {p1.shape} and {p2.shape}")
+    n = scene_at2(p1[0], p2[0]).state_size
+    Y0 = _guess_coefficients(guess, H, n)
+
+    def column(b):
+        def step(Y, a):
+            sc = scene_at2(a, b)
+            T = period_at2(a, b)
+            sol = _solve(sc, Y, T, jnp.asarray(0.0), None, tol, max_iter, None)
+            # past a fold the branch swept ends: start again from the guess (the jump)
+            sol = jax.lax.cond(sol.code == 0, lambda: sol,
+                               lambda: _solve(sc, Y0, T, jnp.asarray(0.0), None, tol, max_iter, None))
+            amp = orbit_amplitude(sc, sol.coefficients, T, node=node, rows=rows)
+            return jnp.where(sol.code == 0, sol.coefficients, Y), (sol.coefficients, sol.code,
+                                                                     sol.time_residual, amp)
+
+        return jax.lax.scan(step, Y0, p1)[1]
+
+    return jax.jit(jax.vmap(column))(p2)
+
+
+#: parameter values at which `periodic_branch` surveys the motion's size before continuing
+SURVEY = 9
+
+
+def _span(lo, hi, p0):
+    """The length `L` of the continued range (`max(|p0|, 1)` when unbounded)."""
+    span = float(hi) - float(lo)
+    return span if np.isfinite(span) and span > 0 else max(abs(float(p0)), 1.0)
+
+
+def _survey_scale(scene_at, period_at, Y0, lo, hi):
+    """Each state's largest coefficient over the start and the motions solved from
+    it at `SURVEY` parameter values across a finite range (one vmapped Newton; the
+    ones that do not converge are left out), at least 1e-3 of the largest of all."""
+    top = jnp.max(jnp.abs(Y0), axis=0)
+    if np.isfinite(lo) and np.isfinite(hi):
+        def one(p):
+            return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None)
+
+        sols = jax.jit(jax.vmap(one))(jnp.linspace(lo, hi, SURVEY))
+        ok = (sols.code == 0)[:, None]
+        top = jnp.maximum(top, jnp.max(jnp.where(ok, jnp.max(jnp.abs(sols.coefficients), axis=1), 0.0), axis=0))
+    return jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+
+
+#: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling
+PERIOD_DOUBLING_TOL = 1e-3
+
+
+def _physical(event, scale, w0, period_at):
+    """An event of the scaled continuation in physical units, a crossing pair
+    classified."""
+    event = dataclasses.replace(event, u=(np.asarray(event.u).reshape((-1,) + scale.shape[1:])
+                                          * np.asarray(scale)).ravel())
+    if event.kind == "hopf":
+        event = _secondary(event, w0, float(2 * np.pi / period_at(event.p)))
+    return event
+
+
+def _secondary(event, w0, w):
+    """A crossing of a complex pair of Hill's exponents (continue_branch's "hopf",
+    in units of `w0`) as a period doubling or a Neimark-Sacker bifurcation: the
+    exponent's frequency reduced to `[0, w/2]` (each exponent recurs shifted by
+    every `k w`)."""
+    f = float(np.abs(np.mod(event.frequency * w0 + 0.5 * w, w) - 0.5 * w))
+    kind = "period-doubling" if abs(f - 0.5 * w) < PERIOD_DOUBLING_TOL * w else "neimark-sacker"
+    return dataclasses.replace(event, kind=kind, frequency=f)
+
+
+def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1, truncation=False):
+    """`orbit_amplitude` at every point of a branch from `periodic_branch`
+    (`p` its parameter values, `coefficients` `(points, 2H + 1, n)`), vmapped; with
+    `truncation`, also each point's time-domain residual (`PeriodicSolution`'s
+    `time_residual`: the truncation error of the harmonics) as a second array."""
+    if period_at is None:
+        def period_at(v):
+            return forcing_period(scene_at(v), subharmonic)
+    orbit_amplitude(scene_at(float(p[0])), coefficients[0], period_at(float(p[0])), node=node)   # checks node
+
+    def one(v, Y):
+        sc, T = scene_at(v), period_at(v)
+        return orbit_amplitude(sc, Y, T, node=node), _time_residual(sc, Y, T, 0.0, None)
+
+    amp, res = jax.jit(jax.vmap(one))(jnp.asarray(p), jnp.asarray(coefficients))
+    return (np.asarray(amp), np.asarray(res)) if truncation else np.asarray(amp)
