@@ -665,34 +665,41 @@ class Branch:
                 "stops": list(self.curve.stops), "start": int(self.curve.start), "n_points": int(self.p.size)}
 
 
-def _fold_function(J0):
-    """`g(F_u)`: the bordered test function of a fold, zero exactly where `F_u` is
-    singular: the last component of the solution of
-    `[[F_u, b], [c^T, 0]] [v; g] = [0; 1]`, with `b`, `c` the left and right
-    singular vectors of the smallest singular value of `J0` (`F_u` near the
-    fold). Unlike `det F_u` it is of the size of `F_u`'s smallest singular value,
-    whatever the dimension (a determinant of a few hundred unknowns overflows)."""
+def _borders(J0):
+    """`(b, c)`: the left and right singular vectors of the smallest singular value
+    of `J0` (`F_u` near a fold), the borders of `bordered_fold`."""
     U, _, Vt = np.linalg.svd(np.asarray(J0))
-    b, c = jnp.asarray(U[:, -1]), jnp.asarray(Vt[-1])
-
-    def g(J):
-        n = J.shape[0]
-        A = jnp.block([[J, b[:, None]], [c[None, :], jnp.zeros((1, 1))]])
-        return jnp.linalg.solve(A, jnp.zeros(n + 1).at[n].set(1.0))[n]
-
-    return g
+    return jnp.asarray(U[:, -1]), jnp.asarray(Vt[-1])
 
 
-def _newton(fun, x0, tol=1e-12, max_iter=30):
+def bordered_fold(J, b, c):
+    """The bordered test function of a fold, zero exactly where `J = F_u` is
+    singular: the last component of the solution of `[[J, b], [c^T, 0]] [v; g] =
+    [0; 1]` (`b`, `c` from `_borders` near the fold). Unlike `det F_u` it is of the
+    size of `F_u`'s smallest singular value, whatever the dimension (a determinant
+    of a few hundred unknowns overflows)."""
+    n = J.shape[0]
+    A = jnp.block([[J, b[:, None]], [c[None, :], jnp.zeros((1, 1))]])
+    return jnp.linalg.solve(A, jnp.zeros(n + 1).at[n].set(1.0))[n]
+
+
+def _fold_function(J0):
+    """`g(F_u)`: `bordered_fold` with the borders of `J0`."""
+    b, c = _borders(J0)
+    return lambda J: bordered_fold(J, b, c)
+
+
+def _newton(fun, x0, tol=1e-12, max_iter=30, args=(), compiled=None):
+    """Newton on `fun(x, *args) = 0`; `compiled`: `(jit(fun), jit(jacfwd(fun)))`
+    made once by a caller that solves many such systems (one compilation)."""
     x = jnp.asarray(x0, dtype=jnp.float64)
-    J = jax.jit(jax.jacfwd(fun))
-    f = jax.jit(fun)
+    f, J = compiled or (jax.jit(fun), jax.jit(jax.jacfwd(fun)))
     for _ in range(max_iter):
-        dx = jnp.linalg.solve(J(x), -f(x))
+        dx = jnp.linalg.solve(J(x, *args), -f(x, *args))
         x = x + dx
         if float(jnp.max(jnp.abs(dx))) <= tol * max(1.0, float(jnp.max(jnp.abs(x)))):
             break
-    return np.asarray(x), float(jnp.max(jnp.abs(f(x))))
+    return np.asarray(x), float(jnp.max(jnp.abs(f(x, *args))))
 
 
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
@@ -748,18 +755,18 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             tangents[i] = -tangents[i]
     # the sign of the bordered determinant (slogdet's: a determinant of a few hundred unknowns overflows)
     bordered = np.array([np.linalg.slogdet(np.vstack([J, t[None, :]]))[0] for J, t in zip(jacs, tangents)])
+    def fold_system(z, bb, cc):   # F = 0 and F_u singular
+        return jnp.concatenate([F(z[:n], z[n]), bordered_fold(jax.jacfwd(F)(z[:n], z[n]), bb, cc)[None]])
+
+    compiled = None               # one compilation for every fold of the branch
     events = []
     for i in range(len(xs) - 1):
         a, b = xs[i], xs[i + 1]
         fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
         if fold:
-            z0 = 0.5 * (a + b)
-            g = _fold_function(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n])
-                               else jacs[i + 1][:, :n])
-
-            def ext(z, g=g):
-                return jnp.concatenate([F(z[:n], z[n]), g(jax.jacfwd(F)(z[:n], z[n]))[None]])
-            z, r = _newton(ext, z0)
+            compiled = compiled or (jax.jit(fold_system), jax.jit(jax.jacfwd(fold_system)))
+            borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
+            z, r = _newton(fold_system, 0.5 * (a + b), args=borders, compiled=compiled)
             events.append(BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=(i, i + 1)))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
             events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),

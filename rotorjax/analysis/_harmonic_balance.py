@@ -48,8 +48,9 @@ class PeriodicSolution(AbstractOutcome):
     - `period`, `t0`: the motion's period and the phase origin.
     - `residual`: max |.| of the balance residual at exit (units of `y'`).
     - `step`: max |.| of the last Newton step, relative to max |Y|.
-    - `time_residual`: `max_t |y' - f(t, y)| / max_t |y'|` of the reconstructed
-      orbit on a grid four times finer: the truncation error estimate.
+    - `time_residual`: `max_t |y' - f(t, y)| / max(max_t |y'|, w max_t |y|)` of
+      the reconstructed orbit on a grid four times finer: the truncation error
+      estimate.
     - `iterations`: Newton iterations taken.
     - `code`: a `rotorjax.solve.RESULTS` index: `successful`, or
       `root_not_converged` (Newton did not reach its tolerance), `nonfinite`.
@@ -209,14 +210,17 @@ def balance_residual(scene, Y, period, t0=0.0, n_samples=None, args=None):
 
 
 def _time_residual(scene, Y, period, t0, args):
-    """`max_t |y' - f(t, y)| / max_t |y'|` on `4 N` instants."""
+    """`max_t |y' - f(t, y)| / max(max_t |y'|, w max_t |y|)` on `4 N` instants (the
+    second term: the derivative's scale at the motion's size, for a motion that is
+    (nearly) constant, such as an auto-balanced rotor's, whose `y'` is round-off)."""
     H = (Y.shape[0] - 1) // 2
     M = 4 * _samples(H, None)
     B, _ = _collocation(H, M)
     ts = t0 + period * jnp.arange(M) / M
     ys, yds = B @ Y, B @ _derivative(Y, 2 * jnp.pi / period)
     fs = jax.vmap(lambda t, y: scene.vector_field(t, y, args))(ts, ys)
-    return jnp.max(jnp.abs(yds - fs)) / jnp.maximum(jnp.max(jnp.abs(yds)), jnp.finfo(jnp.float64).tiny)
+    scale = jnp.maximum(jnp.max(jnp.abs(yds)), 2 * jnp.pi / period * jnp.max(jnp.abs(ys)))
+    return jnp.max(jnp.abs(yds - fs)) / jnp.maximum(scale, jnp.finfo(jnp.float64).tiny)
 
 
 def _samples(H, n_samples):
