@@ -246,8 +246,13 @@ def _guess_coefficients(guess, H, n):
     return jnp.zeros((2 * H + 1, n)).at[:m].set(g[:m])
 
 
+#: `harmonics="auto"`: the harmonics tried, in turn
+AUTO_HARMONICS = (4, 8, 16, 32, 64)
+
+
 def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=None, tol=1e-10, max_iter=30,
-                     stability=True, args=None, rtol=1e-10, atol=1e-12) -> PeriodicSolution:
+                     stability=True, args=None, rtol=1e-10, atol=1e-12, truncation_tol=1e-6,
+                     max_harmonics=64) -> PeriodicSolution:
     """The periodic motion of `scene` with period `period` (that of its forcing,
     `2 pi / speed` for an unbalance, or `k` times it for a subharmonic) near `guess`,
     by harmonic balance with `harmonics` harmonics (see the module docstring).
@@ -263,11 +268,18 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
       residual is finite); `max_iter` bounds it (`root_not_converged` past it).
     - `stability`: also the Floquet multipliers along the reconstructed orbit
       (integrated at `rtol`, `atol`).
+    - `harmonics="auto"`: adapted to the motion: 4, 8, 16, ... up to
+      `max_harmonics`, each solve started from the last, until the time-domain
+      residual (the truncation error estimate, reported) is below `truncation_tol`;
+      where it never is, the code is `harmonics_insufficient`.
 
     Traceable in the scene's parameters and the period (`stability=False` to vmap
     over a grid without integrating); the harmonics and samples are sizes.
     """
     check_type("scene", scene, AbstractScene, "a scene (an AbstractScene: Scene, RotorScene, ...)")
+    if isinstance(harmonics, str) and harmonics == "auto":
+        return _adapted(scene, period, guess, t0=t0, tol=tol, max_iter=max_iter, stability=stability, args=args,
+                        rtol=rtol, atol=atol, truncation_tol=truncation_tol, max_harmonics=max_harmonics)
     H = as_count("harmonics", harmonics, minimum=1)
     if n_samples is not None:
         n_samples = as_count("n_samples", n_samples, minimum=2 * H + 1)
@@ -281,6 +293,26 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
     sol = _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args)
     if stability:
         fq = floquet(scene, sol.initial_state(), period, t0, rtol=rtol, atol=atol)
+        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return sol
+
+
+def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, **kw):
+    """`harmonic_balance(harmonics="auto")`: see there."""
+    max_harmonics = as_count("max_harmonics", max_harmonics, minimum=1)
+    as_param("truncation_tol", truncation_tol, sign="positive", shape=())
+    tried = [h for h in AUTO_HARMONICS if h < max_harmonics] + [max_harmonics]
+    sol = None
+    for H in tried:
+        sol = harmonic_balance(scene, period, guess if sol is None else sol, H, stability=False, **kw)
+        if int(sol.code) != 0:
+            return sol
+        if float(sol.time_residual) <= truncation_tol:
+            break
+    else:
+        sol = eqx.tree_at(lambda s: s.code, sol, jnp.asarray(code_of(RESULTS.harmonics_insufficient), jnp.int32))
+    if stability:
+        fq = floquet(scene, sol.initial_state(), sol.period, sol.t0, rtol=kw["rtol"], atol=kw["atol"])
         sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
     return sol
 

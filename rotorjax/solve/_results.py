@@ -33,6 +33,9 @@ class RESULTS(eqx.Enumeration):
       converge.
     - `root_not_converged` (4): a Newton iteration or root find stopped without
       reaching its tolerance.
+    - `harmonics_insufficient` (5): harmonic balance converged, but its harmonics
+      do not resolve the motion: the time-domain residual of the reconstructed
+      orbit stays above its tolerance at the most harmonics allowed.
     """
 
     successful = ""
@@ -40,6 +43,8 @@ class RESULTS(eqx.Enumeration):
     nonfinite = "non-finite values in the solution"
     solver_failure = "solver failure (step size collapsed or implicit solve did not converge)"
     root_not_converged = "Newton iteration or root find did not converge to its tolerance"
+    harmonics_insufficient = ("the harmonics do not resolve the motion (time-domain residual above its tolerance at "
+                              "the most harmonics allowed)")
 
 
 def _items():

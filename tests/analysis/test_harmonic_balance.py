@@ -175,6 +175,20 @@ def test_periodic_orbit_by_either_method_is_the_same_motion(three):
         periodic_orbit(scene, many[0], method="collocation")
 
 
+def test_harmonics_adapted_to_the_truncation_estimate(three):
+    """`harmonics="auto"`: 4, 8, 16, ... until the reported time-domain residual is
+    below `truncation_tol`; the motion is the fixed-harmonics one; where the most
+    harmonics allowed do not reach it, the code says so."""
+    scene, T, _, one, many = three
+    s = harmonic_balance(scene, T, one[2], "auto", truncation_tol=1e-8, stability=False)
+    assert int(s.code) == 0 and float(s.time_residual) <= 1e-8 and s.harmonics in (8, 16)
+    m = 2 * s.harmonics + 1
+    np.testing.assert_allclose(np.asarray(s.coefficients), np.asarray(many[2].coefficients)[:m], atol=1e-8)
+    short = harmonic_balance(scene, T, one[2], "auto", truncation_tol=1e-14, max_harmonics=4, stability=False)
+    assert short.harmonics == 4 and int(short.code) == code_of(RESULTS.harmonics_insufficient)
+    assert "harmonics do not resolve" in RESULTS[short.result]
+
+
 def test_non_convergence_is_reported_not_returned_as_a_solution():
     s = harmonic_balance(Duffing(OM), 2 * np.pi / OM, jnp.array([3.0, 0.0]), harmonics=3, max_iter=1,
                          stability=False)
