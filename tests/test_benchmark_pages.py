@@ -9,9 +9,9 @@ from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification", "fe_identification",
-         "bench_quick")
+         "harmonic_balance", "bench_quick")
 PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars",
-        "fe_identification_bars", "bench_quick")
+        "fe_identification_bars", "harmonic_balance_wp", "bench_quick")
 
 
 def test_page_and_diagrams_from_the_json(tmp_path):
@@ -36,6 +36,9 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     assert f"{ident['scipy_lm_fd_s'] / ident['rotorjax_lm_s']:.0f}x scipy on the sweep" in text
     fe = json.loads((tmp_path / "fe_identification.json").read_text())
     assert f"{fe['scipy']['lm_32_starts']['s'] / fe['rotorjax_fit_only']['n_starts_32']['s']:.0f}x from 32" in text
+    hb = json.loads((tmp_path / "harmonic_balance.json").read_text())["matched"]
+    assert f"takes {hb['hb_s']:.1f} s at error {hb['hb_error']:.1e}" in text
+    assert f"{hb['ratio']:.1f}x faster" in text
     quick = json.loads((tmp_path / "bench_quick.json").read_text())
     for row in quick["table"]:  # every bracketed ratio is quoted with its error
         if row["match"] == "interpolated":
