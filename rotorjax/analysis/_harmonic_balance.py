@@ -246,6 +246,21 @@ def _guess_coefficients(guess, H, n):
     return jnp.zeros((2 * H + 1, n)).at[:m].set(g[:m])
 
 
+def _checked(scene, period, guess, harmonics, t0, n_samples, tol, max_iter):
+    """The arguments of a balance, checked by name: `(Y0, period, t0, n_samples,
+    max_iter)`, `Y0` the guess's coefficients with `harmonics` harmonics."""
+    check_type("scene", scene, AbstractScene, "a scene (an AbstractScene: Scene, RotorScene, ...)")
+    H = as_count("harmonics", harmonics, minimum=1)
+    if n_samples is not None:
+        n_samples = as_count("n_samples", n_samples, minimum=2 * H + 1)
+    max_iter = as_count("max_iter", max_iter, minimum=1)
+    period = as_param("period", period, sign="positive", shape=())
+    t0 = as_param("t0", t0, shape=())
+    if is_concrete(tol):
+        as_param("tol", tol, sign="positive", shape=())
+    return _guess_coefficients(guess, H, scene.state_size), period, t0, n_samples, max_iter
+
+
 #: `harmonics="auto"`: the harmonics tried, in turn
 AUTO_HARMONICS = (4, 8, 16, 32, 64)
 
@@ -280,21 +295,9 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
     if isinstance(harmonics, str) and harmonics == "auto":
         return _adapted(scene, period, guess, t0=t0, tol=tol, max_iter=max_iter, stability=stability, args=args,
                         rtol=rtol, atol=atol, truncation_tol=truncation_tol, max_harmonics=max_harmonics)
-    H = as_count("harmonics", harmonics, minimum=1)
-    if n_samples is not None:
-        n_samples = as_count("n_samples", n_samples, minimum=2 * H + 1)
-    max_iter = as_count("max_iter", max_iter, minimum=1)
-    period = as_param("period", period, sign="positive", shape=())
-    t0 = as_param("t0", t0, shape=())
-    if is_concrete(tol):
-        as_param("tol", tol, sign="positive", shape=())
-    n = scene.state_size
-    Y0 = _guess_coefficients(guess, H, n)
+    Y0, period, t0, n_samples, max_iter = _checked(scene, period, guess, harmonics, t0, n_samples, tol, max_iter)
     sol = _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args)
-    if stability:
-        fq = floquet(scene, sol.initial_state(), period, t0, rtol=rtol, atol=atol)
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return sol
+    return _with_floquet(scene, sol, rtol, atol) if stability else sol
 
 
 def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, **kw):
@@ -311,10 +314,15 @@ def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, 
             break
     else:
         sol = eqx.tree_at(lambda s: s.code, sol, jnp.asarray(code_of(RESULTS.harmonics_insufficient), jnp.int32))
-    if stability:
-        fq = floquet(scene, sol.initial_state(), sol.period, sol.t0, rtol=kw["rtol"], atol=kw["atol"])
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return sol
+    return _with_floquet(scene, sol, kw["rtol"], kw["atol"]) if stability else sol
+
+
+def _with_floquet(scene, sol, rtol=1e-10, atol=1e-12, y0=None) -> PeriodicSolution:
+    """`sol` with its Floquet analysis along the orbit from `y0` (default: the
+    series' state at `t0`), integrated at `rtol`, `atol`."""
+    y0 = sol.initial_state() if y0 is None else y0
+    fq = floquet(scene, y0, sol.period, sol.t0, rtol=rtol, atol=atol)
+    return eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
 
 
 def _newton(residual, x0, tol, max_iter):

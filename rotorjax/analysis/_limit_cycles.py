@@ -10,14 +10,12 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import NumericalError
-from ..models._contract import AbstractScene
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS
 from ._continuation import continue_branch
-from ._floquet import floquet
-from ._harmonic_balance import (PeriodicSolution, _guess_coefficients, _newton, _outcome, _physical_exponents,
+from ._harmonic_balance import (PeriodicSolution, _checked, _newton, _outcome, _physical_exponents, _with_floquet,
                                 balance_residual)
-from ._periodic_branch import _secondary
+from ._periodic_branch import _checked_range, _secondary
 
 
 def _phase_state(Y, phase, guess=None):
@@ -51,23 +49,13 @@ def limit_cycle(scene, period, guess, harmonics=8, *, phase=None, t0=0.0, n_samp
     Returns a `PeriodicSolution` with `autonomous=True`: its Floquet analysis has
     the trivial multiplier 1 (`trivial_multiplier`, the accuracy check) left out
     of `margin` and `stable`."""
-    check_type("scene", scene, AbstractScene, "a scene (an AbstractScene: Scene, RotorScene, ...)")
-    H = as_count("harmonics", harmonics, minimum=1)
-    if n_samples is not None:
-        n_samples = as_count("n_samples", n_samples, minimum=2 * H + 1)
-    max_iter = as_count("max_iter", max_iter, minimum=1)
-    period = as_param("period", period, sign="positive", shape=())
-    t0 = as_param("t0", t0, shape=())
+    Y0, period, t0, n_samples, max_iter = _checked(scene, period, guess, harmonics, t0, n_samples, tol, max_iter)
     n = scene.state_size
-    Y0 = _guess_coefficients(guess, H, n)
     k = _phase_state(Y0, phase, guess)
     if k >= n:
         raise InputError(f"phase = {k}: the scene has {n} states")
     sol = _solve_cycle(scene, _aligned(Y0, k), period, t0, n_samples, tol, max_iter, args, k)
-    if stability:
-        fq = floquet(scene, sol.initial_state(), sol.period, t0, rtol=rtol, atol=atol)
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return sol
+    return _with_floquet(scene, sol, rtol, atol) if stability else sol
 
 
 def _aligned(Y, k):
@@ -151,10 +139,7 @@ def hopf_cycle(scene_at, p, y_eq, amplitude, harmonics=8, *, frequency=None, tol
     if int(sol.code) != 0:
         raise NumericalError(f"hopf_cycle: no limit cycle of amplitude {float(amplitude):g} near the Hopf point "
                              f"p = {float(p):g} ({RESULTS[sol.result]}); try a smaller amplitude")
-    if stability:
-        fq = floquet(sc, sol.initial_state(), sol.period, 0.0)
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return pc, sol
+    return pc, (_with_floquet(sc, sol) if stability else sol)
 
 
 def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None, name="p", ds=0.01, ds_max=0.2,
@@ -173,13 +158,7 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
     events folds, branch points, period doublings and Neimark-Sacker points as in
     `periodic_branch`), the coefficients `(points, 2H + 1, n)` and the periods."""
     check_type("start", start, PeriodicSolution, "a PeriodicSolution (from limit_cycle or hopf_cycle)")
-    try:
-        lo, hi = p_bounds
-    except (TypeError, ValueError):
-        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
-    p0 = float(as_param("p0", p0, shape=()))
-    if not (lo <= p0 <= hi):
-        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    (lo, hi), p0 = _checked_range(p_bounds, p0)
     Y0 = start.coefficients
     shape, m = Y0.shape, Y0.size
     k = _phase_state(Y0, phase, start)

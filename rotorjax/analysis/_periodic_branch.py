@@ -6,7 +6,6 @@ two parameters and its gradient; a grid of motions in one compiled program."""
 
 import dataclasses
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -15,9 +14,9 @@ from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param
 from ..solve._results import RESULTS
 from ._continuation import continue_branch, fold_curve, fold_gradient
-from ._floquet import floquet, flow_samples
+from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _basis_at, _guess_coefficients, _newton, _outcome,
-                                _physical_exponents, _samples, _solve, _time_residual, balance_residual,
+                                _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
                                 coefficients_from_samples, forcing_period, harmonic_balance, orbit_amplitude)
 
 
@@ -68,13 +67,7 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     if period_at is None:
         def period_at(p):
             return forcing_period(scene_at(p), subharmonic)
-    try:
-        lo, hi = p_bounds
-    except (TypeError, ValueError):
-        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
-    p0 = float(as_param("p0", p0, shape=()))
-    if not (lo <= p0 <= hi):
-        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    (lo, hi), p0 = _checked_range(p_bounds, p0)
     if method not in METHODS:
         raise InputError(f"method {method!r}: one of {', '.join(map(repr, METHODS))}")
     L = _span(lo, hi, p0)
@@ -106,6 +99,18 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
     return br, coefficients
+
+
+def _checked_range(p_bounds, p0):
+    """`((lo, hi), p0)` checked: a pair, and the start inside it."""
+    try:
+        lo, hi = p_bounds
+    except (TypeError, ValueError):
+        raise InputError(f"p_bounds must be a pair (lo, hi), got {p_bounds!r}") from None
+    p0 = float(as_param("p0", p0, shape=()))
+    if not (lo <= p0 <= hi):
+        raise InputError(f"p0 = {p0} must lie in p_bounds = ({lo}, {hi})")
+    return (lo, hi), p0
 
 
 def _start_state(guess, n):
@@ -247,10 +252,7 @@ def period_doubling_start(scene_at, p, coefficients, amplitude, *, period_at=Non
     if int(sol.code) != 0:
         raise NumericalError(f"period_doubling_start: no doubled motion of amplitude {float(amplitude):g} near "
                              f"p = {float(p):g} ({RESULTS[sol.result]}); try a smaller amplitude")
-    if stability:
-        fq = floquet(sc, sol.initial_state(), T2, 0.0)
-        sol = eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-    return pc, sol
+    return pc, (_with_floquet(sc, sol) if stability else sol)
 
 
 def _balance_in_two(scene_at2, Y0, period_at2, scale, w0):

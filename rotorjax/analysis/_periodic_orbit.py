@@ -1,15 +1,14 @@
 """One periodic motion of a scene by the method asked for: harmonic balance
 (forced, or an autonomous limit cycle) or shooting, a `PeriodicSolution` either way."""
 
-import equinox as eqx
 import jax.numpy as jnp
 
 from ..models._validate import InputError, as_count, as_param
 from ..solve._results import RESULTS, code_of
 from ..solve._simulate import simulate
-from ._floquet import floquet, periodic_orbit_by_shooting, shoot
-from ._harmonic_balance import (METHODS, PeriodicSolution, _samples, _time_residual, coefficients_from_samples,
-                                forcing_period, harmonic_balance)
+from ._floquet import periodic_orbit_by_shooting, shoot
+from ._harmonic_balance import (METHODS, PeriodicSolution, _samples, _time_residual, _with_floquet,
+                                coefficients_from_samples, forcing_period, harmonic_balance)
 from ._limit_cycles import limit_cycle
 
 
@@ -60,5 +59,4 @@ def periodic_orbit(scene, y_guess, period=None, t0=0.0, max_iter=20, tol=1e-11, 
                            code=jnp.asarray(code if bool(res.success) else code_of(RESULTS.nonfinite),
                                             dtype=jnp.int32),
                            autonomous=autonomous)
-    fq = floquet(scene, y0, T, t0, rtol=rtol, atol=atol)
-    return eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
+    return _with_floquet(scene, sol, rtol, atol, y0=y0)
