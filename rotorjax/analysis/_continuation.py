@@ -53,6 +53,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..solve._lift import Lifted, call, compiled, jacobian, lift
 from ._roots import bisect, root_gradient
 
 
@@ -203,25 +204,31 @@ _DENSE_SAFETY = 0.8        # the midpoint estimate is kept below this fraction o
 _AXIS_FLOOR = 0.05         # an error along an axis nearly tangent to the curve is capped at 20x the orthogonal one
 
 
-def _evaluators(G, gradient, fd_step):
+def _evaluators(G, gradient, fd_step, x0):
     """`(g, jac)`: `G` and its Jacobian as NumPy functions of a NumPy point,
-    compiled once (the Jacobian by autodiff, or by central differences with
-    relative step `fd_step` from `g`)."""
-    Gj = jax.jit(G)
+    compiled once per structure of `G` (`lift`: a second curve of the same problem,
+    other values, reuses the compilation); the Jacobian by autodiff, or by central
+    differences with relative step `fd_step` from `g`."""
+    Gl = G if isinstance(G, Lifted) else lift(G, jnp.asarray(x0, dtype=jnp.float64))
 
     def g(x):
-        return np.atleast_1d(np.asarray(Gj(jnp.asarray(x)), dtype=float))
+        return np.atleast_1d(np.asarray(call(Gl, jnp.asarray(x)), dtype=float))
 
-    return g, _jacobian(G, g, gradient, fd_step)
+    return g, _jacobian(Gl, g, gradient, fd_step)
 
 
 def _jacobian(G, g, gradient, fd_step):
-    """The Jacobian of `G` as a NumPy function `jac(x, gx=None)`: by autodiff, or
+    """The Jacobian of `G` (a `Lifted` function, or a plain one: compiled per call)
+    as a NumPy function `jac(x, gx=None)`: by autodiff, or
     by central differences from `g`; given `gx = g(x)`, by forward differences
     (half the evaluations; enough for the chord method's Jacobian, not for
     tangents)."""
     if gradient == "autodiff":
-        Jj = jax.jit(jax.jacfwd(G))
+        if isinstance(G, Lifted):
+            def Jj(x):
+                return jacobian(G, x)
+        else:
+            Jj = jax.jit(jax.jacfwd(G))
 
         def jac(x, gx=None):
             return np.asarray(Jj(jnp.asarray(x)), dtype=float).reshape(-1, x.size)
@@ -242,7 +249,7 @@ def _jacobian(G, g, gradient, fd_step):
 def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max_newton, start_tol, gradient,
            fd_step, gtol, max_turn, names, what, progress=False, dense_tol=None, error_axis=None,
            evaluators=None) -> Curve:
-    g, jac = _evaluators(G, gradient, fd_step) if evaluators is None else evaluators
+    g, jac = _evaluators(G, gradient, fd_step, x0) if evaluators is None else evaluators
     # a Jacobian by differences costs 2 (k + 1) evaluations of G: the corrector keeps the one at its
     # predictor (the chord method) rather than forming one per iteration
     chord = gradient == "fd"
@@ -732,17 +739,18 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     if direction is not None:
         d = np.zeros(n + 1)
         d[n] = direction
-    curve = _trace(G, np.concatenate([u0, [p0]]), ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points,
+    x0 = np.concatenate([u0, [p0]])
+    Gl = lift(G, jnp.asarray(x0))   # every program below compiled once per structure of F
+    curve = _trace(Gl, x0, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points,
                    tol=tol, direction=d, bounds=(lo, hi), max_newton=8, start_tol=start_tol, gradient="autodiff",
                    fd_step=1e-6, gtol=gtol, max_turn=max_turn, names=[None] * n + [name], what="F",
                    progress=progress, dense_tol=dense_tol)
-    Jx = jax.jit(jax.jacfwd(G))   # [F_u F_p], one Jacobian per point
 
     def Fu(u, p):
-        return Jx(jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]
+        return jacobian(Gl, jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]
 
     xs = curve.x
-    jacs = [np.asarray(Jx(jnp.asarray(x))) for x in xs]
+    jacs = [np.asarray(jacobian(Gl, jnp.asarray(x))) for x in xs]   # [F_u F_p], one per point
     if exponents is None:
         def exponents(J, u, p):
             return np.linalg.eigvals(J)
@@ -755,18 +763,15 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             tangents[i] = -tangents[i]
     # the sign of the bordered determinant (slogdet's: a determinant of a few hundred unknowns overflows)
     bordered = np.array([np.linalg.slogdet(np.vstack([J, t[None, :]]))[0] for J, t in zip(jacs, tangents)])
-    def fold_system(z, bb, cc):   # F = 0 and F_u singular
-        return jnp.concatenate([F(z[:n], z[n]), bordered_fold(jax.jacfwd(F)(z[:n], z[n]), bb, cc)[None]])
-
-    compiled = None               # one compilation for every fold of the branch
+    fold_system = (lambda z, bb, cc: _fold_residual(Gl, z, bb, cc),   # F = 0 and F_u singular
+                   lambda z, bb, cc: _fold_jacobian(Gl, z, bb, cc))
     events = []
     for i in range(len(xs) - 1):
         a, b = xs[i], xs[i + 1]
         fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
         if fold:
-            compiled = compiled or (jax.jit(fold_system), jax.jit(jax.jacfwd(fold_system)))
             borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
-            z, r = _newton(fold_system, 0.5 * (a + b), args=borders, compiled=compiled)
+            z, r = _newton(None, 0.5 * (a + b), args=borders, compiled=fold_system)
             events.append(BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=(i, i + 1)))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
             events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),
@@ -779,7 +784,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
             crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
             if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                hopf = _refine_hopf(F, Fu, a, b, n, between=(i, i + 1), exponents=exponents)
+                hopf = _refine_hopf(Gl, Fu, a, b, n, between=(i, i + 1), exponents=exponents)
                 # a pair whose real part did not change sign across the step (two real
                 # eigenvalues on one side meeting as a pair): no crossing to report
                 if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
@@ -787,28 +792,30 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
+def _fold_system(G, z, b, c):
+    """`[G(z); bordered_fold(G_u(z), b, c)]`: on the curve of `G(u, p) = 0` (`z =
+    (u, p)`) where `G_u` is singular."""
+    n = z.size - 1
+    return jnp.concatenate([G(z), bordered_fold(jax.jacfwd(G)(z)[:, :n], b, c)[None]])
+
+
+_fold_residual = compiled(_fold_system)
+_fold_jacobian = compiled(jax.jacfwd(_fold_system, argnums=1))
+
+
 #: a refined Hopf point's largest residual (the pair's real part, F), relative to its frequency
 HOPF_TOL = 1e-8
 
 
-def _refine_hopf(F, Fu, a, b, n, between, exponents) -> BranchEvent:
+def _refine_hopf(G, Fu, a, b, n, between, exponents) -> BranchEvent:
     """Bisection between two branch points on the real part of the eigenvalue pair
     nearest the imaginary axis (of `exponents(F_u, u, p)`, as in
     `continue_branch`), each trial point corrected onto the branch (one compiled
-    corrector: Newton on `[F; t . (y - x_pred)] = 0`, unrolled)."""
+    corrector per structure of `G(x) = F(x[:n], x[n])`, a `Lifted` function)."""
     tt = jnp.asarray((b - a) / np.linalg.norm(b - a))
 
-    @jax.jit
-    def correct(xp):
-        def G(y):
-            return jnp.concatenate([F(y[:n], y[n]), jnp.dot(tt, y - xp)[None]])
-        y = xp
-        for _ in range(8):
-            y = y - jnp.linalg.solve(jax.jacfwd(G)(y), G(y))
-        return y
-
     def corrected(s):
-        return np.asarray(correct(jnp.asarray(a + s * (b - a))))
+        return np.asarray(_on_branch(G, jnp.asarray(a + s * (b - a)), tt))
 
     def pair_real(y):
         e = np.asarray(exponents(np.asarray(Fu(y[:n], y[n])), y[:n], y[n]))
@@ -820,7 +827,19 @@ def _refine_hopf(F, Fu, a, b, n, between, exponents) -> BranchEvent:
     y = corrected(s)
     re, omega = pair_real(y)
     return BranchEvent(kind="hopf", p=float(y[n]), u=y[:n], frequency=float(omega),
-                       residual=float(max(np.max(np.abs(np.asarray(F(y[:n], y[n])))), abs(re))), between=between)
+                       residual=float(max(np.max(np.abs(np.asarray(call(G, jnp.asarray(y))))), abs(re))),
+                       between=between)
+
+
+@compiled
+def _on_branch(G, xp, tt):
+    """Newton on `[G(y); tt . (y - xp)] = 0` from `xp` (eight steps, unrolled)."""
+    def H(y):
+        return jnp.concatenate([G(y), jnp.dot(tt, y - xp)[None]])
+    y = xp
+    for _ in range(8):
+        y = y - jnp.linalg.solve(jax.jacfwd(H)(y), H(y))
+    return y
 
 
 def _correct_start(s, a, bounds, names, max_iter=30, axis=0):

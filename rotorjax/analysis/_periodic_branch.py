@@ -5,6 +5,7 @@ Neimark-Sacker points); switching onto a period-doubled branch; a fold continued
 two parameters and its gradient; a grid of motions in one compiled program."""
 
 import dataclasses
+import functools
 
 import jax
 import jax.numpy as jnp
@@ -12,6 +13,7 @@ import numpy as np
 
 from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param
+from ..solve._lift import call, lift, vmapped
 from ..solve._results import RESULTS
 from ._continuation import continue_branch, fold_curve, fold_gradient
 from ._floquet import flow_samples
@@ -87,14 +89,15 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
         scale = _survey_scale(scene_at, period_at, Y0, lo, hi)
     scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :] / L
     w0 = float(2 * np.pi / period_at(p0))
+    w0_ = jnp.asarray(w0)   # an array, not a literal: a branch of other values reuses the compilation
 
     def F(u, p):   # a similarity transform (times L): Hill's exponents divided by w0
         Y = u.reshape(shape) * scale
-        return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0)).ravel()
+        return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0_)).ravel()
 
+    ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), jnp.asarray(p0))   # w / w0 at p
     br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), **options,
-                         exponents=lambda J, u, p: _physical_exponents(jnp.asarray(J), shape[1],
-                                                                       2 * np.pi / (w0 * period_at(p))))
+                         exponents=lambda J, u, p: _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p))))
     events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
@@ -133,22 +136,17 @@ def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L,
     N = _samples(H, None)
     steps = -(-max(steps, N) // N) * N          # a multiple of the samples
 
-    def closure(y, p):
-        return flow_samples(scene_at(p), y, period_at(p), steps=steps)[-1] - y
-
-    @jax.jit
-    def newton_direction(y):
-        g, J = closure(y, p0), jax.jacfwd(closure)(y, p0)
-        return jnp.linalg.solve(J, g), jnp.max(jnp.abs(g))
-
-    gap = jax.jit(lambda y: jnp.max(jnp.abs(closure(y, p0))))
     y = _start_state(guess, n)
+    # the user's functions lifted: the start's Newton and the series below are compiled once per
+    # structure of the scene (another branch of this layout reuses them)
+    at = jnp.asarray(p0, dtype=jnp.float64)
+    flow = (lift(scene_at, at), lift(period_at, at), steps)
     for _ in range(40):            # Newton, the step halved until the closure shrinks
-        dy, g = newton_direction(y)
+        dy, g = _shooting_newton(*flow, y, at)
         if not float(g) > 1e-12 * max(1.0, float(jnp.max(jnp.abs(y)))):
             break
         step = 1.0
-        while step > 1e-3 and not float(gap(y - step * dy)) < float(g):
+        while step > 1e-3 and not float(_shooting_gap(*flow, y - step * dy, at)) < float(g):
             step /= 2
         y = y - step * dy
     samples = flow_samples(scene_at(p0), y, period_at(p0), steps=steps, n_samples=N)
@@ -163,7 +161,7 @@ def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L,
     w0 = float(2 * np.pi / period_at(p0))
 
     def F(u, p):
-        return closure(u * scale, p) / scale
+        return _closure(*flow, u * scale, p) / scale
 
     def exponents(J, u, p):
         mu = jnp.linalg.eigvals(jnp.asarray(J) + jnp.eye(n))
@@ -178,17 +176,41 @@ def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L,
         events.append(e)
     br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
 
-    @jax.jit
-    @jax.vmap
     def series(u, p):
+        return _shooting_series(*flow, N, H, jnp.asarray(u, dtype=jnp.float64), jnp.asarray(p, dtype=jnp.float64))
+
+    ys0 = np.asarray(br.u) * np.asarray(scale)
+    coefficients = np.asarray(series(ys0, br.p))
+    ev = [dataclasses.replace(e, u=np.asarray(series(np.asarray(e.u)[None], [e.p])[0]).ravel())
+          for e in events]
+    return dataclasses.replace(br, events=tuple(ev)), coefficients
+
+
+def _closure(scene_at, period_at, steps, y, p):
+    return flow_samples(scene_at(p), y, period_at(p), steps=steps)[-1] - y
+
+
+@functools.partial(jax.jit, static_argnums=2)
+def _shooting_newton(scene_at, period_at, steps, y, p):
+    """Newton's direction on the closure after one period, and the closure's size."""
+    args = (scene_at, period_at, steps, y, p)
+    g, J = _closure(*args), jax.jacfwd(_closure, argnums=3)(*args)
+    return jnp.linalg.solve(J, g), jnp.max(jnp.abs(g))
+
+
+@functools.partial(jax.jit, static_argnums=2)
+def _shooting_gap(scene_at, period_at, steps, y, p):
+    return jnp.max(jnp.abs(_closure(scene_at, period_at, steps, y, p)))
+
+
+@functools.partial(jax.jit, static_argnums=(2, 3, 4))
+def _shooting_series(scene_at, period_at, steps, N, H, u, p):
+    """The harmonics of the orbits from the states `u` at `p` (vmapped)."""
+    def one(u, p):
         ys = flow_samples(scene_at(p), u, period_at(p), steps=steps, n_samples=N)
         return coefficients_from_samples(jnp.roll(ys, 1, axis=0), H)
 
-    ys0 = np.asarray(br.u) * np.asarray(scale)
-    coefficients = np.asarray(series(jnp.asarray(ys0), jnp.asarray(br.p)))
-    ev = [dataclasses.replace(e, u=np.asarray(series(jnp.asarray(e.u)[None], jnp.asarray([e.p]))[0]).ravel())
-          for e in events]
-    return dataclasses.replace(br, events=tuple(ev)), coefficients
+    return jax.vmap(one)(u, p)
 
 
 def period_doubling_start(scene_at, p, coefficients, amplitude, *, period_at=None, subharmonic=1, tol=1e-10,
@@ -328,7 +350,16 @@ def balance_grid(scene_at2, p1, p2, guess, harmonics=8, *, period_at2=None, subh
         raise InputError(f"p1 and p2 must be 1-D grids, got shapes {p1.shape} and {p2.shape}")
     n = scene_at2(p1[0], p2[0]).state_size
     Y0 = _guess_coefficients(guess, H, n)
+    # the user's functions lifted (their arrays as arguments): the grid's program is compiled once per
+    # structure of the scene, not once per call
+    scene_at2, period_at2 = (lift(f, p1[0], p2[0]) for f in (scene_at2, period_at2))
+    return _grid(scene_at2, period_at2, Y0, p1, p2, node, None if rows is None else tuple(rows), tol, max_iter)
 
+
+@functools.partial(jax.jit, static_argnums=(5, 6, 7, 8))
+def _grid(scene_at2, period_at2, Y0, p1, p2, node, rows, tol, max_iter):
+    """`balance_grid`'s compiled program: a `lax.scan` along `p1` per column, the
+    columns vmapped."""
     def column(b):
         def step(Y, a):
             sc = scene_at2(a, b)
@@ -343,7 +374,11 @@ def balance_grid(scene_at2, p1, p2, guess, harmonics=8, *, period_at2=None, subh
 
         return jax.lax.scan(step, Y0, p1)[1]
 
-    return jax.jit(jax.vmap(column))(p2)
+    return jax.vmap(column)(p2)
+
+
+#: Hill's physical exponents, compiled once per size
+_hill = jax.jit(_physical_exponents, static_argnums=1)
 
 
 #: parameter values at which `periodic_branch` surveys the motion's size before continuing
@@ -362,13 +397,21 @@ def _survey_scale(scene_at, period_at, Y0, lo, hi):
     ones that do not converge are left out), at least 1e-3 of the largest of all."""
     top = jnp.max(jnp.abs(Y0), axis=0)
     if np.isfinite(lo) and np.isfinite(hi):
-        def one(p):
-            return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None)
-
-        sols = jax.jit(jax.vmap(one))(jnp.linspace(lo, hi, SURVEY))
+        ps = jnp.linspace(lo, hi, SURVEY)
+        sols = _survey(lift(scene_at, ps[0]), lift(period_at, ps[0]), Y0, ps)
         ok = (sols.code == 0)[:, None]
         top = jnp.maximum(top, jnp.max(jnp.where(ok, jnp.max(jnp.abs(sols.coefficients), axis=1), 0.0), axis=0))
     return jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
+
+
+@jax.jit
+def _survey(scene_at, period_at, Y0, ps):
+    """The motions at `ps` from `Y0` (`scene_at`, `period_at` lifted: compiled once
+    per structure)."""
+    def one(p):
+        return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None)
+
+    return jax.vmap(one)(ps)
 
 
 #: a crossing pair whose frequency is within this fraction of `w / 2` is a period doubling
@@ -409,5 +452,6 @@ def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subha
         sc, T = scene_at(v), period_at(v)
         return orbit_amplitude(sc, Y, T, node=node), _time_residual(sc, Y, T, 0.0, None)
 
-    amp, res = jax.jit(jax.vmap(one))(jnp.asarray(p), jnp.asarray(coefficients))
+    p, coefficients = jnp.asarray(p, dtype=jnp.float64), jnp.asarray(coefficients, dtype=jnp.float64)
+    amp, res = vmapped(lift(one, p[0], coefficients[0]), p, coefficients)
     return (np.asarray(amp), np.asarray(res)) if truncation else np.asarray(amp)
