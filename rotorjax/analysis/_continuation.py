@@ -725,7 +725,9 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     a corrected point may keep (as in `trace_curve`). `exponents(F_u, u, p)`: the
     stability exponents at a point from its Jacobian (default: all its eigenvalues;
     harmonic balance passes Hill's physical ones); the margin is their largest real
-    part."""
+    part. `F` is traced once and its programs (the corrector's, the fold's and the
+    Hopf refinement's) compiled once per structure (`solve._lift`): another branch of
+    the same equations with other arrays reuses them."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 

@@ -365,9 +365,11 @@ def _grid(scene_at2, period_at2, Y0, p1, p2, node, rows, tol, max_iter):
             sc = scene_at2(a, b)
             T = period_at2(a, b)
             sol = _solve(sc, Y, T, jnp.asarray(0.0), None, tol, max_iter, None)
-            # past a fold the branch swept ends: start again from the guess (the jump)
-            sol = jax.lax.cond(sol.code == 0, lambda: sol,
-                               lambda: _solve(sc, Y0, T, jnp.asarray(0.0), None, tol, max_iter, None))
+            # past a fold the branch swept ends: start again from the guess (the jump). A second
+            # solve, from the motion where the first converged (one step there): vmapped, a
+            # `lax.cond` would run the restart from the guess at every point
+            sol = _solve(sc, jnp.where(sol.code == 0, sol.coefficients, Y0), T, jnp.asarray(0.0), None, tol,
+                         max_iter, None)
             amp = orbit_amplitude(sc, sol.coefficients, T, node=node, rows=rows)
             return jnp.where(sol.code == 0, sol.coefficients, Y), (sol.coefficients, sol.code,
                                                                      sol.time_residual, amp)

@@ -45,11 +45,11 @@ class Duffing(AbstractScene):
         return f"Duffing oscillator at om = {self.om}"
 
 
-def first_order_amplitudes(om):
+def first_order_amplitudes(om, beta=BETA):
     """Closed form of the one-harmonic balance: `A = |x_1|` solves
     `A^2 [(W0^2 - om^2 + 3/4 BETA A^2)^2 + C^2 om^2] = F^2` (a cubic in A^2)."""
     d = W0**2 - om**2
-    b = 0.75 * BETA
+    b = 0.75 * beta
     # in s = A^2: b^2 s^3 + 2 d b s^2 + (d^2 + C^2 om^2) s - F^2 = 0
     s = np.roots([b * b, 2 * d * b, d * d + C * C * om * om, -F * F])
     return np.sort(np.sqrt(s[(np.abs(s.imag) < 1e-12) & (s.real > 0)].real))
@@ -220,19 +220,19 @@ def test_stable_without_stability_is_refused():
         s.stable
 
 
-def fold_frequencies():
+def fold_frequencies(beta=BETA):
     """Where the one-harmonic balance's cubic in `A^2` has a double root: zeros of
     its discriminant (closed form), bracketed by the root count."""
     from scipy.optimize import brentq
 
     def disc(om):
-        d, b = W0**2 - om**2, 0.75 * BETA
+        d, b = W0**2 - om**2, 0.75 * beta
         a3, a2, a1, a0 = b * b, 2 * d * b, d * d + C * C * om * om, -F * F
         return (18 * a3 * a2 * a1 * a0 - 4 * a2**3 * a0 + a2**2 * a1**2 - 4 * a3 * a1**3
                 - 27 * a3**2 * a0**2)
 
     grid = np.linspace(1.0, 2.0, 201)
-    counts = [first_order_amplitudes(om).size for om in grid]
+    counts = [first_order_amplitudes(om, beta).size for om in grid]
     return [brentq(disc, grid[i], grid[i + 1], xtol=1e-14) for i in range(200) if counts[i] != counts[i + 1]]
 
 
@@ -262,6 +262,50 @@ def test_branch_through_the_folds_equals_the_closed_form_and_floquet():
     stable, p = np.asarray(br8.stable), np.asarray(br8.p)
     outside = (p < f8[0] - 1e-3) | (p > f8[1] + 1e-3)
     assert np.all(stable[outside]) and not np.all(stable[~outside])   # one motion outside, three between
+
+
+class StiffnessDuffing(Duffing):
+    """`Duffing` with the cubic stiffness a field (an array: the scene's data)."""
+
+    beta: jax.Array
+
+    def __init__(self, om, beta):
+        self.speed, self.beta = ConstantSpeed(om), jnp.asarray(beta, dtype=jnp.float64)
+
+    def vector_field(self, t, y, args=None):
+        x, v = y
+        return jnp.stack([v, F * jnp.cos(self.om * t) - C * v - W0**2 * x - self.beta * x**3])
+
+
+def test_a_branch_of_other_values_compiles_nothing():
+    """The branch's programs are compiled once per structure (`solve._lift`): a
+    second branch with another cubic stiffness lowers and compiles nothing (it
+    traces its equations, to compare them), and its
+    folds are its own closed form's (no program of the first one answers for it)."""
+    from rotorjax.analysis import periodic_branch
+
+    events = []
+
+    def listen(event, duration, **kwargs):
+        if event in ("/jax/core/compile/jaxpr_to_mlir_module_duration", "/jax/core/compile/backend_compile_duration"):
+            events.append(event)
+
+    folds = {}
+    for beta in (0.8, 1.3):
+        jax.monitoring.register_event_duration_secs_listener(listen)
+        try:
+            b = jnp.asarray(beta)   # an array: a Python number closed over would be part of the program
+            br, _ = periodic_branch(lambda om: StiffnessDuffing(om, b), 1.0, jnp.zeros(2), (1.0, 2.0),
+                                    harmonics=1, ds=0.05, ds_max=0.1)
+        finally:
+            jax.monitoring.unregister_event_duration_listener(listen)
+        folds[beta] = sorted(e.p for e in br.events if e.kind == "fold")
+        if beta == 0.8:
+            assert events   # the first compiles
+            events.clear()
+    assert events == []
+    for beta, f in folds.items():
+        np.testing.assert_allclose(f, fold_frequencies(beta), rtol=1e-8)
 
 
 def test_shooting_branch_equals_the_harmonic_balance_branch():
