@@ -58,6 +58,8 @@ class PeriodicSolution(AbstractOutcome):
     - `autonomous`, `phase`: a limit cycle of an autonomous scene (its period
       solved for), and the state whose first-harmonic sine part its phase
       condition holds at 0.
+    - `start`: shooting's state at `t0` (exact to the closure; None for harmonic
+      balance), what `initial_state` returns.
     """
 
     coefficients: jax.Array
@@ -71,6 +73,7 @@ class PeriodicSolution(AbstractOutcome):
     floquet: FloquetResult | None = None
     autonomous: bool = eqx.field(static=True, default=False)
     phase: int | None = eqx.field(static=True, default=None)
+    start: jax.Array | None = None
 
     @property
     def harmonics(self) -> int:
@@ -113,8 +116,10 @@ class PeriodicSolution(AbstractOutcome):
         return _basis_at(phase, self.harmonics) @ self.coefficients
 
     def initial_state(self):
-        """`y(t0)`: the state to start a time integration on the orbit from."""
-        return self.state(self.t0)
+        """`y(t0)`: the state to start a time integration on the orbit from (the
+        shooting's own state where it has one, `start`; else the series' at `t0`,
+        off the orbit by the truncation)."""
+        return self.state(self.t0) if self.start is None else self.start
 
     def amplitude(self, rows):
         """Largest radius `max_t sqrt(y_i^2 + y_j^2)` of the orbit of the state pair

@@ -213,6 +213,17 @@ def test_bad_input_is_refused_by_name(kwargs, match):
         harmonic_balance(**call)
 
 
+@pytest.mark.parametrize("kwargs, match", [
+    ({"method": "harmonic-balance", "events": True}, "events: event-located contact is for method='shooting'"),
+    ({"method": "shooting", "events": True}, "needs a scene with `contact_indicator`"),
+])
+def test_event_located_shooting_refused_where_it_does_not_apply(kwargs, match):
+    """`periodic_orbit(events=True)`: shooting only, on a scene with contacts
+    (tests/validation/test_model004_whirl_cycle.py runs it on model 004)."""
+    with pytest.raises(InputError, match=match):
+        periodic_orbit(Duffing(OM), jnp.zeros(2), 2 * np.pi / OM, **kwargs)
+
+
 def test_stable_without_stability_is_refused():
     s = harmonic_balance(Duffing(0.5), 2 * np.pi / 0.5, jnp.zeros(2), harmonics=2, stability=False)
     assert isinstance(s, PeriodicSolution) and s.floquet is None

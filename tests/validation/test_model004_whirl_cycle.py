@@ -1,40 +1,33 @@
 """Model 004 (preset `cantilever-limiters`): the whirl above the Hopf speed limited by
-the three contact limiters, as periodic motions by harmonic balance (issue 30).
+the contact limiters, as a periodic motion by harmonic balance and by shooting,
+smoothed and exact (issue 30).
 
 Above N_crit = 13.904 the straight shaft without unbalance (eps = 0: the field is
-autonomous) whirls out until the limiters stop it. At N = 15 (smoothed contact,
-regularisation length 1e-4) the long time simulation from the preset's state does
-not settle: its whirl periods (between zero up-crossings of the disk's x) keep
-spreading over 3.43 .. 3.56 and its radius over 0.0088 .. 0.01098 (runs to 2400 T*),
-a forward whirl at the limiters. Harmonic balance (`limit_cycle`, 48 harmonics,
-from one period of the run's tail) finds a whirl cycle near each such period, and
-every one found is unstable: e.g.
+autonomous) whirls out until the limiters stop it. Where the long run settles (at
+N = 22, 25 and 30 with the preset's defaults; at 15-18 it wanders among unstable
+cycles, found and checked unstable by the same functions, so no cycle is its
+attractor) the whirl is a periodic motion with contact: at N = 25 a forward whirl
+with one contact a period, on one limiter (the first; the other two give its
+symmetric copies), the disk's radius 0.0036 .. 0.0149 against the clearance chi =
+0.0107.
 
-- period 3.5213756, disk amplitude 0.0111381, a complex pair of Floquet
-  multipliers |mu| = 1.2922 (angle 0.845 rad);
-- period 3.5084813, amplitude 0.0109555, a real multiplier 2.244;
-- period 3.4924120, amplitude 0.0106410 (grazing: within the smoothing length).
-
-So no cycle is the attractor: the motion wanders among unstable cycles. Which one
-the tail leads to depends on the tail (on the platform's round-off, over 1000 T* of
-a wandering motion), so the checks hold for whichever is found:
-
-- the balance converged with a small truncation residual; the same cycle by
-  shooting (`periodic_orbit(method="shooting", autonomous=True)`) agrees (period
-  1e-6, amplitude 1e-5), and its Floquet analysis along the exact orbit has the
-  trivial multiplier 1 to 1e-8 (along the harmonic-balance orbit only to the
-  truncation, ~7e-5 at H = 48) and a multiplier outside the unit circle;
-- runs started on the cycle, moved along the unstable Floquet direction, leave it
-  at the Floquet rate (their difference grows by |mu| a period);
-- the precession index Lambda (`rotorjax.analysis.precession`, what the preset's
-  `simulate` reports) of the cycle is 2 pi / (N T), a forward whirl of one turn a
-  period, from the shooting and the harmonic-balance orbits' samples alike; the
-  run's mean Lambda over its last 300 T* is forward and within 2 % of it, the
-  cycle's amplitude within the run's range of radii, and the run's periods spread
-  (> 0.05) about the cycle's.
-
-The smoothing's limit (1e-5 and below, or the event-located contact) is not checked:
-it needs many more harmonics, for cycles that are not the attractor.
+- The long run (smoothed contact, regularisation length 1e-4, 3000 T*) settles: its
+  last 100 whirl periods (between up-crossings of the disk's x, on a spline of the
+  saves) agree to 1e-5.
+- Harmonic balance (`limit_cycle`, 96 harmonics, from one period of the run's tail)
+  finds that cycle: its period is the run's to 1e-6, its disk amplitude the run's
+  largest radius to 1e-3, its precession index Lambda 2 pi / (N T) (one forward turn
+  a period) and the run's over whole periods to 1e-3; stable by Floquet along its
+  orbit, the trivial multiplier 1 to the truncation (1e-5).
+- Shooting on the same smoothed field (`periodic_orbit(method="shooting",
+  autonomous=True)`) gives the same period to 1e-7, the trivial multiplier 1 to 1e-8.
+- The exact model (event-located contact, `periodic_orbit(..., events=True)`:
+  Newton on the event-located map, the monodromy by its central differences) has
+  the cycle too, stable with the trivial multiplier 1 to 1e-8; the exact model's own
+  long run (`simulate_events`) settles onto it (period 1e-6, amplitude 1e-3), and
+  the smoothed cycles converge to it as the smoothing shrinks (1e-4, 1e-5, 1e-6:
+  the period's errors 5.9e-4, 2.9e-6, 2.5e-7 and the amplitude's 1.7e-3, 6.9e-6,
+  6.1e-7, asserted to fall and below 2e-6 and 1e-5 at 1e-6).
 """
 
 import jax
@@ -42,19 +35,21 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
+from scipy.optimize import brentq
 
 import rotorjax as rj
 from rotorjax.analysis import coefficients_from_samples, limit_cycle, orbit_amplitude, periodic_orbit, precession
 from rotorjax.presets import cantilever_limiters as CL
+from rotorjax.solve import simulate_events
 
 P = CL.PRESET
-N, SMOOTHING, H, NODE = 15.0, 1e-4, 48, 8        # NODE: the disk's shaft node
-T_END, SAVES = 1000.0, 20                        # the long run (T*), saves per T*
+N, SMOOTHING, H, NODE = 25.0, 1e-4, 96, 8        # NODE: the disk's shaft node
+T_END, SAVES = 3000.0, 20                        # the long run (T*), saves per T*
+EXACT = dict(rtol=1e-12, atol=1e-15)             # the event-located integrations
 
 
-@pytest.fixture(scope="module")
-def scene():
-    st = P.build(dict(P.defaults, eps=0.0, N=N, smoothing=SMOOTHING))
+def _scene(smoothing=SMOOTHING, events=0):
+    st = P.build(dict(P.defaults, eps=0.0, N=N, smoothing=smoothing, events=events))
     sc = st.scene.without_work()
     return sc, jnp.asarray(st.y0[:sc.state_size])
 
@@ -65,111 +60,140 @@ def _disk(sc, ys):
 
 
 def _up_crossings(ts, x):
+    """The zero up-crossings of `x`, on a cubic spline of the samples."""
+    cs = CubicSpline(ts, x)
     i = np.where((x[:-1] < 0) & (x[1:] >= 0))[0]
-    return ts[i] - x[i] * (ts[i + 1] - ts[i]) / (x[i + 1] - x[i])
+    return np.array([brentq(cs, ts[j], ts[j + 1], xtol=1e-14) for j in i])
 
 
-@pytest.fixture(scope="module")
-def run(scene):
-    """The long run from the preset's state (straight running, kicked)."""
-    sc, y0 = scene
-    ts = np.linspace(0.0, T_END, int(T_END * SAVES) + 1)
-    r = rj.simulate(sc, y0, (0.0, T_END), saveat=ts, rtol=1e-9, atol=1e-12, max_steps=2_000_000)
+def _largest_radius(sc, ts, ys):
+    """The largest disk radius over the samples, on a spline near the largest sample."""
+    x, y, _, _ = _disk(sc, ys)
+    r = np.hypot(x, y)
+    k = int(np.argmax(r))
+    lo, hi = max(k - 4, 0), min(k + 5, r.size)
+    fine = np.linspace(ts[lo], ts[hi - 1], 4001)
+    return float(np.hypot(CubicSpline(ts[lo:hi], x[lo:hi])(fine), CubicSpline(ts[lo:hi], y[lo:hi])(fine)).max())
+
+
+def _cycle_samples(sc, sol, events, n=4000):
+    """`n + 1` states over one period of a shot cycle, from its exact start."""
+    T, t0 = float(sol.period), float(sol.t0)
+    ts = t0 + T * np.arange(n + 1) / n
+    if events:
+        r = simulate_events(sc, sol.initial_state(), (t0, t0 + T), saveat=n + 1, **EXACT)
+    else:
+        r = rj.simulate(sc, sol.initial_state(), (t0, t0 + T), saveat=ts, rtol=1e-12, atol=1e-15)
     assert int(r.code) == 0
     return ts, np.asarray(r.ys)
 
 
 @pytest.fixture(scope="module")
-def cycle(scene, run):
-    """The cycle by harmonic balance from a period of the run's tail (the periods
-    whose end states come back closest first), and the same cycle by shooting."""
-    sc, _ = scene
-    ts, ys = run
-    tail = ts >= T_END - 100
+def run():
+    """The long run from the preset's state (straight running, kicked), smoothed contact."""
+    sc, y0 = _scene()
+    ts = np.linspace(0.0, T_END, int(T_END * SAVES) + 1)
+    r = rj.simulate(sc, y0, (0.0, T_END), saveat=ts, rtol=1e-9, atol=1e-12, max_steps=2_000_000)
+    assert int(r.code) == 0
+    ys = np.asarray(r.ys)
+    tail = ts >= T_END - 400
     tc = _up_crossings(ts[tail], _disk(sc, ys[tail])[0])
-    spline = CubicSpline(ts[tail], ys[tail])
-    ends = spline(tc)
-    closure = np.max(np.abs(np.diff(ends, axis=0)), axis=1)
+    return sc, ts[tail], ys[tail], tc
+
+
+@pytest.fixture(scope="module")
+def hb(run):
+    """The cycle by harmonic balance from one period of the run's tail."""
+    sc, ts, ys, tc = run
+    spline = CubicSpline(ts, ys)
+    period = tc[-1] - tc[-2]
     m = 4 * H + 4
-    for j in np.argsort(closure)[:8]:
-        period = tc[j + 1] - tc[j]
-        guess = coefficients_from_samples(spline(tc[j] + period * np.arange(m) / m), H)
-        hb = limit_cycle(sc, period, guess, H, stability=False)
-        if not (int(hb.code) == 0 and float(hb.time_residual) < 2e-3 and 3.4 < float(hb.period) < 3.6):
-            continue
-        sh = periodic_orbit(sc, hb.initial_state(), hb.period, method="shooting", autonomous=True, harmonics=H)
-        if int(sh.code) == 0:
-            break
-    else:
-        pytest.fail("no period of the run's tail led harmonic balance and shooting to a cycle")
-    return hb, sh
+    guess = coefficients_from_samples(spline(tc[-2] + period * np.arange(m) / m), H)
+    return limit_cycle(sc, period, guess, H)
 
 
-def test_the_cycle_by_harmonic_balance_and_by_shooting(scene, cycle):
-    sc, _ = scene
-    hb, sh = cycle
-    assert int(hb.code) == 0 and float(hb.time_residual) < 1e-3
-    assert int(sh.code) == 0 and float(sh.residual) < 1e-9           # the shooting closure
-    assert float(sh.period) == pytest.approx(float(hb.period), rel=1e-6)
-    a_hb = float(orbit_amplitude(sc, hb.coefficients, hb.period, hb.t0, node=NODE))
-    a_sh = float(orbit_amplitude(sc, sh.coefficients, sh.period, sh.t0, node=NODE))
-    assert a_sh == pytest.approx(a_hb, rel=1e-5)
-    assert 3.4 < float(hb.period) < 3.6                               # near 2 pi / 1.732, the whirl's
-    # at the limiters (the smoothed contact acts within its regularisation length of the clearance)
-    assert a_hb > P.defaults["chi"] - 2 * SMOOTHING
-    # Floquet along the exact orbit: the trivial multiplier is 1, the cycle unstable
-    assert abs(complex(sh.trivial_multiplier) - 1) < 1e-8
-    assert not bool(sh.stable) and float(sh.margin) > 0.05
+@pytest.fixture(scope="module")
+def shot(hb):
+    """The smoothed cycles by shooting at decreasing smoothing (each from the one
+    before), and the exact one by event-located shooting."""
+    out = {}
+    start, T = hb.initial_state(), hb.period
+    for s in (SMOOTHING, 1e-5, 1e-6):
+        sc, _ = _scene(smoothing=s)
+        sol = periodic_orbit(sc, start, T, method="shooting", autonomous=True, harmonics=16, rtol=1e-12,
+                             atol=1e-15)
+        assert int(sol.code) == 0, s
+        out[s] = (sc, sol)
+        start, T = sol.initial_state(), sol.period
+    sc, _ = _scene(events=1)
+    out["exact"] = (sc, periodic_orbit(sc, start, T, method="shooting", autonomous=True, events=True,
+                                       harmonics=16, **EXACT))
+    return out
 
 
-def test_a_run_started_on_the_cycle_leaves_it_at_the_floquet_rate(scene, cycle):
-    """Two runs from the cycle's state moved by +-1e-9 along the unstable Floquet
-    direction: their difference grows by the largest multiplier a period (the
-    central difference; the state from the shooting orbit's series is itself off
-    the orbit by its truncation, so the runs are compared with each other)."""
-    sc, _ = scene
-    _, sh = cycle
-    T = float(sh.period)
-    w, v = np.linalg.eig(np.asarray(sh.floquet.monodromy))
-    k = int(np.argmax(np.abs(w)))
-    y_star = np.asarray(sh.initial_state())
-    direction = np.real(v[:, k]) / np.max(np.abs(np.real(v[:, k])))
-    periods = 40
-    ts = float(sh.t0) + T * np.arange(periods + 1)
-    ys = [np.asarray(rj.simulate(sc, jnp.asarray(y_star + s * 1e-9 * direction), (ts[0], ts[-1]), saveat=ts,
-                                 rtol=1e-11, atol=1e-14, max_steps=1_000_000).ys) for s in (1.0, -1.0)]
-    diff = np.max(np.abs(ys[0] - ys[1]), axis=1)
-    near = np.max(np.abs(ys[1] - y_star), axis=1)
-    assert near[-1] > 1e-3                                            # both have left the cycle
-    linear = (near < 1e-4) & (np.arange(ts.size) > 0)
-    assert linear.sum() >= 4
-    kk = np.arange(ts.size)[linear]
-    rate = np.polyfit(kk, np.log(diff[linear]), 1)[0]
-    assert rate == pytest.approx(np.log(abs(w[k])), rel=0.1)
+def test_the_long_run_settles_to_a_whirl_with_contact(run):
+    sc, ts, ys, tc = run
+    periods = np.diff(tc)[-100:]
+    assert np.ptp(periods) < 1e-5 * periods.mean()
+    x, y, _, _ = _disk(sc, ys)
+    assert np.hypot(x, y).max() > P.defaults["chi"]                   # at the limiter
 
 
-def test_the_attractor_is_a_wandering_forward_whirl_around_the_cycle(scene, run, cycle):
-    sc, _ = scene
-    ts, ys = run
-    hb, sh = cycle
-    T = float(sh.period)
-    # the cycle's precession index from its samples: one forward turn a period
-    tt = float(sh.t0) + T * np.linspace(0.0, 1.0, 1601)
-    lam_cycle = precession(tt, *_disk(sc, sh.state(tt)), N, window=(0.0, 1.0)).mean
-    assert lam_cycle == pytest.approx(2 * np.pi / (N * T), rel=1e-6)
-    lam_hb = precession(tt, *_disk(sc, hb.state(tt)), N, window=(0.0, 1.0)).mean
-    assert lam_hb == pytest.approx(lam_cycle, rel=1e-6)
-    # the run over its last 300 T*: in contact, forward, of the cycle's mean precession
-    # speed and size to 2 %, but not periodic: its whirl periods spread about the cycle's
-    last = ts >= T_END - 300
-    x, y, vx, vy = _disk(sc, ys[last])
-    prec = precession(ts[last], x, y, vx, vy, N, window=(0.0, 1.0))
-    assert prec.direction == "forward"
-    assert prec.mean == pytest.approx(lam_cycle, rel=0.02)
-    amplitude = float(orbit_amplitude(sc, sh.coefficients, sh.period, sh.t0, node=NODE))
-    radius = np.hypot(x, y)
-    assert radius.min() < amplitude < 1.02 * radius.max()
-    assert radius.max() > P.defaults["chi"]
-    periods = np.diff(_up_crossings(ts[last], x))
-    assert np.ptp(periods) > 0.05
-    assert periods.min() < T < periods.max()
+def test_harmonic_balance_finds_the_run_s_cycle(run, hb):
+    sc, ts, ys, tc = run
+    assert int(hb.code) == 0 and float(hb.time_residual) < 1e-2
+    T = float(hb.period)
+    assert T == pytest.approx(np.diff(tc)[-100:].mean(), rel=1e-6)
+    last = ts >= tc[-11]
+    a_run = _largest_radius(sc, ts[last], ys[last])
+    assert float(orbit_amplitude(sc, hb.coefficients, hb.period, hb.t0, node=NODE)) == pytest.approx(a_run, rel=1e-3)
+    # Lambda: one forward turn a period, from the cycle's samples and from the run over 80 whole periods
+    tt = float(hb.t0) + T * np.linspace(0.0, 1.0, 1601)
+    lam = precession(tt, *_disk(sc, hb.state(tt)), N, window=(0.0, 1.0))
+    assert lam.direction == "forward" and lam.mean == pytest.approx(2 * np.pi / (N * T), rel=1e-6)
+    whole = (ts >= tc[-81]) & (ts <= tc[-1])
+    lam_run = precession(ts[whole], *_disk(sc, ys[whole]), N, window=(0.0, 1.0)).mean
+    assert lam_run == pytest.approx(lam.mean, rel=1e-3)
+    assert bool(hb.stable) and abs(complex(hb.trivial_multiplier) - 1) < 1e-5
+
+
+def test_shooting_the_smoothed_field_gives_the_same_cycle(hb, shot):
+    _, sol = shot[SMOOTHING]
+    assert float(sol.residual) < 1e-10
+    assert float(sol.period) == pytest.approx(float(hb.period), rel=1e-7)
+    assert abs(complex(sol.trivial_multiplier) - 1) < 1e-8 and bool(sol.stable)
+
+
+def test_the_exact_cycle_by_event_located_shooting(shot):
+    sc, ex = shot["exact"]
+    assert int(ex.code) == 0 and float(ex.residual) < 1e-10
+    assert abs(complex(ex.trivial_multiplier) - 1) < 1e-8 and bool(ex.stable)
+    T = float(ex.period)
+    ts, ys = _cycle_samples(sc, ex, events=True)
+    lam = precession(ts, *_disk(sc, ys), N, window=(0.0, 1.0)).mean
+    assert lam == pytest.approx(2 * np.pi / (N * T), rel=1e-6)
+    # the exact model's own long run, from the smoothed run's start, settles onto it
+    _, y0 = _scene()
+    t_end = 300.0
+    r = simulate_events(sc, y0, (0.0, t_end), saveat=int(t_end * SAVES) + 1, rtol=1e-10, atol=1e-13,
+                        max_steps=200_000)
+    assert int(r.code) == 0
+    tr, yr = np.asarray(r.ts), np.asarray(r.ys)
+    tail = tr >= t_end - 60
+    tc = _up_crossings(tr[tail], _disk(sc, yr[tail])[0])
+    assert np.diff(tc)[-10:].mean() == pytest.approx(T, rel=1e-6)
+    a_exact = _largest_radius(sc, ts, ys)
+    assert _largest_radius(sc, tr[tail], yr[tail]) == pytest.approx(a_exact, rel=1e-3)
+
+
+def test_the_smoothed_cycles_converge_to_the_exact_one(shot):
+    sc, ex = shot["exact"]
+    T = float(ex.period)
+    a = _largest_radius(sc, *_cycle_samples(sc, ex, events=True))
+    errors = []
+    for s in (SMOOTHING, 1e-5, 1e-6):
+        scs, sol = shot[s]
+        errors.append((abs(float(sol.period) / T - 1), abs(_largest_radius(scs, *_cycle_samples(scs, sol, False)) / a - 1)))
+    errors = np.array(errors)
+    assert np.all(np.diff(errors, axis=0) < 0)                        # both fall with the smoothing
+    assert errors[-1, 0] < 2e-6 and errors[-1, 1] < 1e-5
