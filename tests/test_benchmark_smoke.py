@@ -16,7 +16,7 @@ import pytest
 HERE = Path(__file__).resolve().parent
 BENCH = HERE.parent / "benchmarks"
 SCRIPTS = ("auto07p", "balance_grid", "continuation", "fe_identification", "flexible", "harmonic_balance",
-           "identification", "identification_coverage", "jaxcont", "limiters", "peers_001", "ross_parity",
+           "identification", "identification_coverage", "limiters", "peers_001", "periodic_jaxcont", "ross_parity",
            "rotor_scene", "solver_choice", "stability_map", "startup", "sweep_throughput")
 #: modules that are not benchmarks: shared helpers, and the results page (tests/test_benchmark_pages.py)
 HELPERS = {"_common", "work_precision"}

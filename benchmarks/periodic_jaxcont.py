@@ -37,7 +37,7 @@ repeated calls trace and compile again: its "warm" time includes that.
 
 Without jaxcont installed (CI) it says so and exits 0, writing nothing.
 `--smoke`: the coarsest mesh, one call each, prints, writes nothing. Otherwise
-writes benchmarks/results/jaxcont.json.
+writes benchmarks/results/periodic_jaxcont.json.
 """
 
 import argparse
@@ -62,20 +62,11 @@ FOLD_TOL = 1e-6
 
 
 def import_jaxcont():
-    """The jaxcont package, not this script: `python benchmarks/jaxcont.py` puts
-    benchmarks/ first on the path, where `import jaxcont` would find this file."""
+    """The jaxcont package (this script is named apart from it: a script named
+    `jaxcont.py` in benchmarks/, which the scripts put on the path, would shadow it)."""
     import importlib
 
-    here = os.path.dirname(os.path.abspath(__file__))
-    mod = sys.modules.get("jaxcont")
-    if mod is not None and os.path.dirname(os.path.abspath(getattr(mod, "__file__", "") or "")) == here:
-        del sys.modules["jaxcont"]
-    saved = list(sys.path)
-    sys.path[:] = [p for p in sys.path if os.path.abspath(p or os.curdir) != here]
-    try:
-        return importlib.import_module("jaxcont")
-    finally:
-        sys.path[:] = saved
+    return importlib.import_module("jaxcont")
 
 
 def vector_field(ex):
@@ -168,7 +159,7 @@ def main():
     except Exception:  # noqa: BLE001
         jc_version = getattr(jc, "__version__", "unknown")
 
-    out = {"benchmark": "jaxcont", "machine": machine(), "smoke": args.smoke, "repeats": repeats,
+    out = {"benchmark": "periodic_jaxcont", "machine": machine(), "smoke": args.smoke, "repeats": repeats,
            "versions": {"jax": jax_version, "jaxcont": jc_version, "x64": bool(jax.config.jax_enable_x64)},
            "problem": {"test": "tests/validation/test_auto07p_periodic.py", "KX": ex.KX, "KY": ex.KY, "C": ex.C,
                        "BETA": ex.BETA, "ECC": ex.ECC, "OM_RANGE": list(ex.OM_RANGE),
@@ -238,7 +229,7 @@ def main():
     if args.smoke:
         print("smoke run: nothing written")
     else:
-        write_results("jaxcont", out)
+        write_results("periodic_jaxcont", out)
 
 
 if __name__ == "__main__":
