@@ -56,6 +56,7 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))   # tests.reference
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import equinox as eqx  # noqa: E402
@@ -64,22 +65,15 @@ import jax.numpy as jnp  # noqa: E402
 
 import rotorjax  # noqa: E402
 from rotorjax.analysis import harmonic_balance, orbit_amplitude, periodic_branch  # noqa: E402
-from rotorjax.models import CubicBearing, FlexibleRotor, RotorScene, Unbalance  # noqa: E402
-from rotorjax.presets._ross_compare import PRESET  # noqa: E402
+from rotorjax.models import RotorScene  # noqa: E402
+from tests.reference.cubic_rotor import K3, cubic_rotor  # noqa: E402
 from _common import CpuWatch, machine, timed_first, write_results  # noqa: E402
 
-K3 = 3e12  # N/m^3
 NODE = 0   # the bearing node whose orbit radius is the amplitude
 
 
 def build(modes):
-    p = PRESET.params()
-    disk = (p["disk_mass"], p["disk_It"], p["disk_Ip"])
-    rotor = FlexibleRotor(np.full(6, 0.25), p["shaft_diameter"], E=p["E"], G=p["G"], rho=p["rho"],
-                          disks=((2,) + disk, (4,) + disk),
-                          bearings=((0, 1e6, 1e6, 0.0, 0.0), (6, 1e6, 1e6, 0.0, 0.0),
-                                    (2, 0.0, 0.0, 150.0, 150.0), (4, 0.0, 0.0, 150.0, 150.0)))
-    parts = (Unbalance(2, 2e-3), Unbalance(4, 2e-3), CubicBearing(0, K3), CubicBearing(6, K3))
+    rotor, parts = cubic_rotor(K3)
     return (rotor.reduce(modes) if modes else rotor), parts
 
 

@@ -10,21 +10,14 @@ import pytest
 
 import rotorjax
 from rotorjax.analysis import synchronous_branch
-from rotorjax.models import CubicBearing, FlexibleRotor, RotorScene, RunUp, Unbalance
-from rotorjax.presets._ross_compare import PRESET
+from rotorjax.models import RotorScene, RunUp
+from tests.reference.cubic_rotor import cubic_rotor
 
-K3 = 3e12   # N/m^3
 
 
 @pytest.fixture(scope="module")
 def setup():
-    p = PRESET.params()
-    disk = (p["disk_mass"], p["disk_It"], p["disk_Ip"])
-    rotor = FlexibleRotor(np.full(6, 0.25), p["shaft_diameter"], E=p["E"], G=p["G"], rho=p["rho"],
-                          disks=((2,) + disk, (4,) + disk),
-                          bearings=((0, 1e6, 1e6, 0.0, 0.0), (6, 1e6, 1e6, 0.0, 0.0),
-                                    (2, 0.0, 0.0, 150.0, 150.0), (4, 0.0, 0.0, 150.0, 150.0)))
-    parts = (Unbalance(2, 2e-3), Unbalance(4, 2e-3), CubicBearing(0, K3), CubicBearing(6, K3))
+    rotor, parts = cubic_rotor()
     branch = synchronous_branch(RotorScene(rotor, 60.0, parts), (60.0, 140.0))
     return rotor, parts, branch
 
