@@ -25,6 +25,7 @@ BASE = {
     "unbalance": [{"node": 3, "magnitude": 1e-4}],
 }
 LIMITERS = {"node": 3, "angles": [0.0, 2.0, 4.0], "clearance": 1e-3, "stiffness": 1e7, "radius": 0.1}
+FILM = {"node": 0, "type": "journal", "viscosity": 0.03, "length": 0.02, "diameter": 0.05, "clearance": 5e-5}
 BALANCER = {"node": 3, "n_weights": 2, "mass": 0.05, "radius": 0.1}
 
 
@@ -168,7 +169,7 @@ CASES = [
     ("bearing-negative-mass", setitem(("bearing", 0, "mxx"), -1.0), None, ["bearing[0].mxx must be >= 0"]),
     ("bearing-no-kxx", delitem("bearing", 0, "kxx"), None, ["bearing[0].kxx is missing (required: stiffness xx"]),
     ("bearing-bad-type", setitem(("bearing", 0, "type"), "ball"), None,
-     ['bearing[0].type must be one of "linear", "plain-journal" (got "ball")']),
+     ['bearing[0].type must be one of "linear", "plain-journal", "journal", "sfd" (got "ball")']),
     ("journal-with-kxx", setitem(("bearing", 0, "type"), "plain-journal"), None,
      ["bearing[0].kxx: a plain-journal bearing computes its coefficients"]),
     ("journal-missing-viscosity", edit(lambda d: d["bearing"].__setitem__(0, {
@@ -183,6 +184,41 @@ CASES = [
         "node": 0, "type": "plain-journal", "load": 100.0, "viscosity": 0.03, "length": 0.02, "diameter": 0.05,
         "clearance": 5e-5, "speeds": [100.0, 200.0], "method": "long"})), None,
      ['bearing[0].method must be one of "short", "finite" (got "long")']),
+    # fluid films as nonlinear forces ([[bearing]] type = "journal" / "sfd")
+    ("film-load", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, load=100.0))), None,
+     ['bearing[0].load: a type = "journal" bearing (journal bearing) takes', "do not give load"]),
+    ("film-kxx", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, kxx=1e6))), None,
+     ["bearing[0].kxx: a type = \"journal\" bearing", "not a coefficient table"]),
+    ("film-speeds", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, speeds=[1.0, 2.0]))), None,
+     ["bearing[0].speeds: a type = \"journal\" bearing"]),
+    ("film-missing-clearance", edit(lambda d: d["bearing"].__setitem__(
+        0, {k: v for k, v in FILM.items() if k != "clearance"})), None,
+     ['bearing[0].clearance is missing (required for type = "journal": radial clearance, m)']),
+    ("film-clearance-zero", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, clearance=0.0))), None,
+     ["bearing[0].clearance", "> 0"]),
+    ("film-clearance-radius", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, clearance=0.03))), None,
+     ["bearing[0].clearance must be < diameter / 2"]),
+    ("film-viscosity", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, viscosity=-0.01))), None,
+     ["bearing[0].viscosity", "> 0"]),
+    ("film-length", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, length=0.0))), None,
+     ["bearing[0].length", "> 0"]),
+    ("film-short-long", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, length=0.06))), None,
+     ["bearing[0].length: the short-bearing model needs L/D <= 1, got L/D = 1.2"]),
+    ("film-finite-range", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, model="finite", length=0.01))),
+     None, ["bearing[0].length: the finite-bearing model covers 0.25 <= L/D <= 1, got L/D = 0.2"]),
+    ("film-model", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, model="medium"))), None,
+     ["bearing[0].model must be one of"]),
+    ("sfd-film", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, type="sfd", film="3pi"))), None,
+     ["bearing[0].film must be one of"]),
+    ("sfd-model", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, type="sfd", model="short"))), None,
+     ['bearing[0].model: a type = "sfd" bearing (squeeze-film damper) takes']),
+    ("sfd-spring-list", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM, type="sfd", kxx=[1.0, 2.0]))),
+     None, ["bearing[0].kxx: a squeeze-film damper's centring spring is one number"]),
+    ("support-under-film", edit(lambda d: (d["bearing"].__setitem__(0, dict(FILM)),
+                                           d.__setitem__("support", [{"bearing": 0, "m": 5.0, "kxx": 1e7}]))),
+     None, ['support[0].bearing = 0: that bearing is a type = "journal" fluid film']),
+    ("film-viscosity-set", edit(lambda d: d["bearing"].__setitem__(0, dict(FILM))), {"bearing0.viscosity": "0"},
+     ["bearing0.viscosity"]),
     ("journal-key-on-linear", setitem(("bearing", 1, "viscosity"), 0.03), None,
      ['bearing[1].viscosity belongs to type = "plain-journal" bearings']),
     ("point-mass-both", add("point_mass", {"node": 2, "m": 1.0, "mx": 1.0}), None,

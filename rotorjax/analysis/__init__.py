@@ -88,6 +88,9 @@ from ._linear import state_matrix as state_matrix
 from ._linear import synchronous_critical_speeds as synchronous_critical_speeds
 from ._frf import unbalance_response as unbalance_response
 from ._linear import whirl_labels as whirl_labels
+from ._bearing_equilibrium import BearingEquilibrium as BearingEquilibrium
+from ._bearing_equilibrium import FilmState as FilmState
+from ._bearing_equilibrium import bearing_equilibrium as bearing_equilibrium
 from ._static import StaticResult as StaticResult
 from ._static import static as static
 from ._tracking import mac as mac

@@ -33,6 +33,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._newton import newton as _newton
 from ..models._contract import AbstractScene
 from ..models._speed import ConstantSpeed
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
@@ -328,36 +329,6 @@ def _with_floquet(scene, sol, rtol=1e-10, atol=1e-12, y0=None) -> PeriodicSoluti
     y0 = sol.initial_state() if y0 is None else y0
     fq = floquet(scene, y0, sol.period, sol.t0, rtol=rtol, atol=atol)
     return eqx.tree_at(lambda s: s.floquet, sol, fq, is_leaf=lambda x: x is None)
-
-
-def _newton(residual, x0, tol, max_iter):
-    """Newton's method with the exact Jacobian (forward mode), in one compiled
-    loop, differentiable by the implicit function theorem (`lax.custom_root`: the
-    derivative of the root with respect to anything `residual` closes over is
-    `-R_x^{-1} R_theta`, one linear solve, not the iterations unrolled). Returns
-    `(x, (step, iterations))`, `step` the last relative step."""
-
-    def solve(f, x):
-        def body(state):
-            x, _, it = state
-            r, jvp = jax.linearize(f, x)
-            J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
-            dx = jnp.linalg.solve(J, r)
-            x = x - dx
-            step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
-            return x, step, it + 1
-
-        def cond(state):
-            _, step, it = state
-            return (it < max_iter) & ~(step <= tol)
-
-        x, step, it = jax.lax.while_loop(cond, body, (x, jnp.asarray(jnp.inf), 0))
-        return x, (step, it.astype(jnp.float64))   # float aux: custom_root differentiates through it
-
-    def tangent_solve(g, y):
-        return jnp.linalg.solve(jax.jacfwd(g)(y), y)
-
-    return jax.lax.custom_root(residual, x0, solve, tangent_solve, has_aux=True)
 
 
 @eqx.filter_jit

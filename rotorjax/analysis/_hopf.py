@@ -89,7 +89,8 @@ class HopfReport:
         rows = []
         for i, h in enumerate(self.points):
             d = h.as_dict()
-            d.update({f"{speed_key}_crit": h.speed, "whirl_frequency": h.frequency, "whirl": self.whirl[i]})
+            d.update({f"{speed_key}_crit": h.speed, "whirl_frequency": h.frequency,
+                      "whirl_frequency_ratio": h.frequency / h.speed, "whirl": self.whirl[i]})
             if self.sensitivities is not None and sensitivity_key:
                 d[f"d{speed_key}_crit_d_{sensitivity_key}"] = self.sensitivities[i]
             rows.append(d)

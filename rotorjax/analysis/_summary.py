@@ -110,6 +110,10 @@ def simulation_summary(result, scene, revolutions=5, amplitude="whirl_amplitude"
         amp = outputs[amplitude][valid]
         summary[f"last_valid_{amplitude}"] = _value(amp[-1])
     if not result.success:
+        films = {k[:-len("_eccentricity")]: _value(outputs[k][valid][-1]) for k in others
+                 if k.endswith("_eccentricity")}
+        if films:   # fluid films: how close each journal was to its wall
+            summary["last_valid_film_eccentricity"] = films
         keys = ([f"final_{amplitude}", f"max_{amplitude}_last_revolutions"] if has_amp else []) + ["final_speed"]
         for key in keys + [f"{k}_final" for k in others]:
             summary[key] = None

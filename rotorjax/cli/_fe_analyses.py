@@ -24,12 +24,15 @@ def _scene(preset, params):
 
 def cmd_static(args) -> int:
     from rotorjax.analysis import static
+    from rotorjax.models import has_films
     from rotorjax.plot import plot_static
     from ._common import save_figure
 
     preset, params = preset_and_params(args, "static")
     prepare_out(args.out)
     scene = _scene(preset, params)
+    if has_films(scene):
+        return _static_in_films(args, preset, params, scene)
     res = static(scene, gravity=args.gravity, axis=args.axis)
     p = ("x", "y").index(args.axis)
     disp, shear, moment = (np.asarray(a) for a in (res.displacement, res.shear, res.moment))
@@ -65,6 +68,36 @@ def cmd_static(args) -> int:
         for row in out["bearing_reactions"]:
             print(f"  bearing {row['bearing']} (node {row['node']}): reaction {row[args.axis]:.6g} N")
         print(f"wrote {stem}.png and .json")
+    return 0
+
+
+def _static_in_films(args, preset, params, scene) -> int:
+    """`static` of a rotor on fluid films: the equilibrium at the running speed under
+    the file's own loads ([gravity]), per bearing."""
+    from rotorjax.analysis import bearing_equilibrium
+
+    for option, given in (("--gravity", args.gravity != 9.80665), ("--axis", args.axis != "y")):
+        if given:
+            raise InputError(f"{option}: a rotor on fluid-film bearings is loaded by its file's [gravity] table "
+                             f"(and its own weight); set gravity.g / gravity.angle with --set instead")
+    speed, speed_source = _speed(args, preset, params)
+    res = bearing_equilibrium(scene, speed)
+    stem = out_stem(args.out, preset, "static_")
+    rows = [dict(f.as_dict(), attitude_deg=float(np.degrees(f.attitude))) for f in res.films]
+    out = {"preset": preset.name, "speed": speed, "speed_source": speed_source, "unit": "m, N, rad",
+           "load": "the file's [gravity] and the rotor's weight", "bearings": rows,
+           "displacement": res.displacement.tolist(), "residual": res.residual, "iterations": res.iterations,
+           "files": {"json": stem + ".json"}}
+    write_json(stem + ".json", out)
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    print(f"{preset.name}: static equilibrium in the fluid-film bearings at {speed:g} rad/s ({speed_source})")
+    for r in rows:
+        print(f"  {r['kind']} at node {r['node']}: eccentricity {r['eccentricity']:.4f}, attitude "
+              f"{r['attitude_deg']:.2f} deg, minimum film {r['min_film'] * 1e6:.3f} um, load {r['load']:.6g} N")
+    print(f"  Newton: {res.iterations} steps, relative residual {res.residual:.1e}")
+    print(f"wrote {stem}.json")
     return 0
 
 

@@ -169,6 +169,9 @@ def build_parser():
         (("--gravity",), dict(type=finite, default=9.80665, metavar="G",
                               help="gravitational acceleration, m/s^2, acting along -AXIS")),
         (("--axis",), dict(default="y", choices=("x", "y"), help="the vertical axis")),
+        (("--speed",), dict(type=positive, default=None, metavar="W",
+                            help="running speed, rad/s, of a rotor on fluid-film bearings (default: the rotor "
+                                 "file's [rotor] speed): the journals' equilibrium at that speed")),
     ], kinds="ross-compare, rotor files",
         description="static deflection under gravity (bearings at rest, supports included): the bearing "
                     "reactions (the force each bearing exerts on the shaft), and the shear force and bending "
@@ -221,11 +224,12 @@ def build_parser():
                          "forward whirl) at a node, the log decrement of the first forward mode against Q at the "
                          "running speed, and the threshold Q0 where it crosses zero (exit 3, q0 null in the "
                          "JSON, when it does not within --q-max)")
-    _command(sub, "hopf", "Hopf point of straight-line rotation (internal friction)", cmd_hopf, [
-        _range(required=False, help=f"spin-speed range N, units 1/T* (default: {HOPF_RANGE[0]:g} "
-                                    f"{HOPF_RANGE[1]:g})"),
+    _command(sub, "hopf", "Hopf point: straight-line rotation (internal friction), or the oil-whirl onset of a "
+                          "rotor on fluid-film bearings", cmd_hopf, [
+        _range(required=False, help=f"spin-speed range: N in units 1/T* for a preset (default: {HOPF_RANGE[0]:g} "
+                                    f"{HOPF_RANGE[1]:g}), rad/s for a rotor file (required)"),
         (("--n-scan",), dict(type=at_least(2), default=80, help="scan points before bisection")),
-    ], kinds="cantilever-limiters")
+    ], kinds="cantilever-limiters, rotor files with journal bearings")
     _command(sub, "bifurcation", "extrema diagram over a swept parameter (one batch of runs)", cmd_bifurcation, [
         (("--param",), dict(nargs=4, metavar=("KEY", "LO", "HI", "NP"), required=True,
                             help=f"the swept --set key (one of {', '.join(SWEEPABLE)}), its range and number "

@@ -24,7 +24,15 @@ def summarize(result, scene, params, preset_name, t_end, revolutions=5) -> dict:
 def _failure_line(summary):
     at = summary.get("last_valid_time")
     where = "no valid saved state" if at is None else f"last valid saved state at t = {at:.6g}"
-    return f"  the run failed before t_end = {summary['t_end']:.6g} ({where}): no final state to report"
+    line = f"  the run failed before t_end = {summary['t_end']:.6g} ({where}): no final state to report"
+    films = summary.get("last_valid_film_eccentricity")
+    if films:
+        name, eps = max(films.items(), key=lambda kv: kv[1])
+        kind = "journal bearing" if name.startswith("journal") else "squeeze-film damper"
+        line += (f"\n  the {kind} at node {name.lstrip('journalsfd')} ({name}) had eccentricity {eps:.4f} at t = {at:.6g}"
+                 + (": its journal was running into the wall (the film cannot carry the load: lower the load or "
+                    "unbalance, or raise the speed, viscosity or length)" if eps > 0.9 else ""))
+    return line
 
 
 def cmd_simulate(args) -> int:

@@ -6,8 +6,8 @@ import sys
 
 import numpy as np
 
-from ._common import (InputError, NumericalError, Stages, build, check_range, grid_spec, out_stem, prepare_out,
-                      preset_and_params, stability_study, wrong_kind)
+from ._common import (InputError, NumericalError, Stages, build, check_range, grid_spec, is_rotor_file, out_stem,
+                      prepare_out, preset_and_params, stability_study, wrong_kind)
 
 
 def cmd_steady(args) -> int:
@@ -265,6 +265,9 @@ def cmd_hopf(args) -> int:
     setup = build(preset, params)
     if not isinstance(setup.reference, StraightRunning):
         raise wrong_kind(preset, "hopf")
+    if is_rotor_file(preset) and not args.range:
+        raise InputError(f"--range LO HI is required for a rotor file: the speed range to search, rad/s (e.g. "
+                         f"--range {0.5 * float(params['speed'] or 100):g} {2 * float(params['speed'] or 100):g})")
     lo, hi = check_range("--range", *(args.range or HOPF_RANGE), positive_lo=True)
     prepare_out(args.out)
     found, look = hopf_report(preset, params, lo, hi, n_scan=args.n_scan, progress=not args.json)
@@ -289,8 +292,8 @@ def cmd_hopf(args) -> int:
     d_key, d_label = look["sensitivity"]
     for d in out["hopf_points"]:
         sens = f"; {d_label} = {d[d_key]:.4f}" if d_key else ""
-        print(f"  Hopf point at {key} = {d['speed']:.6f} (whirl frequency {d['frequency']:.6f}, {d['whirl']} "
-              f"whirl){sens}")
+        print(f"  Hopf point at {key} = {d['speed']:.6f} (whirl frequency {d['frequency']:.6f}, ratio "
+              f"{d['whirl_frequency_ratio']:.4f}, {d['whirl']} whirl){sens}")
     if "paper_fit" in out:
         fit = out["paper_fit"]
         print(f"  the paper's fit {fit['formula']} gives {fit[key + '_crit']:.4f}")

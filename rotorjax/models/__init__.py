@@ -25,6 +25,12 @@ from ._materials import Material as Material
 from ._materials import material as material
 from ._bearing_speeds import check_speeds as check_speeds
 from ._journal_bearing import JournalCoefficients as JournalCoefficients
+from ._fluid_film import JournalBearing as JournalBearing
+from ._fluid_film import SqueezeFilmDamper as SqueezeFilmDamper
+from ._fluid_film import film_force as film_force
+from ._equilibrium import Equilibrium as Equilibrium
+from ._equilibrium import static_equilibrium as static_equilibrium
+from ._equilibrium import has_films as has_films
 from ._journal_bearing import PlainJournal as PlainJournal
 from ._journal_bearing import plain_journal as plain_journal
 from ._fe_reduction import ReducedRotor as ReducedRotor

@@ -39,6 +39,10 @@ class CubicBearing(AbstractRotorComponent):
     def node(self):
         return self.node_index
 
+    @property
+    def in_equilibrium(self) -> bool:
+        return True
+
     def linear_part(self, rotor):
         b = DOFS_PER_NODE * self.node
         z = jnp.zeros((rotor.n_dofs, rotor.n_dofs))
@@ -85,6 +89,10 @@ class ClearanceBearing(AbstractRotorComponent):
     @property
     def node(self):
         return self.node_index
+
+    @property
+    def in_equilibrium(self) -> bool:
+        return True
 
     @property
     def n_contacts(self) -> int:

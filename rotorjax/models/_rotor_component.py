@@ -109,6 +109,12 @@ class AbstractRotorComponent(eqx.Module):
     def n_contacts(self) -> int:
         return 0
 
+    @property
+    def in_equilibrium(self) -> bool:
+        """Whether its force acts at rest and is part of the static equilibrium (a
+        function of the shaft's state and speed alone: bearings, fluid films)."""
+        return False
+
     def linear_part(self, rotor):
         return None
 

@@ -23,7 +23,13 @@ may be left out; the others are required, except where two ways are offered
 |                         | may be a list of the same length (evaluated at the running speed by a     |
 |                         | not-a-knot cubic spline). `type = "plain-journal"` instead: `load` (N,     |
 |                         | along -y), `viscosity` (Pa s), `length`, `diameter`, `clearance` (m),      |
-|                         | `method` ("short", "finite"; = "short"), `speeds` (the table's speeds)    |
+|                         | `method` ("short", "finite"; = "short"), `speeds` (the table's speeds).   |
+|                         | `type = "journal"`: a fluid-film journal bearing as a nonlinear force       |
+|                         | (loaded by `[gravity]` and the rotor's own weight, no `load`): `model`     |
+|                         | ("short", "finite", "long"; = "short"), `viscosity`, `length`,             |
+|                         | `diameter`, `clearance`. `type = "sfd"`: a squeeze-film damper:            |
+|                         | `viscosity`, `length`, `diameter`, `clearance`, `film` ("pi", "2pi";      |
+|                         | = "pi"), a centring spring `kxx` (N/m, = 0), `kyy` (= kxx)                 |
 | `[[point_mass]]`        | `node`, `m` (kg) or `mx` + `my`                                             |
 | `[[support]]`           | `bearing` (index from 0), `m` (kg), `kxx`, `kyy` (= kxx) (N/m), `cxx`       |
 |                         | (= 0), `cyy` (= cxx) (N s/m): a pedestal between the bearing and ground    |
@@ -49,7 +55,8 @@ may be left out; the others are required, except where two ways are offered
 |                         | `<name>_tilt_y` (rad), `<name>_radius` (m); names differ between probes     |
 
 The scene's components come in this order, each table's entries in file order:
-unbalances, internal damping, external damping, disk damping, gravity, cubic
+unbalances, internal damping, external damping, disk damping, gravity, fluid films
+(`[[bearing]]` entries of type "journal" and "sfd", in file order), cubic
 bearings, clearance bearings, limiters, auto-balancers (whose weights'
 coordinates follow the shaft's in the state), probes. A shaft whose elements all have the same material constants gets
 scalar `E`, `G`, `rho`, `nu` (the exact arrays of a one-material `FlexibleRotor`);
@@ -91,6 +98,7 @@ from ._balancer import INERTIA_FACTORS, AutoBalancer, Race
 from ._external_damping import DiskDamping, ExternalDamping
 from ._fe_reduction import ReducedRotor
 from ._fe_rotor import BEARING_COEFFICIENTS, DOFS_PER_NODE, Bearing, FlexibleRotor, Support
+from ._fluid_film import JOURNAL_MODELS, SFD_FILMS, JournalBearing, SqueezeFilmDamper
 from ._journal_bearing import PlainJournal
 from ._gravity import Gravity
 from ._internal_damping import InternalDamping
@@ -108,7 +116,10 @@ from ._validate import is_concrete
 DOF_NAMES = ("x", "y", "sx", "sy")
 THEORIES = ("euler-bernoulli", "rayleigh", "timoshenko")
 KINDS = ("ball", "roller", "pendulum")
-BEARING_TYPES = ("linear", "plain-journal")
+BEARING_TYPES = ("linear", "plain-journal", "journal", "sfd")
+#: the [[bearing]] types that are nonlinear force components, not linear coefficients
+FILM_TYPES = ("journal", "sfd")
+FILM_KEYS = ("viscosity", "length", "diameter", "clearance")
 JOURNAL_METHODS = ("short", "finite")
 JOURNAL_KEYS = ("load", "viscosity", "length", "diameter", "clearance", "method")
 
@@ -189,7 +200,10 @@ SCHEMA = {
         "diameter": _Key(_N, "m", "journal diameter", "positive"),
         "clearance": _Key(_N, "m", "radial clearance", "positive"),
         "method": _Key(_S, meaning="journal-bearing solution", choices=JOURNAL_METHODS),
-    }, "a linear bearing (constant, speed-dependent, or a plain journal)"),
+        "model": _Key(_S, meaning="journal-bearing film model", choices=JOURNAL_MODELS),
+        "film": _Key(_S, meaning="squeeze-film extent", choices=SFD_FILMS),
+    }, "a bearing: linear (constant, speed-dependent, or a plain journal's coefficients), or a fluid film "
+       "(journal bearing, squeeze-film damper) as a nonlinear force"),
     "point_mass": _Table(True, {
         "node": _node("point mass"),
         "m": _Key(_N, "kg", "mass (x and y)", "nonnegative"),
@@ -594,6 +608,8 @@ def _bearing(ctx, i, b):
     where = _loc("bearing", i)
     kind = b.setdefault("type", "linear")
     given = [k for k in BEARING_COEFFICIENTS if k in b]
+    if kind in FILM_TYPES:
+        return _film_bearing(ctx, i, b, given)
     if kind == "plain-journal":
         if given:
             ctx.fail(f"{_loc('bearing', i, given[0])}: a plain-journal bearing computes its coefficients "
@@ -637,6 +653,51 @@ def _bearing(ctx, i, b):
             if len(v) != len(speeds):
                 ctx.fail(f"{_loc('bearing', i, k)} has {len(v)} values but speeds has {len(speeds)}",
                          _loc("bearing", i, k))
+    return b
+
+
+def _film_bearing(ctx, i, b, given):
+    """A [[bearing]] of type "journal" or "sfd", checked and completed."""
+    kind = b["type"]
+    what = "journal bearing" if kind == "journal" else "squeeze-film damper"
+    own = FILM_KEYS + (("model",) if kind == "journal" else ("film", "kxx", "kyy"))
+    for key in list(b):
+        if key not in own + ("node", "type"):
+            reason = ("its load is the rotor's weight ([gravity]) and any static force; do not give load"
+                      if key == "load" else
+                      "it is a nonlinear force, not a coefficient table" if key in ("speeds", "method") or
+                      key in BEARING_COEFFICIENTS else "not a key of this bearing type")
+            ctx.fail(f"{_loc('bearing', i, key)}: a type = \"{kind}\" bearing ({what}) takes "
+                     f"{', '.join(own)}; {reason}", _loc("bearing", i, key))
+    for key in FILM_KEYS:
+        if key not in b:
+            spec = SCHEMA["bearing"].keys[key]
+            ctx.fail(f"{_loc('bearing', i, key)} is missing (required for type = \"{kind}\": {spec.meaning}, "
+                     f"{spec.unit})")
+    for key in ("kxx", "kyy"):
+        if isinstance(b.get(key), list):
+            ctx.fail(f"{_loc('bearing', i, key)}: a squeeze-film damper's centring spring is one number (N/m)",
+                     _loc("bearing", i, key))
+    if not b["clearance"] < b["diameter"] / 2:
+        ctx.fail(f"{_loc('bearing', i, 'clearance')} must be < diameter / 2 (the journal's radius; got clearance "
+                 f"= {_toml_repr(b['clearance'])}, diameter = {_toml_repr(b['diameter'])})",
+                 _loc("bearing", i, "clearance"))
+    if kind == "journal":
+        b.setdefault("model", "short")
+        ratio = b["length"] / b["diameter"]
+        if b["model"] == "short" and ratio > 1.0:
+            ctx.fail(f"{_loc('bearing', i, 'length')}: the short-bearing model needs L/D <= 1, got L/D = "
+                     f"{ratio:.4g}; use model = \"finite\"", _loc("bearing", i, "length"))
+        if b["model"] == "short" and ratio > 0.5:
+            ctx.warn(f"{_loc('bearing', i, 'length')}: L/D = {ratio:.4g} > 0.5: the short-bearing model "
+                     f"overestimates the load capacity (use model = \"finite\")", _loc("bearing", i, "length"))
+        if b["model"] == "finite" and not 0.25 <= ratio <= 1.0:
+            ctx.fail(f"{_loc('bearing', i, 'length')}: the finite-bearing model covers 0.25 <= L/D <= 1, got "
+                     f"L/D = {ratio:.4g}", _loc("bearing", i, "length"))
+    else:
+        b.setdefault("film", "pi")
+        b.setdefault("kxx", 0.0)
+        b.setdefault("kyy", b["kxx"])
     return b
 
 
@@ -711,6 +772,10 @@ def _validate(ctx, doc):
             ctx.fail(f"support[{i}].bearing = {sup['bearing']}: the file has {n_b} [[bearing]] "
                      f"entr{'y' if n_b == 1 else 'ies'} (indices 0..{n_b - 1})" if n_b else
                      f"support[{i}].bearing = {sup['bearing']}: the file has no [[bearing]] entries",
+                     _loc("support", i, "bearing"))
+        if out["bearing"][sup["bearing"]]["type"] in FILM_TYPES:
+            ctx.fail(f"support[{i}].bearing = {sup['bearing']}: that bearing is a type = "
+                     f"\"{out['bearing'][sup['bearing']]['type']}\" fluid film; pedestals carry linear bearings only",
                      _loc("support", i, "bearing"))
         if sup["bearing"] in carried:
             ctx.fail(f"support[{i}].bearing = {sup['bearing']}: that bearing already sits on "
@@ -927,13 +992,22 @@ def _bearing_entry(b):
     return Bearing(b["node"], speeds=speeds, **coef)
 
 
+def _film_component(b):
+    geometry = (b["viscosity"], b["length"], b["diameter"], b["clearance"])
+    if b["type"] == "journal":
+        return JournalBearing(b["node"], *geometry, model=b["model"])
+    return SqueezeFilmDamper(b["node"], *geometry, film=b["film"], kxx=b["kxx"], kyy=b["kyy"])
+
+
 def _extras(spec):
     """Point masses and supports (keyword arguments only where the file has them)."""
     out = {}
     if spec["point_mass"]:
         out["point_masses"] = tuple((p["node"], p["mx"], p["my"]) for p in spec["point_mass"])
     if spec["support"]:
-        out["supports"] = tuple(Support(s["bearing"], s["m"], s["kxx"], s["kyy"], s["cxx"], s["cyy"])
+        # a support names its bearing among the file's [[bearing]] entries; the FE rotor's exclude the films
+        linear = [i for i, b in enumerate(spec["bearing"]) if b["type"] not in FILM_TYPES]
+        out["supports"] = tuple(Support(linear.index(s["bearing"]), s["m"], s["kxx"], s["kyy"], s["cxx"], s["cyy"])
                                 for s in spec["support"])
     return out
 
@@ -947,7 +1021,7 @@ def _build(ctx, spec, track_work):
         rotor = FlexibleRotor(
             np.array([s["L"] for s in shafts]), d_out, d_in, E=E, G=G, rho=rho, nu=nu, plausibility=False,
             disks=tuple((d["node"], d["m"], d["Id"], d["Ip"]) for d in spec["disk"]),
-            bearings=tuple(_bearing_entry(b) for b in spec["bearing"]),
+            bearings=tuple(_bearing_entry(b) for b in spec["bearing"] if b["type"] not in FILM_TYPES),
             **_extras(spec),
             theory=r["theory"],
             fixed_dofs=tuple((f["node"], DOF_NAMES.index(d)) for f in spec["fixed"] for d in f["dofs"]))
@@ -958,6 +1032,7 @@ def _build(ctx, spec, track_work):
         parts += [ExternalDamping(d["coefficient"]) for d in spec["external_damping"]]
         parts += [DiskDamping(d["node"], d["translational"], d["angular"]) for d in spec["disk_damping"]]
         parts += [Gravity(g["g"], g["angle"]) for g in spec["gravity"]]
+        parts += [_film_component(b) for b in spec["bearing"] if b["type"] in FILM_TYPES]
         parts += [CubicBearing(c["node"], c["k3"], c["k"], c["c"]) for c in spec["cubic_bearing"]]
         parts += [ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"])
                   for c in spec["clearance_bearing"]]
@@ -1145,8 +1220,8 @@ def rotor_file_text(scene, name="rotor") -> str:
     for node, dofs in by_node.items():
         lines += ["", "[[fixed]]", f"node = {node}", "dofs = [" + ", ".join(_s(d) for d in dofs) + "]"]
 
-    order = (Unbalance, InternalDamping, ExternalDamping, DiskDamping, Gravity, CubicBearing, ClearanceBearing,
-             LimitersAt, BalancerAt, NodeProbe)
+    order = (Unbalance, InternalDamping, ExternalDamping, DiskDamping, Gravity, JournalBearing, SqueezeFilmDamper,
+             CubicBearing, ClearanceBearing, LimitersAt, BalancerAt, NodeProbe)
     groups = {cls: [] for cls in order}
     for i, c in enumerate(scene.components):
         cls = next((k for k in order if type(c) is k), None)
@@ -1171,6 +1246,14 @@ def rotor_file_text(scene, name="rotor") -> str:
                   f"angular = {_f(d.angular)}"]
     for g in groups[Gravity]:
         lines += ["", "[gravity]", f"g = {_f(g.g)}", f"angle = {_f(g.angle)}"]
+    for c in groups[JournalBearing] + groups[SqueezeFilmDamper]:
+        lines += ["", "[[bearing]]", f"node = {c.node}"]
+        if isinstance(c, JournalBearing):
+            lines += ['type = "journal"', f"model = {_s(c.model)}"]
+        else:
+            lines += ['type = "sfd"', f"film = {_s(c.film)}", f"kxx = {_f(c.kxx)}", f"kyy = {_f(c.kyy)}"]
+        lines += [f"viscosity = {_f(c.viscosity)}", f"length = {_f(c.length)}", f"diameter = {_f(c.diameter)}",
+                  f"clearance = {_f(c.clearance)}"]
     for c in groups[CubicBearing]:
         lines += ["", "[[cubic_bearing]]", f"node = {c.node}", f"k3 = {_f(c.k3)}", f"k = {_f(c.k)}",
                   f"c = {_f(c.c)}"]

@@ -28,6 +28,7 @@ from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinea
 from ._fe_reduction import ReducedRotor
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._base import Kinematics
+from ._equilibrium import equilibrium_matrices, has_films
 from ._lagrange import lagrange_terms
 from ._rotation import to_fixed_pair, to_rotating_pair
 from ._rotor_component import AbstractRotorComponent, NodeLoad, ShaftState
@@ -277,8 +278,17 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
 
     # --- capabilities -------------------------------------------------------------------
     def linear_matrices(self, speed) -> LinearMatrices:
-        """About the straight, resting shaft (weights of an auto-balancer frozen):
-        the shaft coordinates only (tabulated bearings at `speed`)."""
+        """The linear equations at `speed`, in the shaft coordinates (tabulated
+        bearings at `speed`): about the straight, resting shaft (weights of an
+        auto-balancer frozen), or, on fluid films (journal bearings, squeeze-film
+        dampers), about the static equilibrium at `speed` with the films'
+        linearisation (`rotorjax.models.static_equilibrium`; NaN where it is not found)."""
+        if has_films(self):
+            return equilibrium_matrices(self, speed)
+        return self._linear_about_rest(speed)
+
+    def _linear_about_rest(self, speed) -> LinearMatrices:
+        """About the straight, resting shaft: the linear parts only."""
         M, C, K = self.M, self.C, self.K
         if self.rotor.speed_dependent:
             now, then = self.rotor.reduced_matrices(speed), self.rotor.reduced_matrices(self._table_speed())

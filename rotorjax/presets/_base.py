@@ -132,7 +132,8 @@ def hopf_report(preset, params, lo, hi, n_scan=80, progress=True):
     key, sens = preset.speed_key, preset.hopf_sensitivity
     sensitivity = (params[sens], lambda v: preset.build(dict(params, **{sens: v})).reference) if sens else None
     res = reference_hopf_points(setup.reference, lo, hi, n_scan=n_scan, sensitivity=sensitivity, progress=progress)
-    out = {"unit": f"speed {key} and whirl frequency in 1/({preset.time_unit})", **res.as_dict(key, sens)}
+    unit = "rad/s" if preset.kind == "rotor" else f"1/({preset.time_unit})"
+    out = {"unit": f"speed {key} and whirl frequency in {unit}", **res.as_dict(key, sens)}
     published = setup.published[0] if setup.published else None
     if published is not None:
         out.update(published.details)

@@ -12,11 +12,28 @@ follows it).
 
 import math
 
+from ..analysis import StraightRunning
+from ..models import has_films, static_equilibrium
 from ..models._rotor_file import file_parameters_and_scene, load_rotor
 from ._base import Preset, Setup
 
 #: revolutions in a default run of a rotor file (`t_end` at a positive speed)
 REVOLUTIONS = 200
+
+
+#: the reference motion of a rotor on fluid films (`rotorjax hopf`: the oil-whirl onset)
+FILM_REFERENCE = "the static equilibrium in the fluid-film bearings"
+
+
+def _start(scene, speed):
+    """A run's initial state on fluid films: the static equilibrium at the running
+    speed (at rest, or where it is not found, the straight shaft: the rotor then
+    settles into its bearings)."""
+    y0 = scene.rest_state()
+    if not speed > 0:
+        return y0
+    eq = static_equilibrium(scene, speed)
+    return y0.at[:scene.n_shaft].set(eq.q) if bool(eq.converged) else y0
 
 
 def preset_from_file(path) -> Preset:
@@ -26,7 +43,10 @@ def preset_from_file(path) -> Preset:
     `build(params)` reads the file again with the changed entries applied and
     returns a `Setup`: the `RotorScene` at `ConstantSpeed(params["speed"])`, its
     rest state, and `t_end` = 200 revolutions at that speed (None at speed <= 0);
-    `extras` holds `revolutions` and `rotor_file` (the path)."""
+    `extras` holds `revolutions` and `rotor_file` (the path). A rotor on fluid films
+    starts from its static equilibrium at the speed, which is also its reference
+    motion (`StraightRunning` of its linearisation there: `rotorjax hopf` gives the
+    oil-whirl onset)."""
     label, rotor_name, entries, as_given = file_parameters_and_scene(path)
     defaults = {k: e.value for k, e in entries.items()}
 
@@ -36,8 +56,11 @@ def preset_from_file(path) -> Preset:
         scene = load_rotor(path, changed) if changed else as_given   # the file as it is: built once already
         speed = float(params["speed"])
         t_end = REVOLUTIONS * 2 * math.pi / speed if speed > 0 else None
-        return Setup(scene, scene.rest_state(), t_end,
-                     {"revolutions": REVOLUTIONS if speed > 0 else None, "rotor_file": label})
+        extras = {"revolutions": REVOLUTIONS if speed > 0 else None, "rotor_file": label}
+        if not has_films(scene):
+            return Setup(scene, scene.rest_state(), t_end, extras)
+        return Setup(scene, _start(scene, speed), t_end, extras,
+                     reference=StraightRunning(scene, speed, label=FILM_REFERENCE))
 
     integer = tuple(k for k, e in entries.items() if e.integer)
     return Preset(

@@ -1,0 +1,41 @@
+"""The one Newton iteration: the exact Jacobian (forward mode), in one compiled
+loop, differentiable by the implicit function theorem (`lax.custom_root`: the
+derivative of the root with respect to anything `residual` closes over is
+`-R_x^{-1} R_theta`, one linear solve, not the iterations unrolled).
+
+Used by harmonic balance, shooting and limit cycles (`rotorjax.analysis`) and by a
+rotor's static equilibrium in its bearings (`rotorjax.models`)."""
+
+import jax
+import jax.numpy as jnp
+
+
+def newton(residual, x0, tol, max_iter, limit=None):
+    """The root of `residual` from `x0`: iterate until the relative step is <= `tol`
+    or `max_iter` steps. `limit(x, dx)`, if given, returns the step to take (a
+    damped one: keeps the iterate where `residual` is defined). Returns `(x, (step,
+    iterations))`, `step` the last relative step (check the residual too)."""
+
+    def solve(f, x):
+        def body(state):
+            x, _, it = state
+            r, jvp = jax.linearize(f, x)
+            J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
+            dx = jnp.linalg.solve(J, r)
+            if limit is not None:
+                dx = limit(x, dx)
+            x = x - dx
+            step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
+            return x, step, it + 1
+
+        def cond(state):
+            _, step, it = state
+            return (it < max_iter) & ~(step <= tol)
+
+        x, step, it = jax.lax.while_loop(cond, body, (x, jnp.asarray(jnp.inf), 0))
+        return x, (step, it.astype(jnp.float64))   # float aux: custom_root differentiates through it
+
+    def tangent_solve(g, y):
+        return jnp.linalg.solve(jax.jacfwd(g)(y), y)
+
+    return jax.lax.custom_root(residual, x0, solve, tangent_solve, has_aux=True)

@@ -1,0 +1,157 @@
+"""A rotor's static equilibrium in its nonlinear bearings at a running speed, and
+the linear equations about it.
+
+A journal bearing carries the rotor by where the journal sits in it: at a speed
+`speed` the shaft coordinates `q*` solve
+
+    R(q) = F_static + sum_k f_k(q, q' = 0, speed) - (K + speed K_s) q = 0,
+
+`f_k` the forces of the components that act at rest (fluid films, cubic and
+clearance bearings: `in_equilibrium`), by Newton on the whole finite-element rotor
+(`rotorjax._newton`, differentiable by the implicit function theorem). A step is
+shortened so that no film's journal moves more than half its way to the wall. The
+linearisation there, by autodiff of the same forces, `K_f = -df/dq`, `C_f =
+-df/dq'`, added to the shaft's, is the rotor's linear equations at that speed
+(`RotorScene.linear_matrices`): every linear analysis (modes, Campbell, Hopf
+points, unbalance response) of a rotor on fluid films goes through it.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._newton import newton
+from ._contract import LinearMatrices
+from ._rotor_component import ShaftState
+from ._validate import InputError, is_concrete
+
+#: relative residual `|R| / (|F_static| + |K q|)` below which the equilibrium counts as found
+RESIDUAL_TOL = 1e-8
+
+
+class Equilibrium(eqx.Module):
+    """The static equilibrium at `speed` (rad/s): the shaft coordinates `q`, the
+    relative residual, Newton's iterations and whether it `converged` (residual
+    below `RESIDUAL_TOL`, every film's journal inside its clearance)."""
+
+    q: jax.Array
+    speed: jax.Array
+    residual: jax.Array
+    iterations: jax.Array
+    converged: jax.Array
+
+
+def films(scene):
+    """The scene's fluid films (journal bearings, squeeze-film dampers)."""
+    from ._fluid_film import _Film  # noqa: PLC0415
+
+    return tuple(c for c in scene.components if isinstance(c, _Film))
+
+
+def has_films(scene) -> bool:
+    return bool(films(scene))
+
+
+def _state(scene, q, qd, speed):
+    z = jnp.zeros(())
+    return ShaftState(t=z, theta=z, theta_dot=jnp.asarray(speed, dtype=jnp.float64) + z, theta_ddot=z,
+                      q=q, qd=qd, E=scene.E)
+
+
+def equilibrium_force(scene, q, qd, speed):
+    """The generalised force of the components that act at rest, at shaft
+    coordinates `q`, velocities `qd` and `speed`."""
+    s = _state(scene, q, qd, speed)
+    out = jnp.zeros(scene.n_shaft)
+    for c in scene.components:
+        if c.in_equilibrium:
+            f = c.force(s, None, None)
+            out = out + scene._node_rows(f.node).T @ f.f
+    return out
+
+
+def _check(scene, speed):
+    """Refuse what has no static equilibrium to find (concrete scenes)."""
+    if any(c.n_coords for c in scene.components):
+        raise InputError("static equilibrium: components with coordinates of their own (an auto-balancer's "
+                         "weights) are not part of it; build the rotor without them")
+    loose = [c for c in films(scene) if not c.centred]
+    if loose:   # a damper without a centring spring carries no static load: is the rest enough?
+        zero = jnp.zeros(scene.n_shaft)
+        J = jax.jacfwd(lambda q: equilibrium_force(scene, q, zero, speed))(zero) - scene._linear_about_rest(speed).K
+        if not np.linalg.cond(np.asarray(J)) < 1e13:
+            raise InputError(f"static equilibrium: the {loose[0].label} has no centring spring (kxx, kyy) and "
+                             f"nothing else holds the rotor there: its film carries no static load, so the static "
+                             f"problem is singular; give kxx and kyy")
+
+
+def _limit(scene, q):
+    """A Newton step shortened so that no journal moves more than half its way to the wall."""
+    fl = films(scene)
+    if not fl:
+        return None
+
+    def limit(x, dx):
+        alpha = jnp.ones(())
+        for c in fl:
+            rows = scene._node_rows(c.node)
+            u, du = rows @ x, rows @ dx
+            r, dr = jnp.sqrt(u @ u), jnp.sqrt(du @ du)
+            room = 0.5 * (c.clearance - r)
+            alpha = jnp.minimum(alpha, jnp.where(dr > room, room / jnp.maximum(dr, 1e-300), 1.0))
+        return jnp.maximum(alpha, 0.0) * dx
+
+    return limit
+
+
+def static_equilibrium(scene, speed, guess=None, tol=1e-12, max_iter=200) -> Equilibrium:
+    """The static equilibrium of a `RotorScene` at `speed` (rad/s) from `guess` (its
+    shaft coordinates; default the straight shaft). Traceable and differentiable in
+    the scene's parameters and the speed (one compiled program per rotor layout);
+    check `converged`."""
+    speed = jnp.asarray(speed, dtype=jnp.float64)
+    if is_concrete((scene.M, speed)):
+        _check(scene, speed)
+    q0 = jnp.zeros(scene.n_shaft) if guess is None else jnp.asarray(guess, dtype=jnp.float64)
+    return _solve(scene, speed, q0, tol, max_iter)
+
+
+@eqx.filter_jit
+def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
+    K = scene._linear_about_rest(speed).K
+    zero = jnp.zeros(scene.n_shaft)
+
+    def residual(q):
+        return scene.F0 + equilibrium_force(scene, q, zero, speed) - K @ q
+
+    q, (_, it) = newton(residual, q0, tol, max_iter, limit=_limit(scene, q0))
+    r = residual(q)
+    scale = jnp.linalg.norm(scene.F0) + jnp.linalg.norm(K @ q) + jnp.finfo(jnp.float64).tiny
+    rel = jnp.linalg.norm(r) / scale
+    inside = jnp.ones((), dtype=bool)
+    s = _state(scene, q, zero, speed)
+    for c in films(scene):
+        inside = inside & (c.eccentricity(s) < 1.0)
+    ok = jnp.isfinite(rel) & (rel < RESIDUAL_TOL) & inside
+    return Equilibrium(q=q, speed=speed, residual=rel, iterations=it, converged=ok)
+
+
+def equilibrium_matrices(scene, speed) -> LinearMatrices:
+    """The linear equations about the static equilibrium at `speed` (NaN where it is
+    not found)."""
+    speed = jnp.asarray(speed, dtype=jnp.float64)
+    if is_concrete((scene.M, speed)):
+        _check(scene, speed)
+    return _matrices(scene, speed)
+
+
+@eqx.filter_jit
+def _matrices(scene, speed) -> LinearMatrices:
+    eq = _solve(scene, speed, jnp.zeros(scene.n_shaft), 1e-12, 200)
+    lin = scene._linear_about_rest(speed)
+    zero = jnp.zeros(scene.n_shaft)
+    kf = -jax.jacfwd(lambda q: equilibrium_force(scene, q, zero, speed))(eq.q)
+    cf = -jax.jacfwd(lambda v: equilibrium_force(scene, eq.q, v, speed))(zero)
+    bad = jnp.where(eq.converged, 0.0, jnp.nan)
+    return LinearMatrices(M=lin.M, C=lin.C + cf + bad, G=lin.G, K=lin.K + kf + bad)
