@@ -86,6 +86,56 @@ def _balance_check(out):
     assert got == [(m0, a0), (m1, a1)]
 
 
+def _journal_rig():
+    import tomllib
+
+    from rotorjax.models._rotor_file import shipped_rotor
+
+    with open(shipped_rotor("journal_rig"), "rb") as f:
+        return tomllib.load(f)
+
+
+def _film_static_check(out, printed, argv):
+    """The journal rig is symmetric: each journal carries half the weight (shaft and
+    disks, from the file's masses); Ocvirk's load equation, solved here by brentq,
+    gives the eccentricity at that load."""
+    from scipy.optimize import brentq
+
+    rotor = _journal_rig()
+    steel = rotor["material"][0]
+    mass = sum(steel["rho"] * np.pi / 4 * e["od"] ** 2 * e["L"] for e in rotor["shaft"])
+    mass += sum(d["m"] for d in rotor["disk"])
+    b = rotor["bearing"][0]
+    w, speed = 9.81 * mass / 2, out["speed"]
+    ss = b["viscosity"] * speed * b["diameter"] * b["length"] ** 3 / (8 * b["clearance"] ** 2 * w)
+    eps = brentq(lambda e: ss * e * np.sqrt(np.pi ** 2 * (1 - e * e) + 16 * e * e) / (1 - e * e) ** 2 - 1, 1e-9,
+                 1 - 1e-12, xtol=1e-15)
+    stated_eps, stated_speed = stated(r"sits at eccentricity ([\d.]+) at ([\d.]+) rad/s")
+    assert speed == stated_speed
+    for row in out["bearings"]:
+        assert row["load"] == pytest.approx(w, rel=1e-9)
+        assert row["eccentricity"] == pytest.approx(eps, rel=1e-9)
+        assert round(row["eccentricity"], 4) == stated_eps
+
+
+def _film_hopf_check(out):
+    """The onset as the README states it, and the equilibrium's largest real part
+    changing sign across it (numpy's eigenvalues of the state matrix)."""
+    from rotorjax.models import load_rotor
+    from rotorjax.models._rotor_file import shipped_rotor
+
+    onset, whirl, ratio = stated(r"loses stability at ([\d.]+) rad/s, whirling forward at ([\d.]+) rad/s "
+                                 r"\(ratio ([\d.]+)\)")
+    h = out["hopf_points"][0]
+    assert len(out["hopf_points"]) == 1 and h["whirl"] == "forward"
+    assert (round(h["speed"], 2), round(h["frequency"], 2), round(h["whirl_frequency_ratio"], 3)) == (
+        onset, whirl, ratio)
+    scene = load_rotor(shipped_rotor("journal_rig"))
+    margin = [np.max(np.linalg.eigvals(np.asarray(scene.linear_matrices(f * h["speed"]).state_matrix())).real)
+              for f in (0.999, 1.001)]
+    assert margin[0] < 0 < margin[1]
+
+
 #: README command -> a check of its JSON output (the command is run with `--json`)
 #: against the numbers the README states for it
 CLAIMS = {
@@ -94,6 +144,7 @@ CLAIMS = {
     "rotorjax critical-speeds ross-compare --range 10 1000": _ross_critical_check,
     "rotorjax critical-speeds rotorjax/rotors/ross_compare.toml --range 10 1000": _ross_critical_check,
     "rotorjax balance --json": _balance_check,
+    "rotorjax hopf journal_rig.toml --range 100 400": _film_hopf_check,
 }
 
 
@@ -403,6 +454,7 @@ OUTPUTS = {
     "rotorjax frf ross-compare --input 2,x --output 4,y --range 10 1200": _frf_check,
     "rotorjax modes rotorjax/rotors/tapered_two_material.toml --speed 400": _modes_check,
     "rotorjax static rotorjax/rotors/tapered_two_material.toml": _static_check,
+    "rotorjax static journal_rig.toml": _film_static_check,
     "rotorjax campbell ross-compare --range 0 1000": _campbell_undamped_check,
     "rotorjax campbell rotorjax/rotors/ross_compare.toml --range 0 1000": _campbell_undamped_check,
     "rotorjax campbell rotorjax/rotors/tapered_two_material.toml --range 0 1000": _campbell_tapered_check,

@@ -27,6 +27,13 @@ def _regimes(setup, preset):
                                                       and len(scene.weight_coordinates()[0]) > 0)
 
 
+def _traceable(setup, preset):
+    """A reference motion whose margin is a traceable function of the parameters: a
+    preset's (a rotor file is read from text: its reference, a rotor's equilibrium on
+    fluid films, serves `hopf` at its own parameters)."""
+    return setup.reference is not None and preset.kind != "rotor"
+
+
 def _critical(setup, preset):
     from ..models import ModalBalancerRotor
 
@@ -54,8 +61,8 @@ COMMAND_NEEDS = {
     "campbell": ("a finite-element rotor", _fe),
     "response": ("a finite-element rotor", _fe),
     "critical-speeds": ("a reference motion or a finite-element rotor", _critical),
-    "stability-map": ("a reference motion", lambda s, p: s.reference is not None),
-    "continue": ("a reference motion", lambda s, p: s.reference is not None),
+    "stability-map": ("a reference motion traceable in its parameters (a preset)", lambda s, p: _traceable(s, p)),
+    "continue": ("a reference motion traceable in its parameters (a preset)", lambda s, p: _traceable(s, p)),
     "hopf": ("straight-line rotation with linear equations", _hopf),
     "bifurcation": ("contacts and sweepable parameters", lambda s, p: s.scene.n_contacts > 0 and bool(p.sweepable)),
     "static": ("a finite-element rotor", _fe),
@@ -361,7 +368,7 @@ def stability_study(preset, params, setup=None):
 
     setup = build(preset, params) if setup is None else setup
     ref = setup.reference
-    if ref is None:
+    if not _traceable(setup, preset):
         return None
 
     def at(p):

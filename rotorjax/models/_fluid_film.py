@@ -75,11 +75,13 @@ SHORT_MAX, SHORT_WARN = 1.0, 0.5
 N_LONG = 720
 
 
-def _safe_unit(px, py, shift):
-    """`(|p'|, p' / |p'|)` of `p' = p + (shift, 0)`: the journal's position moved by a
-    negligible `shift` (1e-12 c), so that its centred position has a direction and
-    finite derivatives (the film's cross-coupling there, a damper's damping)."""
-    px = px + shift
+def _safe_unit(px, py, s0):
+    """`(|p'|, p' / |p'|)` of `p' = p + (s, 0)`, `s = s0^3 / (s0^2 + |p|^2)`: the
+    journal moved by at most `s0` (1e-9 c) near the centre, so that its centred
+    position has a direction and the right derivatives (the film's cross-coupling
+    there, a damper's damping; `ds/dp = 0` at the centre), and by `s0^3 / |p|^2`
+    elsewhere (1e-25 c at eps = 0.1: nothing)."""
+    px = px + s0 ** 3 / (s0 * s0 + px * px + py * py)
     r = jnp.sqrt(px * px + py * py)
     return r, px / r, py / r
 
@@ -171,7 +173,7 @@ def film_force(u, v, speed, viscosity, length, diameter, clearance, model="short
     at `speed` (rad/s). `model`: "short" (pi-film), "short-2pi" (uncavitated),
     "finite", "long" (module docstring). NaN where `|u| >= clearance`."""
     radius = 0.5 * diameter
-    e, cr, sr = _safe_unit(u[0], u[1], 1e-12 * clearance)
+    e, cr, sr = _safe_unit(u[0], u[1], 1e-9 * clearance)
     eps = e / clearance
     v_r = cr * v[0] + sr * v[1]
     v_t = -sr * v[0] + cr * v[1]

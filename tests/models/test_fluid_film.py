@@ -111,9 +111,9 @@ def test_squeeze_film_damper_on_a_circular_centred_orbit(eps):
     pi = np.asarray(_force(u, v, 0.0, MU, L, D, C))
     full = np.asarray(_force(u, v, 0.0, MU, L, D, C, model="short-2pi"))
     np.testing.assert_allclose(pi, [-k * 2 * eps ** 2 * whirl / (1 - eps ** 2) ** 2,
-                                    -k * math.pi * eps * whirl / (2 * (1 - eps ** 2) ** 1.5)], rtol=1e-10)
-    np.testing.assert_allclose(full, [0.0, -k * math.pi * eps * whirl / (1 - eps ** 2) ** 1.5], rtol=1e-10,
-                               atol=1e-10 * abs(full[1]))
+                                    -k * math.pi * eps * whirl / (2 * (1 - eps ** 2) ** 1.5)], rtol=1e-12)
+    np.testing.assert_allclose(full, [0.0, -k * math.pi * eps * whirl / (1 - eps ** 2) ** 1.5], rtol=1e-12,
+                               atol=1e-12 * abs(full[1]))
 
 
 @pytest.mark.parametrize("seed", range(4))
