@@ -89,6 +89,11 @@ class AbstractScene(eqx.Module):
         """Number of contacts (`AbstractContactScene`); none here."""
         return 0
 
+    def check_state(self, y) -> None:
+        """Refuse (`InputError`) a concrete state outside the scene's domain (a journal
+        outside its clearance); every state is in it here."""
+        return None
+
     def weight_coordinates(self):
         """`(indices, identical)`: the positions in `q` of coordinates that are
         angles of balancing weights (periodic, 2 pi), and whether the weights are

@@ -28,12 +28,12 @@ from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinea
 from ._fe_reduction import ReducedRotor
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._base import Kinematics
-from ._equilibrium import equilibrium_matrices, has_films
+from ._equilibrium import equilibrium_matrices, films, has_films
 from ._lagrange import lagrange_terms
 from ._rotation import to_fixed_pair, to_rotating_pair
 from ._rotor_component import AbstractRotorComponent, NodeLoad, ShaftState
 from ._speed import AbstractSpeedProfile, ConstantSpeed
-from ._validate import InputError, as_components
+from ._validate import InputError, as_components, show
 
 
 def _coords(rotor, a_full):
@@ -328,6 +328,17 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         ns = self.n_shaft
         q, qd = self.split(y)
         return 0.5 * qd[:ns] @ (self.M @ qd[:ns]) + 0.5 * q[:ns] @ (self._Ksym() @ q[:ns])
+
+    def check_state(self, y) -> None:
+        """Refuse a state with a fluid film's journal at or beyond its wall."""
+        q, qd = self.split(jnp.asarray(y))
+        s = self.shaft_state(0.0, q, qd)
+        for c in films(self):
+            eps = float(c.eccentricity(s))
+            if not eps < 1.0:
+                raise InputError(f"y0: the {c.label} starts at eccentricity {eps:.4g} (its journal at "
+                                 f"{show(s.position(c.node))} m, clearance {show(c.clearance)} m): a journal must "
+                                 f"start inside its clearance (eccentricity < 1)")
 
     def contact_indicator(self, t, y):
         q, qd = self.split(y)

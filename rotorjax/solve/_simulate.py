@@ -44,6 +44,8 @@ def _check_inputs(scene, y0, t0, t1, rtol, atol, max_steps):
     if is_concrete(y0) and not np.all(np.isfinite(np.asarray(y0))):
         bad = int(np.flatnonzero(~np.isfinite(np.asarray(y0)))[0])
         raise InputError(f"y0 must be finite, got {float(np.asarray(y0)[bad])} at index {bad}")
+    if is_concrete(y0):
+        scene.check_state(y0)
     for name, v in (("t_span[0]", t0), ("t_span[1]", t1)):
         if is_concrete(v):
             as_numpy(name, v, shape=())

@@ -174,3 +174,35 @@ def test_a_long_short_bearing_is_warned_about():
 
     with pytest.warns(PlausibilityWarning, match="L/D = 0.8"):
         JournalBearing(0, 0.02, 0.08, 0.1, 1e-4)
+
+
+# Raimondi & Boyd (1958), ASLE Trans. 1(1) 194-209, the full bearing at L/D = 1: eps,
+# Sommerfeld number S, attitude angle (deg) (as in tests/models/test_journal_bearing.py)
+RAIMONDI_BOYD_LD1 = [(0.1, 1.33, 79.5), (0.4, 0.264, 63.10), (0.6, 0.121, 50.58), (0.8, 0.0446, 36.24),
+                     (0.9, 0.0188, 26.45)]
+
+
+@pytest.mark.parametrize("eps, S, phi", RAIMONDI_BOYD_LD1)
+def test_finite_force_against_raimondi_and_boyd(eps, S, phi):
+    """The finite-length force (the Swift-Stieber film, free to start upstream of the
+    widest gap: the project's solver, whose own comparison with this table is S
+    within 2.5 % and the attitude above theirs by < 4.5 deg at light load, < 1.6 deg
+    from eps = 0.6) at Raimondi and Boyd's load capacity."""
+    w, length = 300.0, D   # L/D = 1
+    f = np.asarray(_force(jnp.array([eps * C, 0.0]), jnp.zeros(2), w, MU, length, D, C, model="finite"))
+    s = MU * (w / (2 * np.pi)) * length * D * (R / C) ** 2 / np.hypot(*f)
+    att = np.degrees(np.pi - np.arctan2(f[1], f[0]))
+    assert abs(s / S - 1) < 0.025
+    assert 0.0 <= att - phi + 0.1 < (4.5 if eps < 0.6 else 1.6)
+
+
+def test_a_journal_outside_its_clearance_cannot_start_a_run():
+    from rotorjax import simulate
+    from rotorjax.models import FlexibleRotor, RotorScene
+
+    rotor = FlexibleRotor([0.1], 0.05, 0.0, E=2.1e11, rho=7800.0, nu=0.3)
+    scene = RotorScene(rotor, 300.0, (JournalBearing(0, MU, 0.02, 0.05, 5e-5),
+                                      JournalBearing(1, MU, 0.02, 0.05, 5e-5)))
+    y0 = scene.rest_state().at[1].set(-6e-5)
+    with pytest.raises(InputError, match="y0: the short journal bearing at node 0 starts at eccentricity 1.2"):
+        simulate(scene, y0, (0.0, 1e-3))
