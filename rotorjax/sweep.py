@@ -181,21 +181,26 @@ def _vmapped_cached(fn, simulated):
 
 
 def _simulated(fn):
-    """`fn`, with an `IVP` it returns integrated by `simulate` (the lock-step path)."""
-    def one(point):
-        out = fn(point)
-        if isinstance(out, IVP):
-            from .solve import simulate
+    """`fn`, with an `IVP` it returns integrated by `simulate` (the lock-step path). A
+    `Partial` rather than a closure: for an `fn` that holds arrays (an `eqx.Partial`,
+    which `_vmapped` cannot cache), equal structures then share one compilation, the
+    arrays being the program's inputs."""
+    return eqx.Partial(_simulated_point, fn)
 
-            if out.events:
-                from .solve import simulate_events
 
-                return simulate_events(out.scene, out.y0, out.t_span, saveat=out.saveat or 2, solver=out.solver,
-                                       rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
-            return simulate(out.scene, out.y0, out.t_span, saveat=out.saveat, solver=out.solver,
-                            rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
-        return out
-    return one
+def _simulated_point(fn, point):
+    out = fn(point)
+    if isinstance(out, IVP):
+        from .solve import simulate
+
+        if out.events:
+            from .solve import simulate_events
+
+            return simulate_events(out.scene, out.y0, out.t_span, saveat=out.saveat or 2, solver=out.solver,
+                                   rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
+        return simulate(out.scene, out.y0, out.t_span, saveat=out.saveat, solver=out.solver,
+                        rtol=out.rtol, atol=out.atol, max_steps=out.max_steps)
+    return out
 
 
 def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):

@@ -1,3 +1,4 @@
+import collections
 import os
 import tempfile
 
@@ -29,15 +30,57 @@ def _free_compiled_programs():
     jax.clear_caches()
 
 
-#: the longest test files (a few minutes each on the 2-core CI machine), started first: pytest-xdist
-#: (`--dist loadfile`) hands files to its workers in collection order, so a long file collected last
-#: would keep one worker busy alone at the end
-LONGEST_FIRST = ("test_benchmark_smoke.py", "test_cli.py", "test_readme.py", "test_notebooks.py")
+#: the longest test files, longest first (seconds on the 2-core CI machine, 2 workers, 2026-11-25: the sums of
+#: their tests' durations; ">=" where only their slowest tests were measured, "~" scaled from a run on a loaded
+#: machine), started first, so that no long file starts last and keeps one worker busy alone at the end. A new
+#: file of more than about 20 s joins the list. The other files follow, those with more tests first (pytest-xdist's
+#: own order).
+LONGEST_FIRST = (
+    "test_benchmark_smoke.py",                 # 294 (every benchmark's --smoke run, one subprocess)
+    "test_cli.py",                             # >= 108
+    "test_readme.py",                          # ~ 110
+    "test_notebooks.py",                       # 105 (three subprocesses)
+    "analysis/test_continuation.py",           # >= 57
+    "analysis/test_floquet.py",                # >= 51
+    "solve/test_batch.py",                     # >= 50
+    "validation/test_model004_whirl_cycle.py",  # >= 46
+    "models/test_fe_building.py",              # ~ 48
+    "validation/test_ross_suite.py",           # ~ 46
+    "test_right_or_refused.py",                # >= 43
+    "models/test_composition_cubic.py",        # >= 37
+    "identify/test_fe_identify.py",            # >= 28
+    "analysis/test_harmonic_balance.py",       # >= 23
+    "validation/test_model_004.py",            # >= 22
+    "identify/test_coverage.py",               # >= 22
+    "validation/test_model_003_balancer.py",   # >= 22
+    "test_distributed.py",                     # >= 18
+    "identify/test_fe_cli.py",                 # >= 18
+    "validation/test_model001_neimark_sacker.py",  # >= 17
+    "test_bench.py",                           # >= 17
+    "test_cli_periodic.py",                    # >= 16
+    "test_cli_errors.py",                      # ~ 15
+)
+
+
+def pytest_configure(config):
+    # pytest-xdist (--dist loadfile) hands the files out in the order of their numbers of tests unless told
+    # not to (--loadscope-reorder, its default): the order below would be lost, and a long file with few tests
+    # (the notebooks: 3 tests, 105 s) started near the end
+    if getattr(config.option, "loadscopereorder", False):
+        config.option.loadscopereorder = False
 
 
 def pytest_collection_modifyitems(config, items):
+    here = os.path.dirname(os.path.abspath(__file__))
     rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(LONGEST_FIRST)))  # stable: the rest keep their order
+    files = {item: os.path.relpath(str(item.path), here).replace(os.sep, "/") for item in items}
+    count = collections.Counter(files.values())
+
+    def key(item):
+        f = files[item]
+        return (rank[f], 0) if f in rank else (len(LONGEST_FIRST), -count[f])
+
+    items.sort(key=key)  # stable: a file's tests keep their order
 
 
 # --- ROSS, live: the reference scripts (tests/**/ross_*reference.py) run in the interpreter that has it --

@@ -58,7 +58,9 @@ def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 2
         chunk_size = max(1, min(chunk_size, -(-n_scan // 8)))
 
     def scan(speeds):
-        return sweep(lambda p: margin(p["speed"]), {"speed": speeds}, chunk_size=chunk_size,
+        # a Partial, not a fresh lambda: another call with the same margin (or an `eqx.Partial` of the same
+        # function, its arrays other values) finds the vmapped scan compiled
+        return sweep(eqx.Partial(_at_speed, margin), {"speed": speeds}, chunk_size=chunk_size,
                      progress=progress).values
 
     one = eqx.filter_jit(margin)
@@ -67,6 +69,10 @@ def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 2
     out = [StabilityThreshold(speed=r.x, stable_side="above" if r.values[1] < 0 else "below", slope=r.slope,
                          bracket=r.bracket) for r in roots]
     return (out, found_scan) if return_scan else out
+
+
+def _at_speed(margin, point):
+    return margin(point["speed"])
 
 
 def threshold_gradient(margin2: Callable, speed: float, param: float) -> float:
