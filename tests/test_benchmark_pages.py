@@ -9,9 +9,9 @@ from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification", "fe_identification",
-         "harmonic_balance", "bench_quick")
+         "harmonic_balance", "journal_bearings", "bench_quick")
 PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars",
-        "fe_identification_bars", "harmonic_balance_wp", "bench_quick")
+        "fe_identification_bars", "harmonic_balance_wp", "journal_bearings_wp", "bench_quick")
 
 
 def test_page_and_diagrams_from_the_json(tmp_path):

@@ -5,13 +5,14 @@ self-excited whirl from internal friction)."""
 import dataclasses
 from typing import Callable
 
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError
 from ..models._contract import AbstractScene, require
 from ._critical import stability_thresholds
-from ._roots import root_gradient
 
 
 @dataclasses.dataclass(frozen=True)
@@ -29,8 +30,18 @@ class HopfPoint:
         return dataclasses.asdict(self)
 
 
+def _margin_at(state_matrix, s):
+    return jnp.max(jnp.real(jnp.linalg.eigvals(state_matrix(s))))
+
+
+def _scene_state_matrix(scene, s):
+    return scene.linear_matrices(s).state_matrix()
+
+
 def _margin(state_matrix):
-    return lambda s: jnp.max(jnp.real(jnp.linalg.eigvals(state_matrix(s))))
+    # Partials, not closures: another scene of the same structure (other stiffness, viscosity, ...)
+    # finds the scan compiled, its arrays the program's inputs
+    return eqx.Partial(_margin_at, state_matrix)
 
 
 def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
@@ -43,7 +54,7 @@ def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
     if isinstance(state_matrix, AbstractScene):
         scene = state_matrix
         require(scene, "linear_matrices", "hopf_points")
-        state_matrix = lambda s: scene.linear_matrices(s).state_matrix()  # noqa: E731
+        state_matrix = eqx.Partial(_scene_state_matrix, scene)
     margin = _margin(state_matrix)
     out = []
     found, scan = stability_thresholds(margin, lo, hi, n_scan=n_scan, xtol=xtol, chunk_size=8, return_scan=True,
@@ -60,12 +71,25 @@ def hopf_points(state_matrix: Callable, lo: float, hi: float, n_scan: int = 80,
 
 def hopf_speed_gradient(state_matrix2: Callable, speed: float, param: float) -> float:
     """`d(Hopf speed)/d(param)` by the implicit function theorem on
-    `max Re lambda(A(speed, param)) = 0` (autodiff through the eigenvalues;
-    `rotorjax.analysis.root_gradient`)."""
-    def m(s, p):
-        return jnp.max(jnp.real(jnp.linalg.eigvals(state_matrix2(s, p))))
+    `max Re lambda(A(speed, param)) = 0`: `-Re(dlambda/dparam) / Re(dlambda/dspeed)`,
+    each eigenvalue derivative `w^H (dA) v / (w^H v)` from the crossing eigenvalue's
+    left and right eigenvectors `w`, `v` and the derivatives of `A` by forward-mode
+    autodiff (through whatever `A` is built from: an equilibrium found by Newton, a
+    table's spline)."""
+    from scipy.linalg import eig
 
-    return float(root_gradient(m, speed, param))
+    s, p = jnp.float64(speed), jnp.float64(param)
+    one = jnp.ones((), dtype=jnp.float64)
+    A, dA_ds = jax.jvp(lambda x: state_matrix2(x, p), (s,), (one,))
+    dA_dp = jax.jvp(lambda q: state_matrix2(s, q), (p,), (one,))[1]
+    lam, w, v = eig(np.asarray(A), left=True, right=True)
+    k = int(np.argmax(lam.real))
+    wk, vk = w[:, k], v[:, k]
+
+    def d(dA):
+        return (wk.conj() @ np.asarray(dA) @ vk) / (wk.conj() @ vk)
+
+    return float(-np.real(d(dA_dp)) / np.real(d(dA_ds)))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -128,8 +152,7 @@ def reference_hopf_points(reference, lo: float, hi: float, n_scan: int = 80, sen
                          f"{reference.label} is a {type(reference).__name__}")
     scene = reference.scene
 
-    def a(s):
-        return scene.linear_matrices(s).state_matrix()
+    a = eqx.Partial(_scene_state_matrix, scene)
 
     points, (speeds, margins) = hopf_points(a, lo, hi, n_scan=n_scan, return_scan=True, progress=progress)
     whirl = []
