@@ -47,6 +47,9 @@ LONGEST_FIRST = (
     "models/test_fe_building.py",              # ~ 48
     "validation/test_ross_suite.py",           # ~ 46
     "test_right_or_refused.py",                # >= 43
+    "validation/test_oil_whip.py",             # ~ 55
+    "models/test_film_rotor.py",               # ~ 45
+    "validation/test_oil_whirl_onset.py",      # ~ 40
     "models/test_composition_cubic.py",        # >= 37
     "identify/test_fe_identify.py",            # >= 28
     "analysis/test_harmonic_balance.py",       # >= 23
