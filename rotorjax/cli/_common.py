@@ -393,9 +393,15 @@ def margin_gradient_of(ref) -> str:
 
 def speed_warnings(system, lo, hi=None):
     """Plausibility warnings for the speeds an analysis uses (`lo` to `hi`, rad/s): a
-    speed-tabulated bearing used outside its table (`rotorjax.models.check_speeds`)."""
-    from ..models import check_speeds
+    speed-tabulated bearing used outside its table (`rotorjax.models.check_speeds`);
+    and the refusal of speeds <= 0 on journal bearings (no equilibrium to linearise
+    about: the film carries its load only while the shaft spins)."""
+    from ..models import RotorScene, check_speeds
+    from ..models._equilibrium import films
 
+    if isinstance(system, RotorScene) and not lo > 0 and any(c.spins for c in films(system)):
+        raise InputError(f"speed {lo:g} rad/s: a rotor on journal bearings has linear equations only while it "
+                         f"spins (its equilibrium in the films needs a speed > 0); start the speeds above 0")
     return check_speeds(system, [lo] if hi is None else [lo, hi])
 
 

@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._errors import NumericalError
 from .._newton import newton
 from ._contract import LinearMatrices
 from ._rotor_component import ShaftState
@@ -138,17 +139,23 @@ def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
 
 
 def equilibrium_matrices(scene, speed) -> LinearMatrices:
-    """The linear equations about the static equilibrium at `speed` (NaN where it is
-    not found)."""
+    """The linear equations about the static equilibrium at `speed`: NaN where it is
+    not found when traced (a scan over speeds), an error when concrete (a journal at
+    a speed <= 0: `InputError`; no equilibrium: `NumericalError`)."""
     speed = jnp.asarray(speed, dtype=jnp.float64)
-    if is_concrete((scene.M, speed)):
-        _check(scene, speed)
-    return _matrices(scene, speed)
+    if is_concrete(speed) and not float(speed) > 0 and any(c.spins for c in films(scene)):
+        raise InputError(f"the rotor's linear equations at {float(speed):g} rad/s: a journal bearing carries its "
+                         f"load only while the shaft spins (its equilibrium and coefficients need a speed > 0)")
+    eq = static_equilibrium(scene, speed)
+    if is_concrete(eq.converged) and not bool(eq.converged):
+        raise NumericalError(f"the rotor's linear equations at {float(speed):g} rad/s: its static equilibrium in "
+                             f"the fluid films was not found (relative residual {float(eq.residual):.2e} after "
+                             f"{int(eq.iterations)} Newton steps; a journal may be pressed against its wall)")
+    return _matrices(scene, speed, eq)
 
 
 @eqx.filter_jit
-def _matrices(scene, speed) -> LinearMatrices:
-    eq = _solve(scene, speed, jnp.zeros(scene.n_shaft), 1e-12, 200)
+def _matrices(scene, speed, eq) -> LinearMatrices:
     lin = scene._linear_about_rest(speed)
     zero = jnp.zeros(scene.n_shaft)
     kf = -jax.jacfwd(lambda q: equilibrium_force(scene, q, zero, speed))(eq.q)

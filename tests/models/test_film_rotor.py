@@ -237,6 +237,8 @@ def test_cli_run_into_the_wall_fails_naming_the_bearing(files, tmp_path, capsys)
     (["static", "{journal}", "--set", "speed=0"], "a journal bearing carries its load only while the shaft spins"),
     (["static", "{journal}", "--set", "bearing0.clearance=0.03"], "bearing[0].clearance must be < diameter / 2"),
     (["static", "{journal}", "--set", "bearing1.viscosity=-1"], "bearing1.viscosity"),
+    (["modes", "{journal}", "--speed", "0"], "the rotor's linear equations at 0 rad/s: a journal bearing carries"),
+    (["campbell", "{journal}", "--range", "0", "300"], "speed 0 rad/s: a rotor on journal bearings has linear"),
 ])
 def test_cli_bad_input_on_film_rotors(files, tmp_path, capsys, argv, words):
     _, journal = files
