@@ -10,14 +10,18 @@ jax.config.update("jax_numpy_rank_promotion", "raise")
 
 # One compilation cache for the subprocesses of the run (the notebooks, the benchmarks' smoke runs): the
 # same computations are compiled by many of them. Fresh per run, so a test never sees a compilation from
-# an older tree. The test workers keep their compilations in memory only (and the CLI commands they call
-# in-process, `ROTORJAX_NO_COMPILATION_CACHE`): a worker's memory mappings are the limit that matters
-# (`_free_compiled_programs` below), and writing thousands of small programs to disk buys little there.
+# an older tree. The CLI commands the workers call in-process do not set up their own
+# (`ROTORJAX_NO_COMPILATION_CACHE`).
 _CACHE = os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", tempfile.mkdtemp(prefix="rotorjax-jax-cache-"))
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0")
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "0")
 os.environ["ROTORJAX_NO_COMPILATION_CACHE"] = "1"
-jax.config.update("jax_compilation_cache_dir", None)
+# The workers share that cache for the programs that take a second or more to compile (a few hundred: the
+# same Floquet, continuation and FE programs recur across files, and each file's programs are freed after
+# it, `_free_compiled_programs`), not for the thousands of small ones
+jax.config.update("jax_compilation_cache_dir", _CACHE)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 1.0)
+jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
 
 @pytest.fixture(autouse=True, scope="module")
