@@ -87,7 +87,7 @@ def _check(scene, speed):
                              f"problem is singular; give kxx and kyy")
 
 
-def _limit(scene, q):
+def _limit(scene):
     """A Newton step shortened so that no journal moves more than half its way to the wall."""
     fl = films(scene)
     if not fl:
@@ -126,7 +126,7 @@ def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
     def residual(q):
         return scene.F0 + equilibrium_force(scene, q, zero, speed) - K @ q
 
-    q, (_, it) = newton(residual, q0, tol, max_iter, limit=_limit(scene, q0))
+    q, (_, it) = newton(residual, q0, tol, max_iter, limit=_limit(scene))
     r = residual(q)
     scale = jnp.linalg.norm(scene.F0) + jnp.linalg.norm(K @ q) + jnp.finfo(jnp.float64).tiny
     rel = jnp.linalg.norm(r) / scale
