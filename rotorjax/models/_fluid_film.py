@@ -60,7 +60,7 @@ import jax.numpy as jnp
 
 from .._errors import PlausibilityWarning
 from ._fe_rotor import DOFS_PER_NODE
-from ._rotor_component import AbstractRotorComponent, node_index
+from ._rotor_component import AbstractBearingAt, node_index
 from ._validate import InputError, as_param, check_choice, is_concrete, show
 
 __all__ = ["JOURNAL_MODELS", "SFD_FILMS", "JournalBearing", "SqueezeFilmDamper", "film_force"]
@@ -200,7 +200,7 @@ def _film_geometry(owner, viscosity, length, diameter, clearance):
     return out
 
 
-class _Film(AbstractRotorComponent):
+class _Film(AbstractBearingAt):
     """What a fluid film at a node shares: its node, geometry and the state it sees."""
 
     node_index: int = eqx.field(static=True)
@@ -208,15 +208,6 @@ class _Film(AbstractRotorComponent):
     length: jax.Array
     diameter: jax.Array
     clearance: jax.Array
-
-    @property
-    def node(self):
-        return self.node_index
-
-    @property
-    def in_equilibrium(self) -> bool:
-        """Its force is part of the static equilibrium (a function of the state alone)."""
-        return True
 
     #: whether the journal spins with the shaft (a journal bearing) or only orbits (a damper)
     spins: bool = eqx.field(static=True, default=True)

@@ -5,7 +5,7 @@ import jax
 import jax.numpy as jnp
 
 from ._fe_rotor import DOFS_PER_NODE
-from ._rotor_component import AbstractRotorComponent, node_index
+from ._rotor_component import AbstractBearingAt, node_index
 from ._validate import as_param
 
 
@@ -14,7 +14,7 @@ def _radial(p):
     return r, p / r
 
 
-class CubicBearing(AbstractRotorComponent):
+class CubicBearing(AbstractBearingAt):
     """An isotropic bearing with hardening stiffness at `node`:
 
         f = -(k + k3 |u|^2) u - c u',
@@ -35,14 +35,6 @@ class CubicBearing(AbstractRotorComponent):
         self.k = as_param("k (bearing stiffness)", k, sign="nonnegative", shape=())
         self.c = as_param("c (bearing damping)", c, sign="nonnegative", shape=())
 
-    @property
-    def node(self):
-        return self.node_index
-
-    @property
-    def in_equilibrium(self) -> bool:
-        return True
-
     def linear_part(self, rotor):
         b = DOFS_PER_NODE * self.node
         z = jnp.zeros((rotor.n_dofs, rotor.n_dofs))
@@ -62,7 +54,7 @@ class CubicBearing(AbstractRotorComponent):
         return f"cubic bearing at node {self.node}"
 
 
-class ClearanceBearing(AbstractRotorComponent):
+class ClearanceBearing(AbstractBearingAt):
     """A bearing with a radial clearance (dead band) `clearance` (m) at `node`: no
     force while `|u| < clearance`, then a stiffness `k` (N/m) and damping `c`
     (N s/m) on the penetration `d = |u| - clearance`,
@@ -85,14 +77,6 @@ class ClearanceBearing(AbstractRotorComponent):
         self.c = as_param("c (bearing damping)", c, sign="nonnegative", shape=())
         smoothing = 1e-3 * self.clearance if smoothing is None else smoothing
         self.smoothing = as_param("smoothing", smoothing, sign="positive", shape=())
-
-    @property
-    def node(self):
-        return self.node_index
-
-    @property
-    def in_equilibrium(self) -> bool:
-        return True
 
     @property
     def n_contacts(self) -> int:

@@ -150,6 +150,22 @@ class AbstractRotorComponent(eqx.Module):
         return type(self).__name__
 
 
+class AbstractBearingAt(AbstractRotorComponent):
+    """A bearing-like component at one shaft node (`node_index`) whose force acts at
+    rest and is part of the static equilibrium (cubic and clearance bearings, fluid
+    films)."""
+
+    node_index: eqx.AbstractVar[int]
+
+    @property
+    def node(self):
+        return self.node_index
+
+    @property
+    def in_equilibrium(self) -> bool:
+        return True
+
+
 def node_index(node) -> int:
     """A component's node: a non-negative integer (the scene checks it exists)."""
     if isinstance(node, (bool, str, bytes)) or not is_concrete(node):
