@@ -1,6 +1,7 @@
 """`rotorjax simulate`: a preset's scene (or a rotor file's) in time."""
 
 import json
+import re
 
 import numpy as np
 
@@ -28,8 +29,9 @@ def _failure_line(summary):
     films = summary.get("last_valid_film_eccentricity")
     if films:
         name, eps = max(films.items(), key=lambda kv: kv[1])
-        kind = "journal bearing" if name.startswith("journal") else "squeeze-film damper"
-        line += (f"\n  the {kind} at node {name.lstrip('journalsfd')} ({name}) had eccentricity {eps:.4f} at t = {at:.6g}"
+        kind, node = re.fullmatch(r"(journal|sfd)(\d+)", name).groups()   # the films' output names
+        kind = "journal bearing" if kind == "journal" else "squeeze-film damper"
+        line += (f"\n  the {kind} at node {node} ({name}) had eccentricity {eps:.4f} at t = {at:.6g}"
                  + (": its journal was running into the wall (the film cannot carry the load: lower the load or "
                     "unbalance, or raise the speed, viscosity or length)" if eps > 0.9 else ""))
     return line
