@@ -383,22 +383,57 @@ def coefficients_from_samples(ys, harmonics):
 METHODS = ("harmonic-balance", "shooting")
 
 
-#: Hill's exponents within this fraction of `w / 2` of `-w / 2` are the copies of those at `+w / 2`
+#: Hill's exponents within this fraction of `w / 2` of `+-w / 2` (a negative real multiplier, or two
+#: near it) are told apart by the side their eigenvector leans to
 HALF_FREQUENCY_TOL = 1e-6
 
 
+def _harmonic_mean(vecs, n):
+    """The mean harmonic index of each eigenvector of Hill's matrix (columns of
+    `vecs`, the coefficients `(2H + 1) n` in the layout of `Y`), in the complex
+    Fourier basis (`a_k cos + b_k sin = p_k e^{ikwt} + p_-k e^{-ikwt}`, `p_+-k =
+    (a_k -+ i b_k) / 2`) weighted by `|p_k|^2`."""
+    V = vecs.reshape(-1, n, vecs.shape[-1])
+    H = (V.shape[0] - 1) // 2
+    a, b = V[1::2], V[2::2]
+    plus = jnp.sum(jnp.abs(a - 1j * b) ** 2, axis=1) / 4
+    minus = jnp.sum(jnp.abs(a + 1j * b) ** 2, axis=1) / 4
+    k = jnp.arange(1, H + 1, dtype=jnp.float64)[:, None]
+    total = jnp.sum(jnp.abs(V[0]) ** 2, axis=0) + jnp.sum(plus + minus, axis=0)
+    return jnp.sum(k * (plus - minus), axis=0) / total
+
+
 def _physical_exponents(jac, n, omega):
-    """Hill's method: of the eigenvalues of the balance's linearisation `jac` (the
-    exponents `s + i k w` of every retained harmonic `k`, and spurious ones from
-    the truncation at the highest harmonics), the `n` with the smallest `|Im s|`:
-    the representatives in `(-w/2, w/2]`, one per Floquet exponent. An exponent
-    with `Im s = w/2` (a negative real multiplier) has two such copies, `s` and
-    its conjugate at `-w/2`: the one at `-w/2` goes to the back, or a pair of
-    multipliers on the negative axis would count one of them twice."""
-    lam = jnp.linalg.eigvals(jac)
+    """Hill's method: of the eigenvalues of Hill's matrix `jac` (the balance's
+    linearisation `-dR/dY`: the copies `s + i k w` of every Floquet exponent `s`
+    for every retained harmonic shift `k`, and spurious ones from the truncation),
+    one per exponent, `n` in all, returned with `Im s` folded into `[-w/2, w/2]`
+    (the multiplier `exp(sT)` unchanged).
+
+    The copy taken is the one whose eigenvector is centred on the constant term
+    (Lazarus & Thomas 2010): an eigenvector's mean harmonic index
+    (`_harmonic_mean`) moves by `k` with the copy, so one copy of each exponent has
+    `|mean| <= 1/2`, and the truncation's spurious ones lean to the highest
+    harmonics. (The usual choice, the smallest `|Im s|`, fails once a mode's
+    frequency passes `(H + 1/2) w`, as a flexible rotor's higher modes do: their
+    copies cannot reach `|Im s| < w/2`, and copies of the low exponents take their
+    places, counted twice.) Of the centred ones the least damped are kept: a real
+    eigenvalue has a real eigenvector, mean 0, and a stiff, strongly modulated
+    damping (a journal at high eccentricity) gives more real ones than there are
+    places (spurious, or exponents so damped that they do not matter). An exponent with
+    `Im s = w/2` (a negative real multiplier) has two centred copies, `s` and `s -
+    i w` (means -1/2 and 1/2): the one leaning to positive harmonics goes to the
+    back, or a multiplier on the negative axis would count twice (two distinct
+    ones near it keep a copy each)."""
+    lam, vecs = jnp.linalg.eig(jac)
+    mean = _harmonic_mean(vecs, n)
     im = jnp.imag(lam)
-    key = jnp.abs(im) + jnp.where(im < -(0.5 - HALF_FREQUENCY_TOL) * omega, omega, 0.0)
-    return lam[jnp.argsort(key)[:n]]
+    folded = im - omega * jnp.round(im / omega)
+    half = jnp.abs(folded) > (0.5 - HALF_FREQUENCY_TOL) * omega
+    centred = (jnp.abs(mean) <= 0.5 + HALF_FREQUENCY_TOL) & ~(half & (mean > 0))
+    # the centred ones first, the least damped first; then the nearest to centred
+    chosen = jnp.lexsort((jnp.where(centred, -jnp.real(lam), jnp.abs(mean)), ~centred))[:n]
+    return jnp.real(lam[chosen]) + 1j * folded[chosen]
 
 
 def hill_exponents(scene, solution, args=None):

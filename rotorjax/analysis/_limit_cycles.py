@@ -142,6 +142,23 @@ def hopf_cycle(scene_at, p, y_eq, amplitude, harmonics=8, *, frequency=None, tol
     return pc, (_with_floquet(sc, sol) if stability else sol)
 
 
+def _nontrivial(e, w):
+    """Hill's exponents of a limit cycle (`w` its frequency) less the trivial one,
+    the one nearest 0. Near a fold of cycles the trivial exponent and the one
+    crossing there form a near-Jordan block, which the truncation and aliasing
+    split into a complex pair `a +- i b` (`b` ~ the square root of the error) with
+    no exponent at 0: then the trivial one is removed from the pair and the other is
+    their sum `2a` (a sum of eigenvalues moves as the error, not its square root),
+    or the fold would be reported as a Neimark-Sacker point."""
+    i = int(np.argmin(np.abs(e)))
+    rest = np.delete(e, i)
+    if abs(e[i].imag) > 1e-9 * max(abs(e[i]), 1e-300) and abs(e[i]) < 0.1 * abs(w):
+        j = int(np.argmin(np.abs(rest - np.conj(e[i]))))
+        if abs(rest[j] - np.conj(e[i])) <= 1e-6 * abs(e[i]):
+            rest[j] = (e[i] + rest[j]).real
+    return rest
+
+
 def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None, name="p", ds=0.01, ds_max=0.2,
                        max_points=300, tol=1e-11, gtol=1e-6, direction=None, progress=False):
     """A branch of limit cycles of autonomous scenes `scene_at(p)` (their period
@@ -151,7 +168,11 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
 
     `start`: a `PeriodicSolution` of `scene_at(p0)` (from `limit_cycle` or
     `hopf_cycle`; its harmonics are the branch's). `scale`, `tol`, `gtol` and the
-    rest as in `periodic_branch`.
+    rest as in `periodic_branch`: the steps `ds`, `ds_max` are in the unknowns
+    divided by `scale`, by default each state's largest coefficient at the start.
+    From a small cycle at a Hopf point the amplitude grows by orders of magnitude
+    (oil whip: 1e-3 to 22 clearances), so give a large `ds_max` (e.g. 100); the
+    steps still shrink where the corrector works hard or the branch turns.
 
     Returns `(branch, coefficients, periods)`: the `Branch` (`margin` the largest
     real part of Hill's exponents with the trivial one, nearest 0, left out;
@@ -174,8 +195,7 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
         return jnp.concatenate([r, (Y[2, k] / scale[0, k])[None]])
 
     def exponents(J, u, p):
-        e = _physical_exponents(jnp.asarray(J)[:m, :m], shape[1], u[m])
-        return jnp.delete(e, jnp.argmin(jnp.abs(e)), assume_unique_indices=True)
+        return _nontrivial(np.asarray(_physical_exponents(jnp.asarray(J)[:m, :m], shape[1], u[m])), u[m])
 
     u0 = np.concatenate([np.asarray(Y0 / scale).ravel(), [1.0]])
     br = continue_branch(F, u0, p0, p_bounds=(lo, hi), ds=ds, ds_max=ds_max, max_points=max_points, tol=tol,

@@ -67,6 +67,41 @@ def test_duffing_branch_folds_and_fold_curve_match_the_closed_form():
     assert err < 1e-8
 
 
+def test_fold_system_jacobian_equals_differentiating_the_jacobian():
+    """The fold refinement's Jacobian (`G`'s and the bordered test function's
+    gradient `-w^T (G_u)_z v`, by n + 1 directional derivatives) equals forward
+    differentiation of the whole fold system (the (n + 1)^2-evaluation way it
+    replaced), on a random nonlinear G at a random point (measured 1.4e-14)."""
+    from rotorjax.analysis._continuation import _fold_system, _fold_system_jacobian
+
+    rng = np.random.default_rng(0)
+    M = jnp.asarray(rng.normal(size=(5, 6)))
+
+    def G(z):
+        return jnp.tanh(M @ z) + 0.3 * z[:5] ** 3 * z[5]
+
+    z, b, c = (jnp.asarray(rng.normal(size=k)) for k in (6, 5, 5))
+    want = jax.jacfwd(lambda x: _fold_system(G, x, b, c))(z)
+    np.testing.assert_allclose(_fold_system_jacobian(G, z, b, c), want, atol=1e-12 * float(jnp.max(jnp.abs(want))))
+
+
+def test_corrector_accepts_at_the_rounding_floor_of_a_noisy_system():
+    """A curve whose second equation is a difference of terms of 1e12 (rounding
+    noise ~5e-11 in it, as a balance of a stiff flexible rotor's first-order form
+    has, condition ~1e12): Newton's steps stall at that floor, above `tol`. The
+    corrector accepts a step that stops contracting within 1e3 tol, so the steps
+    grow to `ds_max` (before: every point took all 8 iterations and halved the
+    step, and the branch crept to a standstill)."""
+    def G(x):
+        big = 1e6 + x[2]
+        return jnp.stack([x[0] ** 2 + x[1] ** 2 - 1.0, (big * big - 1e12 - 2e6 * x[0]) / 2e6])
+
+    x0 = np.array([1.0, 0.0, 1.0 - 0.5e-6])
+    cv = trace_curve(G, x0, ds=0.01, ds_max=0.1, max_points=30, tol=1e-13, direction=np.array([0.0, 1.0, 0.0]),
+                     start_tol=1e-8, gtol=1e-8)
+    assert cv.steps.max() == pytest.approx(0.1) and np.median(cv.iterations[1:]) <= 4
+
+
 def brusselator(u, b, a=1.0):
     x, y = u[0], u[1]
     return jnp.stack([a - (b + 1) * x + x * x * y, b * x - x * x * y])

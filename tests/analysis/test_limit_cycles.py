@@ -210,3 +210,19 @@ def test_period_gradient_by_the_implicit_function_theorem(supercritical):
     h = 1e-5
     fd = (float(period(mu + h)) - float(period(mu - h))) / (2 * h)
     assert abs(d - closed) < 1e-9 and abs(fd - closed) < 1e-7
+
+
+def test_the_trivial_exponent_is_removed_and_a_split_pair_at_a_fold_merged():
+    """`limit_cycle_branch`'s exponents less the trivial one: a real exponent at 0
+    is removed; near a fold of cycles, where the trivial exponent and the crossing
+    one are a complex pair `a +- i b` split by the truncation (no exponent at 0),
+    the pair becomes their sum `2a` (real), not a Neimark-Sacker pair; a genuine
+    pair away from 0 stays."""
+    from rotorjax.analysis._limit_cycles import _nontrivial
+
+    e = np.array([-3.0, 1e-12, 0.2 + 0.05j, 0.2 - 0.05j, -1.0 + 2.0j, -1.0 - 2.0j])
+    np.testing.assert_array_equal(_nontrivial(e, 10.0), np.delete(e, 1))
+    split = np.array([-3.0, 0.01 + 0.003j, 0.01 - 0.003j, -1.0 + 2.0j, -1.0 - 2.0j])
+    np.testing.assert_allclose(_nontrivial(split, 10.0), [-3.0, 0.02, -1.0 + 2.0j, -1.0 - 2.0j])
+    far = np.array([-5.0, 0.5 + 3.0j, 0.5 - 3.0j])       # nearest 0, but far from it: not merged
+    assert len(_nontrivial(far, 10.0)) == 2 and np.iscomplex(_nontrivial(far, 10.0)).any()

@@ -25,11 +25,12 @@ Each test is described in its docstring; measured values are in the comments nex
 the tolerances.
 
 The cycle born at the onset (`hopf_cycle`, subcritical) and the whip cycle
-(`limit_cycle` from the run) are not joined here by `limit_cycle_branch`: that
-continuation (6 harmonics, through the fold below the onset) ran > 8 min on the
-2-core machine without finishing.
+(`limit_cycle` from the run) are joined by `limit_cycle_branch` (6 harmonics):
+down from the onset to a fold at 0.962 w_th, then up, stable, to the whip speed,
+where it ends on the run's cycle; runs on either side of the fold show the
+hysteresis it predicts.
 
-Runtime ~55 s on a 2-core machine (no compilation cache): every run is one
+Runtime ~80 s on a 2-core machine (no compilation cache): every run is one
 compiled program (`simulate` with the speed, the end time and the initial state as
 arrays, the same number of saves and the same scene layout with `track_work=True`),
 so runs cost their steps only.
@@ -42,7 +43,8 @@ import scipy.linalg
 from scipy.interpolate import CubicSpline
 
 import rotorjax as rj
-from rotorjax.analysis import coefficients_from_samples, hopf_cycle, hopf_points, limit_cycle, orbit_amplitude
+from rotorjax.analysis import (coefficients_from_samples, hill_exponents, hopf_cycle, hopf_points, limit_cycle,
+                               limit_cycle_branch, orbit_amplitude)
 from rotorjax.models import DiskDamping, FlexibleRotor, Gravity, JournalBearing, RotorScene, static_equilibrium
 
 # ------------------------------------------------------------------------------- the rotor
@@ -268,19 +270,113 @@ def test_whip_cycle_by_harmonic_balance_is_the_run_s_orbit(cycle):
     assert bool(sol.stable) and abs(complex(sol.trivial_multiplier) - 1) < 1e-8
 
 
-def test_the_onset_is_a_subcritical_hopf_point(onset):
-    """`hopf_cycle` at the onset (6 harmonics, a small cycle: first-harmonic amplitude
-    1e-3 m/s in the largest state of the critical eigenvector, ~1e-3 of the whip's):
-    the cycle lives below the onset (subcritical: the speed falls as the amplitude
-    squared, measured -3.4e-6 relative) at the critical eigenvalue's period. So above
-    the onset there is no small whirl: the runs above jump to the large orbit."""
+def _scene_at(speed):
+    return RotorScene(ROTOR, speed, COMPONENTS)
+
+
+@pytest.fixture(scope="module")
+def hopf(onset):
+    """`hopf_cycle` at the onset, in the speed relative to it (6 harmonics, a
+    small cycle: first-harmonic amplitude 1e-3 m/s in the largest state of the
+    critical eigenvector, ~1e-3 of the whip's)."""
     sc = _scene(onset.speed, track_work=False)
     y_eq = _equilibrium_state(sc, onset.speed)
+    return hopf_cycle(lambda r: _scene_at(r * onset.speed), 1.0, y_eq, 1e-3, harmonics=6, stability=False)
 
-    def scene_at(speed):
-        return RotorScene(ROTOR, speed, COMPONENTS)
 
-    p, sol = hopf_cycle(scene_at, onset.speed, y_eq, 1e-3, harmonics=6, stability=False)
-    shift = float(p) / onset.speed - 1
+def test_the_onset_is_a_subcritical_hopf_point(onset, hopf):
+    """The cycle at the onset lives below it (subcritical: the speed falls as the
+    amplitude squared, measured -3.4e-6 relative) at the critical eigenvalue's
+    period. So above the onset there is no small whirl: the runs above jump to the
+    large orbit."""
+    p, sol = hopf
+    shift = float(p) - 1
     assert -1e-5 < shift < -1e-6
     assert float(sol.period) == pytest.approx(2 * np.pi / onset.frequency, rel=1e-5)
+
+
+@pytest.fixture(scope="module")
+def whirl_branch(onset, hopf):
+    """The limit cycles from the onset to the whip speed (2.5 W_C = 1.4212 w_th),
+    by `limit_cycle_branch` from `hopf`, downwards first (154 points, ~25 s)."""
+    p, sol = hopf
+    top = 2.5 * W_C / onset.speed
+    br, coefs, periods = limit_cycle_branch(lambda r: _scene_at(r * onset.speed), float(p), sol, (0.9, top),
+                                            direction=-1, ds=0.02, ds_max=100.0, max_points=400)
+    return br, coefs, periods, top
+
+
+def test_the_whirl_branch_joins_the_onset_to_the_whip_cycle(onset, whirl_branch, cycle):
+    """From the Hopf point the branch runs down in speed, unstable (the subcritical
+    cycles: the margin between equilibrium and whip), to a fold at 0.9624 w_th
+    (= 1.692 W_C); there it turns and rises, stable, to the whip speed, where it
+    lands and ends on the whip cycle found from the 5 s run (period and disk
+    amplitude: measured 6e-15 and 2.8e-7 relative, 6 harmonics against 8), with the
+    run's cycle's Floquet margin (Hill's exponents along the branch: -2.4332 / s,
+    the time-domain Floquet margin of the cycle: equal to 5e-10). Near 0.9886 w_th the branch has
+    a narrow S (two more folds 1.6e-4 apart) whose place moves with the
+    harmonics (0.9896 with 8): not asserted."""
+    br, coefs, periods, top = whirl_branch
+    sol, _ = cycle
+    assert br.stops == ("start", f"box edge (p = {top!r})")
+    folds = sorted(e.p for e in br.events if e.kind == "fold")
+    assert 0.95 < folds[0] < 0.975 and all(f > 0.985 for f in folds[1:])
+    assert not [e for e in br.events if e.kind not in ("fold",)]
+    turn = int(np.argmin(br.p))
+    assert not br.stable[1:turn - 1].any()                 # the cycles born at the onset: unstable
+    upper = np.arange(br.p.size) > turn
+    assert br.stable[upper & ((br.p < 0.985) | (br.p > 0.995))].all()
+    sc = _scene(2.5 * W_C, track_work=False)
+    assert periods[-1] == pytest.approx(float(sol.period), rel=1e-10)
+    amp = float(orbit_amplitude(sc, coefs[-1], periods[-1], 0.0, node=DISK))
+    assert amp == pytest.approx(float(orbit_amplitude(sc, sol.coefficients, sol.period, sol.t0, node=DISK)),
+                                rel=1e-5)
+    assert float(br.margin[-1]) == pytest.approx(float(sol.margin), rel=1e-7)
+
+
+def test_hill_exponents_of_the_whip_cycle_are_floquet_s(cycle):
+    """Hill's exponents of the whip cycle (8 harmonics, 24 states: the flexible
+    rotor's higher modes lie above (H + 1/2) w, and the journals' film damping at
+    eps 0.9 is stiff and strongly modulated) equal the time-domain Floquet
+    exponents: the six least damped to 1e-7 relative (measured 4.7e-10; the trivial
+    one 5e-13 and 1e-9)."""
+    sol, _ = cycle
+    sc = _scene(2.5 * W_C, track_work=False)
+    hill = np.sort(np.asarray(hill_exponents(sc, sol)).real)[::-1][:6]
+    flo = np.sort(np.asarray(sol.floquet.exponents).real)[::-1][:6]
+    np.testing.assert_allclose(hill[1:], flo[1:], rtol=1e-7)
+    assert abs(hill[0]) < 1e-6 and abs(flo[0]) < 1e-6               # the trivial one
+
+
+def _cycle_state(coefs):
+    """The state at t = 0 of a cycle's coefficients, with the work state 0."""
+    return jnp.asarray(np.concatenate([coefs[0] + coefs[1::2].sum(axis=0), [0.0]]))
+
+
+def _radius(sc, speed, res):
+    """The disk's distance from its equilibrium, in clearances."""
+    eq = np.asarray(sc.expand(static_equilibrium(sc, jnp.float64(speed)).q))[4 * DISK:4 * DISK + 2]
+    x, y = _disk(res)
+    return np.hypot(x - eq[0], y - eq[1]) / CLEARANCE
+
+
+def test_hysteresis_the_whirl_persists_down_to_the_fold(onset, whirl_branch):
+    """Runs from the branch's cycles: on the stable upper part at 0.972 w_th (below
+    the onset, where the equilibrium is stable too) the orbit stays for 0.5 s
+    (about 17 whirl periods) at its amplitude (the largest distance from the
+    equilibrium over the first and the last tenth of the run: 2.226 and 2.220
+    clearances); below the fold, at 0.95 w_th, started from the fold's cycle, there
+    is no cycle to hold it and the orbit decays (1.80 to 0.72 clearances in 1.5 s,
+    every tenth of the run smaller than the one before)."""
+    br, coefs, periods, _ = whirl_branch
+    turn = int(np.argmin(br.p))
+    i = turn + int(np.argmin(np.abs(br.p[turn:] - 0.972)))
+    speed = br.p[i] * onset.speed
+    sc, ts, res = _run(speed, 0.5, y0=_cycle_state(coefs[i]))
+    r = _radius(sc, speed, res)
+    n = r.size // 10
+    assert r[:n].max() > 2 and r[-n:].max() == pytest.approx(r[:n].max(), rel=1e-2)
+    speed = 0.95 * onset.speed
+    sc, ts, res = _run(speed, 1.5, y0=_cycle_state(coefs[turn]))
+    peaks = _radius(sc, speed, res)[:10 * n].reshape(10, n).max(axis=1)
+    assert np.all(np.diff(peaks) < 0) and peaks[-1] < 0.5 * peaks[0]
