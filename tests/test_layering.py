@@ -19,7 +19,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "rotorjax"
 
 #: the parts of the package and their layers (an import may only go to a rank <= its own)
 RANK = {
-    "_errors": 0, "_config": 0, "_newton": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
+    "_errors": 0, "_config": 0, "_newton": 0, "_sincos": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
     "models": 1,
     "solve": 2, "sweep": 2, "_distributed": 2,
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,

@@ -25,6 +25,7 @@ checks them equal to the autodiff path at random states and parameters, and
 
 import jax.numpy as jnp
 
+from .._sincos import sincos
 from ._rotation import rotate
 
 
@@ -46,7 +47,7 @@ def planar_balancer_field(rotor, supports, balancer, speed, t, y):
     for j in range(n_w):
         m = balancer.mass[j]
         psi, psid = y[2 + j], y[4 + n_w + j]
-        c, s = jnp.cos(psi), jnp.sin(psi)
+        s, c = sincos(psi)
         px, py = cx0 + r1 * c, cy0 + r2 * s           # position
         tx, ty = -r1 * s, r2 * c                       # tangent
         kx, ky = -r1 * c, -r2 * s                      # curvature

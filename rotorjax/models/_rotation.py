@@ -8,10 +8,12 @@ hand-derived fast path) uses these. Vectors are pairs along the first axis,
 
 import jax.numpy as jnp
 
+from .._sincos import sincos
+
 
 def rotate(theta, v):
     """`R(theta) v`: `v` turned by `theta` (counter-clockwise)."""
-    c, s = jnp.cos(theta), jnp.sin(theta)
+    s, c = sincos(theta)
     return jnp.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
