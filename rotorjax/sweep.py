@@ -13,7 +13,7 @@ import numpy as np
 
 from ._distributed import check_initialized, gather, local_range, on_each_device
 from .models._validate import InputError, as_count, check_choice, show
-from .solve._batch import IVP, simulate_batch
+from .solve._batch import IVP, METHODS, simulate_batch
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,7 +78,7 @@ def sweep(
     distributed: bool = False,
     lanes: int | None = None,
     steps_per_round: int = 8,
-    batch: str = "buffered",
+    batch: str = "auto",
 ) -> SweepResult:
     """Evaluate `fn(point)` at every point of `grid`, vmapped.
 
@@ -110,8 +110,9 @@ def sweep(
       initialized.
     - `lanes`, `steps_per_round`, `batch`: for a function returning an `IVP` (see
       `simulate_batch`): points integrated at once (default `min(points, 128)`),
-      steps between refills, and the method ("buffered", "pallas", or "vmap": the
-      lock-step `simulate` under vmap, chunk by chunk). `chunk_size` and `progress`
+      steps between refills, and the method ("auto": "vectorised" for an explicit
+      Runge-Kutta solver without events, else "buffered"; "vectorised", "buffered",
+      "pallas", or "vmap": the lock-step `simulate` under vmap, chunk by chunk). `chunk_size` and `progress`
       apply to the "vmap" method and to other functions; `shard=True` gives each local
       device its own buffer of lanes.
 
@@ -131,7 +132,7 @@ def sweep(
     nd = len(jax.local_devices()) if shard else 1
     chunk = int(math.ceil(chunk / nd) * nd)
     n_chunks = max(int(math.ceil((stop - start) / chunk)), 1)  # an empty slice still yields shapes
-    check_choice("batch", batch, ("buffered", "pallas", "vmap"))
+    check_choice("batch", batch, METHODS)
     if batch != "vmap" and isinstance(eqx.filter_eval_shape(fn, {k: v[0] for k, v in flat.items()}), IVP):
         values = _integrate(fn, flat, start, stop, lanes, steps_per_round, batch, shard)
         if distributed:

@@ -172,7 +172,7 @@ def test_contact_simulate_and_bifurcation(tmp_path, capsys):
                  "revolutions=20", "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert len(out["points"]) == 2 and all(p["code"] == 0 for p in out["points"])
-    assert out["batch"]["method"] == "buffered" and out["batch"]["steps_max"] >= out["batch"]["steps_mean"] > 0
+    assert out["batch"]["method"] == "vectorised" and out["batch"]["steps_max"] >= out["batch"]["steps_mean"] > 0
     assert (tmp_path / "bifurcation_cantilever-limiters_eps.png").exists()
     # the speed swept, with event-located contact: a span (10 revolutions) per point
     assert main(["bifurcation", "cantilever-limiters", "--param", "N", "14", "16", "2", "--set",

@@ -248,6 +248,8 @@ CASES = [
      r"--param chi: needs limiters"),
     (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--set", "events=1", "--batch", "vmap"], 2,
      r"--set events=1: event-located contact runs in the buffered batch"),
+    (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--set", "events=1", "--batch", "vectorised"], 2,
+     r"--set events=1: event-located contact runs in the buffered batch; drop --batch vectorised"),
     (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--batch", "pallas"], 2, r"argument --batch"),
     (["bifurcation", *C, "--param", "eps", "0", "0.001", "3", "--lanes", "0"], 2, r"argument --lanes"),
     (["bifurcation", *C, "--param", "eps", "0", "0.001", "x"], 2, r"the number of points must be an integer"),

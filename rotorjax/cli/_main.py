@@ -235,10 +235,11 @@ def build_parser():
                             help=f"the swept --set key (one of {', '.join(SWEEPABLE)}), its range and number "
                                  "of points (>= 2)")),
         *_integration(1_000_000),
-        (("--batch",), dict(choices=("buffered", "vmap"), default="buffered",
+        (("--batch",), dict(choices=("auto", "vectorised", "buffered", "vmap"), default="auto",
                             help="buffered: every run advances by its own adaptive steps in a fixed set of "
-                                 "lanes refilled as runs finish (default); vmap: the previous lock-step "
-                                 "chunks")),
+                                 "lanes refilled as runs finish; vectorised: the same, the lanes stepped "
+                                 "together as arrays (explicit solvers, no events); auto: vectorised where it "
+                                 "applies, else buffered (default); vmap: the previous lock-step chunks")),
         (("--lanes",), dict(type=at_least(1), default=None,
                             help="runs integrated at once by the buffered batch (default: all, up to 128)")),
         (("--chunk",), dict(type=at_least(1), default=None,

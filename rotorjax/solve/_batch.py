@@ -31,10 +31,14 @@ from ..models._validate import InputError, as_count, check_choice
 from ._results import MAX_STEPS_REACHED, NONFINITE, SOLVER_FAILURE, SUCCESSFUL, SimulationResult
 from ._simulate import _check_inputs, _check_scene, _saveat, _split_span
 from ._stiffness import choose_solver
+from ._vectorised import Tableau, field_over_lanes, stages, vectorises
 
-#: The batch methods: "buffered" (this module), "pallas" (one kernel per block of
-#: lanes, `_pallas.py`), "vmap" (`simulate` vmapped: lanes in lock-step).
-METHODS = ("buffered", "pallas", "vmap")
+#: The batch methods: "auto" ("vectorised" for an explicit Runge-Kutta solver without
+#: events, else "buffered"), "vectorised" (this module's buffer, its lanes stepped
+#: together as arrays of lanes: `_vectorised.py`), "buffered" (this module's buffer,
+#: diffrax's step vmapped over the lanes: any solver, events), "pallas" (one kernel
+#: per block of lanes, `_pallas.py`), "vmap" (`simulate` vmapped: lanes in lock-step).
+METHODS = ("auto", "vectorised", "buffered", "pallas", "vmap")
 
 
 class IVP(eqx.Module):
@@ -62,7 +66,7 @@ class IVP(eqx.Module):
 
 def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float = 1e-8,
                    atol: float = 1e-10, max_steps: int = 200_000, lanes: int | None = None,
-                   steps_per_round: int = 8, method: str = "buffered", shard: bool = False,
+                   steps_per_round: int = 8, method: str = "auto", shard: bool = False,
                    events: bool = False) -> SimulationResult:
     """Integrate a batch of scenes, each from its own initial state.
 
@@ -83,9 +87,13 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
       crosses one is cut at the crossing (bisection on the dense output), the
       contact set switched and the solver restarted; `stats["num_events"]` counts
       them ("buffered" only).
-    - `method`: "buffered" (lanes refilled from the queue), "pallas" (the whole
-      adaptive loop of a block of lanes in one Pallas kernel; explicit Runge-Kutta,
-      final state only), "vmap" (`simulate` vmapped: lanes in lock-step).
+    - `method`: "vectorised" (lanes refilled from the queue, stepped together as
+      arrays of lanes: explicit Runge-Kutta solvers, no events; see
+      `_vectorised.py`), "buffered" (lanes refilled from the queue, diffrax's step
+      vmapped over them: any solver, events), "auto" (the default: "vectorised"
+      where it applies, else "buffered"), "pallas" (the whole adaptive loop of a
+      block of lanes in one Pallas kernel; explicit Runge-Kutta, final state only),
+      "vmap" (`simulate` vmapped: lanes in lock-step).
 
     **Returns:** a `SimulationResult` whose fields carry the batch axis in front, in
     the order of the points; a failed point is marked by its `code` (see `RESULTS`).
@@ -110,8 +118,13 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
         require(scene0, "contact_indicator", "simulate_batch(events=True)")
         if scene0.n_contacts < 1:
             raise InputError("events: the scene has no contacts (limiters); use events=False")
-        if method != "buffered":
-            raise InputError(f"events=True needs method='buffered', got method={method!r}")
+        if method not in ("auto", "buffered"):
+            raise InputError(f"events=True needs method='buffered' (or 'auto'), got method={method!r}")
+    if method == "auto":
+        method = "vectorised" if vectorises(solver) and not events else "buffered"
+    if method == "vectorised" and not vectorises(solver):
+        raise InputError(f"method='vectorised' needs an explicit Runge-Kutta solver (dopri8, dopri5, tsit5, ...), "
+                         f"got {type(solver).__name__}; use method='buffered'")
     if not uniform and not (saveat is None or isinstance(saveat, (int, np.integer))):
         raise InputError("saveat: with a time span per point give a count of saved states (or None), not times")
     if method == "pallas":
@@ -136,7 +149,7 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     # output times: absolute, or fractions of each point's span (a count of saved states)
     ts = jnp.ones((1,)) if final_only else jnp.linspace(0.0, 1.0, int(saveat)) if relative else f64(saveat)
     rest = (ts, solver, f64(rtol), f64(atol), jnp.asarray(max_steps))
-    static = (steps_per_round, final_only, relative, events)
+    static = (steps_per_round, final_only, relative, events, method == "vectorised")
     devices = jax.local_devices() if shard else []
     if len(devices) < 2 or n < 2:
         return _buffered(scenes, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
@@ -235,7 +248,7 @@ def _lane_field(t, y, args):
 
 
 def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only,
-                   relative, events):
+                   relative, events, vectorised):
     n, n_save = y0s.shape[0], ts.shape[0]
     term = diffrax.ODETerm(_lane_field)
     controller = diffrax.PIDController(rtol=rtol, atol=atol)
@@ -243,33 +256,66 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
     order = solver.error_order(term)
     arrays, static = eqx.partition(scenes, eqx.is_array)
     ok = diffrax.RESULTS.successful
+    whole = lambda scene_arrays: eqx.combine(scene_arrays, static)  # noqa: E731
+    if vectorised:
+        tableau = Tableau(solver)
+        lanes_field = field_over_lanes(lambda a, t, y: whole(a).vector_field(t, y))
 
     def signed(scene_arrays, active, t, y):
         """+g while a contact is open, -g while closed: a switch is an up-crossing."""
-        g = eqx.combine(scene_arrays, static).contact_indicator(t, y)
+        g = whole(scene_arrays).contact_indicator(t, y)
         return jnp.where(active, -1.0, 1.0) * g
 
     def start(scene_arrays, y0, t0, t1):
-        scene = eqx.combine(scene_arrays, static)
+        scene = whole(scene_arrays)
         active = scene.contact_indicator(t0, y0) > 0 if events else jnp.zeros((0,), bool)
         tnext, cstate = controller.init(term, t0, t1, y0, None, (scene, active), solver.func, order)
         tnext = jnp.minimum(tnext, t1)
-        return tnext, solver.init(term, t0, tnext, y0, (scene, active)), cstate, active
+        if vectorised:  # the carried first stage (first-same-as-last), or nothing
+            sstate = scene.vector_field(t0, y0) if tableau.fsal else jnp.zeros((0,))
+        else:
+            sstate = solver.init(term, t0, tnext, y0, (scene, active))
+        return tnext, sstate, cstate, active
 
-    def step(scene_arrays, active, t1, t, tnext, y, sstate, cstate, made_jump):
-        args = (eqx.combine(scene_arrays, static), active)
-        y1, yerr, dense, sstate1, sres = solver.step(term, t, tnext, y, args, sstate, made_jump)
+    def control(t1, t, tnext, y, y1, yerr, cstate):
+        """The controller's verdict on a step from `t` to `tnext`, its next step clipped
+        to end at `t1`."""
         yerr = jnp.where(jnp.isnan(yerr), jnp.inf, yerr)
-        keep, tprev, tn, mj, cstate1, cres = controller.adapt_step_size(
-            t, tnext, y, y1, args, yerr, order, cstate)
+        keep, tprev, tn, mj, cstate1, cres = controller.adapt_step_size(t, tnext, y, y1, None, yerr, order, cstate)
         tprev = jnp.minimum(tprev, t1)
         clip = tn > jnp.nextafter(t1, -jnp.inf)
         tn = jnp.where(clip, jnp.where(keep, t1, tprev + 0.5 * (t1 - tprev)), tn)
+        return keep, tprev, tn, mj, cstate1, cres
+
+    def step(scene_arrays, active, t1, t, tnext, y, sstate, cstate, made_jump):
+        args = (whole(scene_arrays), active)
+        y1, yerr, dense, sstate1, sres = solver.step(term, t, tnext, y, args, sstate, made_jump)
+        keep, tprev, tn, mj, cstate1, cres = control(t1, t, tnext, y, y1, yerr, cstate)
         pick = lambda a, b: jnp.where(keep, a, b)  # noqa: E731
         # 0: fine, 1: the step-size controller's failure, 2: the solver's (not `code`)
         result = jnp.where(keep & (sres != ok), 2, jnp.where(cres != ok, 1, 0))
         return (tprev, tn, pick(y1, y), jax.tree_util.tree_map(pick, sstate1, sstate), cstate1,
                 pick(mj, made_jump), keep, dense, y1, result)
+
+    def step_lanes(lanes_):
+        """Every lane's step: diffrax's, vmapped, or the vectorised stepper's."""
+        if not vectorised:
+            return jax.vmap(step)(lanes_.scene, lanes_.active, lanes_.t1, lanes_.t, lanes_.tnext, lanes_.y,
+                                  lanes_.solver_state, lanes_.controller_state, lanes_.made_jump)
+        scene_t = jax.tree_util.tree_map(lambda a: jnp.moveaxis(a, 0, -1), lanes_.scene)
+        f0 = lanes_.solver_state if tableau.fsal else None
+        y1, yerr, k, f1 = stages(tableau, lanes_field, scene_t, lanes_.t, lanes_.tnext - lanes_.t, lanes_.y, f0)
+
+        def finish(t1, t, tnext, y, y1, yerr, f0, f1, cstate, made_jump):
+            keep, tprev, tn, mj, cstate1, cres = control(t1, t, tnext, y, y1, yerr, cstate)
+            pick = lambda a, b: jnp.where(keep, a, b)  # noqa: E731
+            return tprev, tn, pick(y1, y), pick(f1, f0), cstate1, pick(mj, made_jump), keep, jnp.where(cres != ok, 1, 0)
+
+        f1 = lanes_.solver_state if f1 is None else f1
+        t, tn, y, ss, cs, mj, keep, result = jax.vmap(finish)(
+            lanes_.t1, lanes_.t, lanes_.tnext, lanes_.y, y1, yerr, lanes_.solver_state, f1, lanes_.controller_state,
+            lanes_.made_jump)
+        return t, tn, y, ss, cs, mj, keep, dict(y0=lanes_.y, y1=y1, k=k), y1, result
 
     def evaluate(t_a, t_b, dense, y_b, t):
         y_t = solver.interpolation_cls(t0=t_a, t1=t_b, **dense).evaluate(t)
@@ -338,9 +384,7 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
         lanes_, ys = c
         live = running(lanes_)
         t_old, tnext_old = lanes_.t, lanes_.tnext
-        (t, tn, y, ss, cs, mj, keep, dense, y1, result) = jax.vmap(step)(
-            lanes_.scene, lanes_.active, lanes_.t1, lanes_.t, lanes_.tnext, lanes_.y, lanes_.solver_state, lanes_.controller_state,
-            lanes_.made_jump)
+        (t, tn, y, ss, cs, mj, keep, dense, y1, result) = step_lanes(lanes_)
         sel = lambda a, b: jnp.where(live.reshape(live.shape + (1,) * (a.ndim - 1)), a, b)  # noqa: E731
         new = dataclasses.replace(
             lanes_, t=t, tnext=tn, y=y, solver_state=ss, controller_state=cs, made_jump=mj,
@@ -420,10 +464,10 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
         ts_all = jnp.where(last, t1s[:, None], t0s[:, None] + (t1s - t0s)[:, None] * ts[None, :])
     else:
         ts_all = jnp.broadcast_to(ts, (n, n_save))
-    outputs = eqx.filter_vmap(lambda sc, t, y: jax.vmap(sc.outputs)(t, y))(scenes, ts_all, ys)
+    outputs = jax.vmap(lambda a, t, y: jax.vmap(whole(a).outputs)(t, y))(arrays, ts_all, ys)
     stats = {k: out[k][:n] for k in counts}
     return SimulationResult(ts=ts_all, ys=ys, outputs=outputs, code=out["code"][:n], stats=stats,
-                            solver=type(solver).__name__ + "+buffered")
+                            solver=type(solver).__name__ + ("+vectorised" if vectorised else "+buffered"))
 
 
 _buffered = eqx.filter_jit(_buffered_impl)

@@ -42,6 +42,12 @@ def singles():
 @pytest.fixture(scope="module")
 def buffered(batch):
     # 3 lanes for 7 points: every lane is refilled at least once, the last round half empty
+    return simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=3, steps_per_round=5,
+                          method="buffered", **TOLS)
+
+
+@pytest.fixture(scope="module")
+def vectorised(batch):
     return simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=3, steps_per_round=5, **TOLS)
 
 
@@ -62,29 +68,88 @@ def test_each_point_equals_its_own_simulate(buffered, singles):
     np.testing.assert_array_equal(s["num_steps"], s["num_accepted_steps"] + s["num_rejected_steps"])
 
 
+def test_the_vectorised_stepper_is_diffrax_s_step(buffered, vectorised, singles):
+    """The default ("auto") steps the lanes as arrays of lanes: the same method and
+    controller, its sums in another order. The error estimate is a difference of
+    nearly equal sums, so rounding moves the step sizes (1e-4 relative here): the
+    trajectories agree to the tolerance, the step counts within a few."""
+    assert vectorised.solver == "Dopri8+vectorised"
+    np.testing.assert_array_equal(vectorised.code, 0)
+    scale = float(np.max(np.abs(np.asarray(buffered.ys))))
+    np.testing.assert_allclose(vectorised.ys[:, -1], buffered.ys[:, -1], rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(vectorised.ys, buffered.ys, rtol=0, atol=1e-7 * scale)  # dense output
+    steps, ref = np.asarray(vectorised.stats["num_steps"]), np.asarray(buffered.stats["num_steps"])
+    assert np.all(np.abs(steps - ref) <= np.maximum(3, 0.02 * ref))
+    for i, r in enumerate(singles):
+        np.testing.assert_allclose(vectorised.ys[i], r.ys, rtol=0, atol=1e-7 * float(np.max(np.abs(r.ys))))
+
+
 @pytest.mark.parametrize("lanes,steps_per_round", [(1, 1), (7, 64), (16, 3)])
-def test_buffer_size_and_round_length_do_not_change_the_answer(batch, buffered, lanes, steps_per_round):
+def test_buffer_size_and_round_length_do_not_change_the_answer(batch, buffered, vectorised, lanes,
+                                                               steps_per_round):
     r = simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=lanes, steps_per_round=steps_per_round,
-                       **TOLS)
+                       method="buffered", **TOLS)
     np.testing.assert_allclose(r.ys, buffered.ys, rtol=1e-12, atol=1e-14)
     np.testing.assert_array_equal(r.stats["num_steps"], buffered.stats["num_steps"])
+    # the vectorised stepper's code (so its rounding, amplified by the error estimate)
+    # depends on the number of lanes: equal to the tolerance, not to rounding
+    r = simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=lanes, steps_per_round=steps_per_round,
+                       **TOLS)
+    scale = float(np.max(np.abs(np.asarray(r.ys))))
+    np.testing.assert_allclose(r.ys[:, -1], vectorised.ys[:, -1], rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(r.ys, vectorised.ys, rtol=0, atol=1e-7 * scale)
+    steps, ref = np.asarray(r.stats["num_steps"]), np.asarray(vectorised.stats["num_steps"])
+    assert np.all(np.abs(steps - ref) <= np.maximum(3, 0.02 * ref))
 
 
-def test_final_state_only_is_the_last_saved_state(batch, buffered):
-    r = simulate_batch(*batch, (0.0, T), solver="dopri8", lanes=4, **TOLS)
+@pytest.mark.parametrize("solver", ["dopri5", "tsit5", "heun"])
+def test_the_vectorised_stepper_runs_every_explicit_tableau(batch, solver):
+    """Other tableaus (first-same-as-last or not, their own dense output) through both
+    steppers: the same answers to the tolerance."""
+    import diffrax
+
+    s = diffrax.Heun() if solver == "heun" else solver
+    kw = dict(saveat=4, solver=s, lanes=4, rtol=1e-7, atol=1e-10)
+    a = simulate_batch(*batch, (0.0, 2.0), method="buffered", **kw)
+    b = simulate_batch(*batch, (0.0, 2.0), **kw)
+    assert b.solver.endswith("+vectorised") and a.solver.endswith("+buffered")
+    np.testing.assert_array_equal(b.code, 0)
+    np.testing.assert_allclose(b.ys, a.ys, rtol=0, atol=1e-5 * float(np.max(np.abs(np.asarray(a.ys)))))
+    steps, ref = np.asarray(b.stats["num_steps"]), np.asarray(a.stats["num_steps"])
+    assert np.all(np.abs(steps - ref) <= np.maximum(3, 0.02 * ref))
+
+
+def _agree(a, b, method):
+    """The diffrax stepper's results do not depend on the buffer (to rounding); the
+    vectorised stepper's agree to the tolerance (see the test above)."""
+    if method == "buffered":
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-14)
+    else:
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-7 * float(np.max(np.abs(np.asarray(b)))))
+
+
+@pytest.mark.parametrize("method", ["buffered", "vectorised"])
+def test_final_state_only_is_the_last_saved_state(batch, buffered, vectorised, method):
+    ref = {"buffered": buffered, "vectorised": vectorised}[method]
+    r = simulate_batch(*batch, (0.0, T), solver="dopri8", lanes=3, method=method, **TOLS)
     assert r.ys.shape == (SPEEDS.size, 1, Y0.size)
-    np.testing.assert_allclose(r.ys[:, 0], buffered.ys[:, -1], rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(r.ys[:, 0], ref.ys[:, -1], rtol=1e-12, atol=1e-14)  # the same lanes: the same steps
     np.testing.assert_array_equal(r.ts[:, 0], T)
 
 
-def test_a_point_out_of_steps_is_marked_and_the_others_finish(batch, buffered):
-    budget = int(np.sort(np.asarray(buffered.stats["num_steps"]))[-2])  # all but the hardest finish
-    r = simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=2, max_steps=budget, **TOLS)
-    hardest = int(np.argmax(buffered.stats["num_steps"]))
+@pytest.mark.parametrize("method", ["buffered", "vectorised"])
+def test_a_point_out_of_steps_is_marked_and_the_others_finish(batch, buffered, vectorised, method):
+    ref = {"buffered": buffered, "vectorised": vectorised}[method]
+    steps = np.asarray(ref.stats["num_steps"])
+    hardest = int(np.argmax(steps))
+    budget = int(np.sort(steps)[-2]) + 5  # all but the hardest finish
+    assert budget < steps[hardest]
+    r = simulate_batch(*batch, (0.0, T), saveat=5, solver="dopri8", lanes=2, max_steps=budget, method=method,
+                       **TOLS)
     assert int(r.code[hardest]) == 1 and np.all(np.isinf(r.ys[hardest, -1]))
     others = np.arange(SPEEDS.size) != hardest
     np.testing.assert_array_equal(r.code[others], 0)
-    np.testing.assert_allclose(r.ys[others], buffered.ys[others], rtol=1e-12, atol=1e-14)
+    _agree(r.ys[others], ref.ys[others], method)
     assert "max_steps" in r.message
 
 
@@ -151,7 +216,7 @@ def test_a_switch_in_the_last_step_does_not_stall_the_lane():
         np.testing.assert_allclose(r.ys[i, 0], ref.ys[-1], rtol=0, atol=1e-3 * float(np.max(np.abs(ref.ys))))
 
 
-def test_sweep_of_initial_value_problems_keeps_grid_order(buffered):
+def test_sweep_of_initial_value_problems_keeps_grid_order(vectorised):
     def one(p):
         return rj.IVP(scene(p["n"]), Y0 * p["k"], (0.0, T), saveat=5, solver="dopri8", **TOLS)
 
@@ -160,7 +225,7 @@ def test_sweep_of_initial_value_problems_keeps_grid_order(buffered):
     assert res.shape == (3, 2) and res.values.ys.shape == (3, 2, 5, Y0.size)
     for i in range(3):
         for j in range(2):
-            np.testing.assert_allclose(res.values.ys[i, j], buffered.ys[i], rtol=1e-12, atol=1e-14)
+            _agree(res.values.ys[i, j], vectorised.ys[i], "vectorised")
     lock = rj.sweep(one, grid, batch="vmap", chunk_size=4)
     np.testing.assert_allclose(lock.values.ys, res.values.ys, rtol=0, atol=1e-7 * float(np.max(np.abs(lock.values.ys))))
 
@@ -177,11 +242,16 @@ def test_each_host_device_runs_its_own_buffer():
         "y0 = jnp.asarray(ab.PRESET.build(P).y0)\n"
         "sp = jnp.linspace(1.0, 6.0, 5)\n"
         "sc = eqx.filter_vmap(lambda n: ab.scene_from_groups(**G, n=n, K=P['K']))(sp)\n"
-        "kw = dict(solver='dopri8', rtol=1e-9, atol=1e-12, lanes=2)\n"
+        "kw = dict(solver='dopri8', rtol=1e-9, atol=1e-12, lanes=2, method='buffered')\n"
         "a = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), shard=True, **kw)\n"
         "b = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), **kw)\n"
         "np.testing.assert_allclose(a.ys, b.ys, rtol=1e-12, atol=1e-14)\n"
         "np.testing.assert_array_equal(a.stats['num_steps'], b.stats['num_steps'])\n"
+        "kw = dict(solver='dopri8', rtol=1e-9, atol=1e-12, lanes=4)\n"  # vectorised: to the tolerance
+        "a = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), shard=True, **kw)\n"
+        "b = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), **kw)\n"
+        "assert a.solver == 'Dopri8+vectorised'\n"
+        "np.testing.assert_allclose(a.ys, b.ys, rtol=0, atol=1e-8 * float(np.abs(b.ys).max()))\n"
         "from rotorjax.presets import cantilever_limiters as cl\n"  # contact events, devices ending apart
         "p = dict(cl.PRESET.defaults, perturbation=0.02); s = cl.build_scene(p); y = cl.initial_state(s, p)\n"
         "from rotorjax.models import with_leaf\n"
