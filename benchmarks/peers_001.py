@@ -14,7 +14,8 @@ from the package (`rotorjax.bench`, which `rotorjax bench` runs): rhs_python /
 make_rhs_python (closed-form, pure Python: scalar `math`, the structured 2x2 solve by
 hand; the strongest scipy peer), scipy_loop (solve_ivp per speed, either right-hand
 side), numba_rk4 (fixed-step classical RK4, prange over speeds, structured 2x2 solve),
-numba_rhs_ns (ns per RHS evaluation).
+numba_rhs_ns (ns per RHS evaluation), dop853_loop (Hairer's DOP853 in C, `numbalsoda`,
+the numba right-hand side as a `cfunc`, prange over speeds; `dop853_available()`).
 """
 import math
 
@@ -24,6 +25,15 @@ import numba  # noqa: F401  (its version goes into the results)
 from rotorjax.bench import _peers001
 from rotorjax.bench._numba001 import numba_rhs, numba_rhs_ns, numba_rk4  # noqa: F401
 from rotorjax.bench._peers001 import make_rhs_python, rhs_python  # noqa: F401
+from rotorjax.bench._dop853_001 import available as dop853_available  # noqa: F401
+
+
+def dop853_loop(speeds, y0, t_end, p, rtol, atol, threads=1):
+    """C DOP853 over the speeds -> (final states, wall s, all succeeded); see
+    `rotorjax.bench._dop853_001` (needs numbalsoda)."""
+    from rotorjax.bench._dop853_001 import dop853_loop as run
+
+    return run(speeds, y0, t_end, p, rtol, atol, threads)
 
 
 # --------------------------------------------------------------------------- numpy

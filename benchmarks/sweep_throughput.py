@@ -22,6 +22,9 @@ vmapped `simulate` compiled once (`jax.jit`, chunk by chunk): the lock-step cost
 
 Peers, compared at matched error (their cost interpolated in log-log at rotorjax's
 error along their own ladder; a rung outside a peer's ladder is marked extrapolated):
+- Hairer's DOP853 in C (`numbalsoda`), the numba right-hand side as a `cfunc`, the
+  speeds in a numba `prange` loop, 2 threads and 1, all speeds, rtol 1e-5 ... 1e-11
+  (atol = rtol * 1e-3): the strongest peer (skipped, and said so, without numbalsoda).
 - numba fixed-step RK4 (prange over speeds), 1 and 2 threads, on a step ladder that is
   widened (coarser / finer) until it brackets every rotorjax error. Rungs above
   `--numba-full-max` steps are timed on every 5th speed and scaled to the whole sweep
@@ -68,8 +71,18 @@ GROUPS = {k: P[k] for k in anisotropic_abb.GROUPS}
 T_END = 200.0
 LADDER = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
 SCIPY_LADDER = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12)
+DOP853_LADDER = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 TUNE_LANES = (32, 64, 128, 256)
 TUNE_SPR = (4, 8, 16)
+
+
+def _version(name):
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return None
 
 
 def initial_state():
@@ -293,8 +306,28 @@ def main():
             speeds, sub, y0, p, ref_sub, cond, threads, args.repeats, args.numba_full_max,
             min(rj_errors), max(rj_errors), rungs=(1_000, 2_000) if args.smoke else None)
 
+    # ---------------------------------------------------------------- C DOP853 (all speeds)
+    results["dop853"] = {}
+    if peers_001.dop853_available():
+        for threads in (2,) if args.smoke else (2, 1):
+            ladder = []
+            for rtol in (1e-5, 1e-7) if args.smoke else DOP853_LADDER:
+                fin, _, ok = peers_001.dop853_loop(speeds, y0, T_END, p, rtol, rtol * 1e-3, threads)
+                watch = CpuWatch()
+                walls = [peers_001.dop853_loop(speeds, y0, T_END, p, rtol, rtol * 1e-3, threads)[1]
+                         for _ in range(max(1, args.repeats))]
+                ladder.append({"rtol": rtol, "error": error(fin[sub], ref_sub, cond),
+                               "s_per_speed": float(np.median(walls)) / len(speeds), "failed": int(not ok),
+                               "repeats": walls, "other_cores_busy": watch.report()["other_cores_busy"]})
+                print(f"  C DOP853 {threads} thr rtol {rtol:.0e}: err {ladder[-1]['error']:.2e}, "
+                      f"{ladder[-1]['s_per_speed'] * 1e3:.3f} ms/speed", flush=True)
+            results["dop853"][f"{threads}_threads"] = ladder
+    else:
+        print("  C DOP853: numbalsoda is not installed (pip install rotorjax[bench]); skipped", flush=True)
+
     # ---------------------------------------------------------------- table
-    peers = [("numba RK4 2 threads", results["numba"]["2_threads"]),
+    peers = [("C DOP853 (numbalsoda) 2 threads", results["dop853"]["2_threads"])] if results["dop853"] else []
+    peers += [("numba RK4 2 threads", results["numba"]["2_threads"]),
              ("numba RK4 1 thread", results["numba"]["1_threads"]),
              ("scipy DOP853 pure-Python rhs", results["scipy"]["DOP853"]),
              ("scipy LSODA pure-Python rhs", results["scipy"]["LSODA"])]
@@ -327,6 +360,17 @@ def main():
         "b": {"target": "faster than numba RK4 2 threads at every error on the ladder", "per_rung": per_rung,
               "met": all(r["met"] for r in per_rung)},
     }
+    if results["dop853"]:
+        c2 = {r["rotorjax_rtol"]: r for r in table
+              if r["peer"] == peers[0][0] and r["rotorjax_variant"] == best_name}
+        targets["c"] = {"target": ">= 2x C DOP853 2 threads at rotorjax's rtol-1e-6 and rtol-1e-9 errors",
+                        "per_rtol": [{"rtol": k, "error": c2[k]["error"], "ratio": c2[k]["rotorjax_speedup"],
+                                      "met": c2[k]["rotorjax_speedup"] >= 2.0, "match": c2[k]["match"]}
+                                     for k in (1e-6, 1e-9) if k in c2]}
+        targets["c"]["met"] = all(r["met"] for r in targets["c"]["per_rtol"])
+        print("target (c) >= 2x C DOP853 2 threads: "
+              + ", ".join(f"{r['rtol']:.0e}: {r['ratio']:.2f}" for r in targets["c"]["per_rtol"])
+              + f" -> {'met' if targets['c']['met'] else 'NOT met'}")
     print(f"\ntarget (a) >= 2x numba 2 threads at rtol 1e-6: ratio {targets['a']['ratio']:.2f} -> "
           f"{'met' if targets['a']['met'] else 'NOT met'}")
     print("target (b) faster than numba 2 threads at every rung: "
@@ -340,7 +384,8 @@ def main():
                     "devices": [str(d) for d in jax.devices()], "xla_flags": os.environ.get("XLA_FLAGS")},
         "gpu": "not available to this task",
         "versions": {"jax": jax.__version__, "python": platform.python_version(),
-                     "numpy": np.__version__, "numba": peers_001.numba.__version__},
+                     "numpy": np.__version__, "numba": peers_001.numba.__version__,
+                     "numbalsoda": _version("numbalsoda")},
         "sizes": {"n_speeds": args.n_speeds, "subset": args.subset, "t_end": T_END, "repeats": args.repeats,
                   "vmap_chunk_size": args.chunk, "well_conditioned_in_subset": int(cond.sum()),
                   "numba_full_max_steps": args.numba_full_max},

@@ -26,6 +26,8 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     text = page.read_text()
     sweep = json.loads((tmp_path / "sweep_throughput.json").read_text())
     assert f"{sweep['targets']['a']['ratio']:.2f}x numba RK4 on 2 threads" in text
+    for row in sweep["targets"].get("c", {}).get("per_rtol", []):  # the C DOP853 peer, where it ran
+        assert f"{row['ratio']:.2f}x at {row['error']:.1e}" in text
     lim = json.loads((tmp_path / "limiters.json").read_text())["sweep"]["target"]
     assert f"{lim['ratio']:.0f}x the LSODA loop" in text
     stab = json.loads((tmp_path / "stability_map.json").read_text())["rows"][0]

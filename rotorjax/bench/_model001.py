@@ -3,7 +3,8 @@ a two-weight auto-balancer, `anisotropic-abb`, Table 1's parameters):
 
 - `sweep_comparison`: a speed sweep, final states at tau = t_end, rotorjax's public
   path (`rotorjax.sweep` over a function returning `rotorjax.IVP`: the buffered batch,
-  Dopri8) against numba RK4 (1 thread and every core) and scipy DOP853 loops with the
+  Dopri8) against numba RK4 (1 thread and every core), Hairer's DOP853 in C
+  (`numbalsoda`, numba right-hand side, a `prange` loop) and scipy DOP853 loops with the
   closed-form pure-Python right-hand side, each on its own ladder (tolerances, step
   counts), the error measured against a tight reference on a subset of the speeds;
 - `floquet_comparison`: a Floquet stability map of the main motion (speeds x weight
@@ -143,6 +144,24 @@ def sweep_comparison(sizes, progress, repeats):
         comp.peers.append(name)
     comp.notes.append(f"numba rungs timed on {timing.size} speeds (a fixed-step cost per speed is the same at "
                       "every speed)")
+
+    progress("model 001 sweep: C DOP853")
+    from . import _dop853_001
+
+    if not _dop853_001.available():
+        comp.skipped.append(("C DOP853", "numbalsoda is not installed (pip install numbalsoda, or rotorjax[bench])"))
+        return comp
+    for th in threads:
+        name = f"C DOP853 (numbalsoda), {th} thread{'s' if th > 1 else ''}"
+        for rtol in sizes.scipy_rtols:
+            final, _, ok = _dop853_001.dop853_loop(speeds, y0, sizes.t_end, groups, rtol, rtol * 1e-3, th)
+            walls = [_dop853_001.dop853_loop(speeds, y0, sizes.t_end, groups, rtol, rtol * 1e-3, th)[1]
+                     for _ in range(repeats)]
+            comp.add(name, Point(f"{rtol:.0e}", err(final[sub]), float(np.median(walls)) / speeds.size,
+                                 failed=int(not ok)))
+            if comp.curves[name][-1].error < tightest:
+                break
+        comp.peers.append(name)
     return comp
 
 

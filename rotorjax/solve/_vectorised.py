@@ -9,8 +9,8 @@ dimension; the vector field is vmapped over the last axis), so every line of a
 right-hand side is one elementwise operation over contiguous lanes, which XLA fuses
 and vectorises; the stage sums are one `tensordot` against the Butcher tableau,
 under a `fori_loop` over the stages (one copy of the right-hand side in the compiled
-program, not one per stage: Dopri8's 14 stages unrolled compile 10x longer for no
-measured gain).
+program, not one per stage: Dopri8's 14 stages unrolled compiled 9x longer, 4.5 s
+against 0.5 s on model 001, for at most 10% at run time).
 
 It is the same method as diffrax's step: the same tableau (`solver.tableau`), the
 first-same-as-last stage carried between steps, the same error estimate
