@@ -111,10 +111,10 @@ def sweep(
     - `lanes`, `steps_per_round`, `batch`: for a function returning an `IVP` (see
       `simulate_batch`): points integrated at once (default `min(points, 128)`),
       steps between refills, and the method ("auto": "vectorised" for an explicit
-      Runge-Kutta solver without events, else "buffered"; "vectorised", "buffered",
-      "pallas", or "vmap": the lock-step `simulate` under vmap, chunk by chunk). `chunk_size` and `progress`
-      apply to the "vmap" method and to other functions; `shard=True` gives each local
-      device its own buffer of lanes.
+      Runge-Kutta solver without events, else "buffered"; "vectorised",
+      "buffered", "pallas", or "vmap": the lock-step `simulate` under vmap, chunk
+      by chunk). `chunk_size` and `progress` apply to the "vmap" method and to
+      other functions; `shard=True` gives each local device its own buffer of lanes.
 
     **Returns:** a `SweepResult` whose `values` leaves have the grid's shape in front.
     """

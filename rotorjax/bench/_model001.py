@@ -151,7 +151,7 @@ def sweep_comparison(sizes, progress, repeats):
     if not _dop853_001.available():
         comp.skipped.append(("C DOP853", "numbalsoda is not installed (pip install numbalsoda, or rotorjax[bench])"))
         return comp
-    for th in threads:
+    for th in threads[-1:]:  # every core, as the numba peer's fastest
         name = f"C DOP853 (numbalsoda), {th} thread{'s' if th > 1 else ''}"
         for rtol in sizes.scipy_rtols:
             final, _, ok = _dop853_001.dop853_loop(speeds, y0, sizes.t_end, groups, rtol, rtol * 1e-3, th)

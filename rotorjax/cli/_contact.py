@@ -32,7 +32,8 @@ def cmd_bifurcation(args) -> int:
     base = build(preset, params)
     events = bool(base.extras.get("events"))
     if events and args.batch not in ("auto", "buffered"):
-        raise InputError(f"--set events=1: event-located contact runs in the buffered batch; drop --batch {args.batch}")
+        raise InputError("--set events=1: event-located contact runs in the buffered batch; drop --batch "
+                         f"{args.batch}")
     path = preset.sweepable[key]   # a path into the scene (`rotorjax.models.leaf_at`), or a function of it
     where = (lambda s: leaf_at(s, path)) if isinstance(path, str) else path
     try:
@@ -71,8 +72,8 @@ def cmd_bifurcation(args) -> int:
     failed = sum(r["code"] != 0 for r in rows)
     steps = np.asarray(r.stats["num_steps"])
     out = {"preset": preset.name, "param": key, "params": params, "points": rows,
-           "batch": {"method": r.solver.partition("+")[2] or args.batch, "solver": r.solver, "steps_mean": float(steps.mean()),
-                     "steps_max": int(steps.max()),
+           "batch": {"method": r.solver.partition("+")[2] or args.batch, "solver": r.solver,
+                     "steps_mean": float(steps.mean()), "steps_max": int(steps.max()),
                      **({"events": [int(e) for e in np.asarray(r.stats["num_events"])]} if events else {})},
            "Lambda_sign_switches": switches, "failed_points": failed,
            "files": {"plot": stem + ".png", "data": stem + ".json"}}
