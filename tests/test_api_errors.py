@@ -96,6 +96,18 @@ def ivp_sweep(**kw):
     return rj.sweep(**dict(args, **kw))
 
 
+def plan(**kw):
+    """`plan_run` on a small finite-element rotor scene (shaft(): 12 free dofs)."""
+    s = rj.models.RotorScene(shaft(), 10.0)
+    args = dict(scene=s, y0=s.rest_state(), t_end=1.0, rtol=1e-8, max_steps=1000)
+    return rj.analysis.plan_run(**dict(args, **kw))
+
+
+def plan_reduced(**kw):
+    s = rj.models.RotorScene(shaft().reduce(3), 10.0)
+    return rj.analysis.plan_run(s, s.rest_state(), 1.0, 1e-8, 1000, **kw)
+
+
 def limiters(**kw):
     return Limiters(**dict(dict(angles=ANGLES, clearance=0.01, stiffness=850.0), **kw))
 
@@ -306,6 +318,13 @@ CASES = [
     (batch, dict(events=True), r"simulate_batch\(events=True\) needs a scene with `contact_indicator`"),
     (batch, dict(method="pallas", saveat=5), r"saveat: method='pallas' returns the final state only"),
     (batch, dict(method="pallas", solver="kvaerno5"), r"solver"),
+    # a time run's plan (issue 32, item 6)
+    (plan, dict(modes="some"), r"modes must be 'auto', 'all' or a number of modes 1\.\.12, got 'some'"),
+    (plan, dict(modes=2.5), r"modes must be 'auto', 'all' or a number of modes 1\.\.12, got 2\.5"),
+    (plan, dict(modes=True), r"modes must be 'auto', 'all' or a number of modes 1\.\.12, got True"),
+    (plan, dict(modes=13), r"modes = 13: the shaft has 12 coordinates \(modes must be 1\.\.12, 'auto' or 'all'\)"),
+    (plan, dict(modes=0), r"modes = 0: the shaft has 12 coordinates"),
+    (plan_reduced, dict(modes=2), r"modes = 2: only a finite-element rotor with its full shaft .* can be reduced"),
     # the analyses of models 002-004 (issue 29)
     (lambda dofs: rj.analysis.least_stable_whirl(cantilever(), 5.0, dofs), dict(dofs=(0, 99)),
      r"dofs must be two coordinate indices \(x, y\) in 0\.\.7, got \(0, 99\)"),

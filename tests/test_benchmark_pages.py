@@ -67,3 +67,30 @@ def test_readme_startup_table_is_the_json():
     assert f"first runs {min(first):.1f}-{max(first):.1f} s." in readme
     # the issue's targets, as measured (a cached run under 5 s, a first run under 15 s)
     assert max(cached) < out["targets"]["cached_s"] and max(first) < out["targets"]["first_s"]
+
+
+def test_readme_stiff_defaults_table_is_the_json():
+    """The README's table of `simulate`'s defaults on stiff rotor files, and the ratios
+    quoted under it, are `benchmarks/results/stiff_defaults.json`'s."""
+    sys.path.insert(0, str(BENCH))
+    try:
+        import stiff_defaults
+    finally:
+        sys.path.remove(str(BENCH))
+    out = json.loads((BENCH / "results" / "stiff_defaults.json").read_text())
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    assert " ".join(stiff_defaults.table(out).split()) in readme
+    cases = {c["rotor"]: c for c in out["cases"]}
+    reduced = [c for c in out["cases"] if c["plan"]["modes"]]
+    speedups = [c["dopri8_full_model"]["run_s"] / c["auto"]["run_s"] for c in reduced]
+    assert f"they run {min(speedups):.0f}-{max(speedups):.0f}x faster than Dopri8" in readme
+    assert " and ".join(f"{c['auto']['error']:.1e}".replace("e-0", "e-") for c in reduced) in readme
+    over = [c["plan"]["estimated_explicit_steps_full"] / c["dopri8_full_model"]["steps"] for c in out["cases"]]
+    over += [c["plan"]["estimated_explicit_steps"] / c["auto"]["steps"] for c in reduced]
+    assert f"{min(over):.2f}-{max(over):.1f}x the steps taken" in readme
+    journal = cases["journal_rig.toml"]
+    assert journal["auto"]["solver"] == "Kvaerno5" and journal["auto"]["success"]
+    assert f"is {journal['auto']['run_s'] / journal['dopri8_full_model']['run_s']:.1f}x faster there" in readme
+    # every default run succeeded within the budget; the full FE rotors would not have
+    assert all(c["auto"]["success"] and c["auto"]["steps"] <= c["max_steps"] for c in out["cases"])
+    assert all(c["dopri8_full_model"]["steps"] > c["max_steps"] for c in out["cases"])

@@ -52,6 +52,14 @@ CASES = [
     (["simulate", *C, "--set", "smoothing=0"], 2, r"--set smoothing=0"),
     (["simulate", *R], 2, r"`simulate` does not apply to 'ross-compare'"),
     (["simulate", *B], 2, r"`simulate` does not apply to 'balancing-machine'.*use `balance`, `identify`"),
+    # --modes: a rotor file's full shaft only, 1..its coordinates
+    (["simulate", *A, "--modes", "3"], 2, r"--modes: modes = 3: only a finite-element rotor with its full shaft"),
+    (["simulate", "{rotors}/ross_compare.toml", "--speed", "50", "--modes", "29"], 2,
+     r"--modes: modes = 29: the shaft has 28 coordinates \(modes must be 1\.\.28"),
+    (["simulate", "{rotors}/ross_compare.toml", "--speed", "50", "--modes", "0"], 2,
+     r"argument --modes: must be 'auto', 'all' or an integer >= 1, got '0'"),
+    (["simulate", "{rotors}/ross_compare.toml", "--speed", "50", "--modes", "some"], 2,
+     r"argument --modes: expected 'auto', 'all' or a number of modes, got 'some'"),
     # --- bench ---
     (["bench", "--device", "tpu"], 2, r"argument --device: invalid choice: 'tpu'"),
     (["bench", "--device", "gpu"], 2, r"--device gpu: JAX sees no gpu device here \(it sees: cpu\)"),

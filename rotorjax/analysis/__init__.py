@@ -47,6 +47,8 @@ from ._hopf import hopf_points as hopf_points
 from ._hopf import hopf_speed_gradient as hopf_speed_gradient
 from ._hopf import HopfReport as HopfReport
 from ._hopf import reference_hopf_points as reference_hopf_points
+from ._plan import RunPlan as RunPlan
+from ._plan import plan_run as plan_run
 from ._precession import Precession as Precession
 from ._precession import precession as precession
 from ._continuation import Boundaries as Boundaries

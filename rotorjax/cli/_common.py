@@ -116,6 +116,19 @@ def tolerance(text):
     return value
 
 
+def mode_count(text):
+    """'auto', 'all' or an integer >= 1 (`simulate --modes`)."""
+    if text in ("auto", "all"):
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected 'auto', 'all' or a number of modes, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be 'auto', 'all' or an integer >= 1, got {text!r}")
+    return value
+
+
 def at_least(lo):
     """An integer >= `lo`."""
     def parse(text):

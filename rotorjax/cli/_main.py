@@ -9,7 +9,8 @@ from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
 from ._bench import cmd_bench
-from ._common import InputError, NumericalError, at_least, collect_warnings, finite, nonnegative, positive, tolerance
+from ._common import (InputError, NumericalError, at_least, collect_warnings, finite, mode_count, nonnegative,
+                      positive, tolerance)
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -89,7 +90,8 @@ def _range(required=True, help="speed range"):
 def _integration(max_steps):
     return [
         (("--solver",), dict(default="auto", choices=SOLVERS,
-                             help="ODE solver; auto picks Dopri8, or Kvaerno5 for stiff scenes")),
+                             help="ODE solver; auto picks Dopri8, or Kvaerno5 where a decaying eigenvalue makes "
+                                  "the scene stiff over the run (said in the output)")),
         (("--rtol",), dict(type=tolerance, default=1e-8, help="relative tolerance of the step-size control")),
         (("--atol",), dict(type=tolerance, default=1e-10, help="absolute tolerance (state units)")),
         (("--max-steps",), dict(type=at_least(1), default=max_steps,
@@ -115,6 +117,10 @@ def build_parser():
         *_integration(500_000),
         (("--n-save",), dict(type=at_least(2), default=None,
                              help="saved states (default 4000; cantilever-limiters: 40 per revolution)")),
+        (("--modes",), dict(type=mode_count, default="auto", metavar="auto|all|N",
+                            help="a rotor file's shaft in the run: auto (reduced to its lower modes where the "
+                                 "full shaft's top modes would make an explicit run pass the step budget; "
+                                 "said in the output), all, or the N lowest modes")),
     ], kinds="elliptic-abb, anisotropic-abb, cantilever-limiters, rotor files")
     _command(sub, "steady", "all stationary regimes at a speed (rotating frame)", cmd_steady, [
         (("--speed",), dict(type=finite, required=True,

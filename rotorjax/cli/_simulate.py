@@ -1,5 +1,6 @@
 """`rotorjax simulate`: a preset's scene (or a rotor file's) in time."""
 
+import dataclasses
 import json
 import re
 
@@ -38,22 +39,28 @@ def _failure_line(summary):
 
 
 def cmd_simulate(args) -> int:
+    from rotorjax.analysis import plan_run
     from rotorjax.analysis._summary import has_disk_motion, revolutions_of, run, saves_for
 
     preset, params = preset_and_params(args, "simulate", speed_option=args.speed)
     setup = build(preset, params)
     if setup.y0 is None:
         raise wrong_kind(preset, "simulate")
-    prepare_out(args.out)
-    scene = setup.scene
     t_end = setup.t_end if args.t_end is None else args.t_end
     if t_end is None:
         raise InputError(f"{preset.name}: no default run length at {preset.speed_key} = "
                          f"{params[preset.speed_key]:g}; give --speed W (> 0) or --t-end")
+    try:
+        plan = plan_run(setup.scene, setup.y0, t_end, args.rtol, args.max_steps, modes=args.modes)
+    except InputError as e:
+        raise InputError(f"--modes: {e}") from None
+    prepare_out(args.out)
+    scene, events = plan.scene, setup.extras.get("events", False)
+    setup = dataclasses.replace(setup, scene=scene, y0=plan.y0)
     n_save = args.n_save or saves_for(scene, t_end, setup.extras.get("saves_per_revolution"))
-    result = run(scene, setup.y0, t_end, events=setup.extras.get("events", False), saveat=n_save,
-                 solver=args.solver, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps,
-                 progress=not args.json)
+    solver = ("kvaerno5" if plan.implicit else "dopri8") if args.solver == "auto" and not events else args.solver
+    result = run(scene, setup.y0, t_end, events=events, saveat=n_save, solver=solver, rtol=args.rtol,
+                 atol=args.atol, max_steps=args.max_steps, progress=not args.json)
     stem = out_stem(args.out, preset)
     if has_disk_motion(result):
         summary, files = _precession(preset, params, setup, t_end, result, stem, revolutions_of(scene, t_end))
@@ -62,11 +69,19 @@ def cmd_simulate(args) -> int:
     np.savez(stem + ".npz", ts=np.asarray(result.ts), ys=np.asarray(result.ys),
              **{k: np.asarray(v) for k, v in result.outputs.items()})
     summary["files"] = files
+    summary["integration"] = dict(plan.as_dict(), solver_option=args.solver)
     write_json(stem + ".json", summary, indent=2)
     if args.json:
         print(json.dumps(summary, indent=2))
         return 0 if summary["success"] else 3
     print(f"{preset.name}: {summary['message']} ({summary['solver']}, {summary['stats']['num_steps']} steps)")
+    if plan.modes is not None:
+        print(f"  {plan.reason}; modes above {plan.cutoff_frequency:.4g} rad/{preset.time_unit} left out "
+              "(--modes all keeps them)")
+    if plan.implicit and args.solver == "auto" and not events:
+        print(f"  Kvaerno5 (implicit): a decaying eigenvalue ({plan.estimate.fastest_decay:.3g} per "
+              f"{preset.time_unit}) would hold Dopri8 to about {plan.estimate.explicit_steps:.3g} steps "
+              "(--solver dopri8 overrides)")
     if not summary["success"]:
         print(_failure_line(dict(summary, t_end=t_end)))
         return 3

@@ -220,6 +220,30 @@ class AbstractEnergyScene(AbstractScene):
         the first `state_size` entries of this one's."""
 
 
+class AbstractReducibleScene(AbstractScene):
+    """A scene whose shaft can be reduced to its lowest modes (a finite-element
+    rotor's): what a time run's plan uses to model only what the run reaches."""
+
+    @property
+    @abc.abstractmethod
+    def reducible(self) -> bool:
+        """Whether the shaft is whole (a reduced one is not reduced again)."""
+
+    @abc.abstractmethod
+    def reduction_basis(self):
+        """`(w, Phi)`: the Ritz basis `reduce` draws on, the shaft's undamped modes
+        at rest, ascending by frequency `w` (rad per time unit), mass-normalised."""
+
+    @abc.abstractmethod
+    def reduce(self, n_modes) -> "AbstractReducibleScene":
+        """The scene with its shaft reduced to the `n_modes` lowest modes."""
+
+    @abc.abstractmethod
+    def reduction_maps(self, n_modes):
+        """`(E, P)`: `y = E y_r` expands a state of `reduce(n_modes)`, `y_r = P y`
+        projects one of this scene on it, `P E = I`."""
+
+
 def rotating_field(scene, t, z):
     """`dz/dt` of the rotating-frame state `z` of `scene` at time `t`, by the chain
     rule through `to_rotating` (one forward-mode product):
@@ -235,7 +259,7 @@ CAPABILITIES = {
     "linear_matrices": AbstractLinearScene, "unbalance_load": AbstractLinearScene,
     "n_dof": AbstractRotatingScene, "to_rotating": AbstractRotatingScene, "to_fixed": AbstractRotatingScene,
     "contact_indicator": AbstractContactScene, "energy": AbstractEnergyScene, "without_work": AbstractEnergyScene,
-    "shaft": AbstractShaftModel, "linear_system": AbstractLinearSystem,
+    "shaft": AbstractShaftModel, "linear_system": AbstractLinearSystem, "reduce": AbstractReducibleScene,
 }
 
 _WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an AbstractLinearScene)",
@@ -245,7 +269,8 @@ _WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an Abst
          AbstractLinearSystem: "no linear equations (it is not an AbstractLinearSystem: a linear scene, a "
                                "FlexibleRotor, a ReducedRotor or a CantileverRotor)",
          AbstractShaftModel: "no finite-element shaft layout (it is not an AbstractShaftModel: a FlexibleRotor, "
-                             "ReducedRotor or RotorScene)"}
+                             "ReducedRotor or RotorScene)",
+         AbstractReducibleScene: "no shaft to reduce (it is not an AbstractReducibleScene: a RotorScene)"}
 
 
 def provides(scene, capability: str) -> bool:

@@ -23,9 +23,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinearScene, AbstractRotatingScene,
-                        AbstractShaftModel, LinearMatrices, MissingCapability)
-from ._fe_reduction import ReducedRotor
+from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinearScene, AbstractReducibleScene,
+                        AbstractRotatingScene, AbstractShaftModel, LinearMatrices, MissingCapability)
+from ._fe_reduction import ReducedRotor, undamped_modes
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._base import Kinematics
 from ._equilibrium import equilibrium_matrices, films, has_films
@@ -76,7 +76,7 @@ def _assemble(rotor, table_speed, components):
 
 
 class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene, AbstractContactScene,
-                 AbstractEnergyScene):
+                 AbstractEnergyScene, AbstractReducibleScene):
     """A finite-element rotor scene (see the module docstring).
 
     **Arguments:**
@@ -389,6 +389,42 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
                 same = is_concrete(m) and bool(np.all(np.asarray(m) == np.asarray(m)[0]))
                 return np.arange(sl.start, sl.stop), same
         return np.zeros(0, dtype=int), True
+
+    # --- modal reduction ---------------------------------------------------------------
+    @property
+    def reducible(self) -> bool:
+        return isinstance(self.rotor, FlexibleRotor)
+
+    def reduction_basis(self):
+        """`(w, Phi)`: the bare shaft's undamped modes at rest (bearings included),
+        ascending, mass-normalised: the basis `FlexibleRotor.reduce` keeps the first
+        columns of."""
+        M, _, _, K = self.full_rotor.reduced_matrices()
+        w2, phi = undamped_modes(M, K)
+        return np.sqrt(np.maximum(np.asarray(w2), 0.0)), np.asarray(phi)
+
+    def _whole(self, what):
+        if not self.reducible:
+            raise InputError(f"{what}: the shaft is already reduced ({self.rotor.n_modes} modes)")
+
+    def reduce(self, n_modes) -> "RotorScene":
+        """This scene with its shaft reduced to the `n_modes` lowest undamped modes
+        (`FlexibleRotor.reduce`): speed, components and work state kept."""
+        self._whole("reduce")
+        return RotorScene(self.rotor.reduce(n_modes), self.speed, self.components, self.track_work)
+
+    def reduction_maps(self, n_modes):
+        """`(E, P)` for the state of `reduce(n_modes)`: `y = E y_r` expands a reduced
+        state, `y_r = P y` projects a state on the mass-normalised modes (`Phi^T M`
+        on the shaft's displacements and velocities; the components' coordinates and
+        the work kept), `P E = I`. The reduced linearisation is about `P J E` (exact
+        for the shaft's own terms)."""
+        self._whole("reduction_maps")
+        M = np.asarray(self.rotor.reduced_matrices()[0])
+        phi = self.reduction_basis()[1][:, :n_modes]
+        n_c = self.n_dof - self.n_shaft
+        blocks = lambda shaft: [shaft, np.eye(n_c), shaft, np.eye(n_c)] + [np.eye(1)] * self.track_work  # noqa: E731
+        return jax.scipy.linalg.block_diag(*blocks(phi)), jax.scipy.linalg.block_diag(*blocks(phi.T @ M))
 
     def rest_state(self, angles=None):
         """The straight shaft at rest, weights spread evenly (or at `angles`)."""

@@ -110,7 +110,7 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
         raise InputError(f"y0s must have shape (N, {scene0.state_size}) for this scene ({scene0.describe()}), "
                          f"got shape {y0s.shape}")
     max_steps = _check_inputs(scene0, y0s[0], t0, t1, rtol, atol, max_steps)
-    solver = choose_solver(scene0, y0s[0], t0, solver)
+    solver = choose_solver(scene0, y0s[0], t0, solver, t1=t1, rtol=rtol, max_steps=max_steps)
     steps_per_round = as_count("steps_per_round", steps_per_round, minimum=1)
     lanes = min(n, 128) if lanes is None else min(as_count("lanes", lanes, minimum=1), n)
     f64 = lambda v: jnp.asarray(v, dtype=jnp.float64)  # noqa: E731

@@ -115,7 +115,8 @@ def simulate(
     - `t_span`: `(t0, t1)`.
     - `saveat`: `None` (the final state only), an int `n` (n equally spaced times),
       or an array of times.
-    - `solver`: "auto" (Dopri8, or Kvaerno5 for stiff scenes; see `choose_solver`),
+    - `solver`: "auto" (Dopri8, or Kvaerno5 for scenes stiff over this span at this
+      tolerance and step budget; see `choose_solver`),
       a solver name, or any diffrax solver instance.
     - `rtol`, `atol`: PID step-size controller tolerances.
     - `max_steps`: reaching it is reported (`code == 1`), not raised.
@@ -135,7 +136,7 @@ def simulate(
     if adjoint is not None and not isinstance(adjoint, diffrax.AbstractAdjoint):
         raise InputError(f"adjoint must be None or a diffrax adjoint, got {type(adjoint).__name__}")
     save = _saveat(saveat, t0, t1)
-    solver = choose_solver(scene, y0, t0, solver)
+    solver = choose_solver(scene, y0, t0, solver, t1=t1, rtol=rtol, max_steps=max_steps)
     # Times and tolerances as arrays, so that new values do not recompile.
     f64 = lambda v: jnp.asarray(v, dtype=jnp.float64)  # noqa: E731
     dt0 = None if dt0 is None else f64(dt0)

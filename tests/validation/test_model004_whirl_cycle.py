@@ -167,7 +167,9 @@ def test_shooting_the_smoothed_field_gives_the_same_cycle(hb, shot):
 def test_the_exact_cycle_by_event_located_shooting(shot):
     sc, ex = shot["exact"]
     assert int(ex.code) == 0 and float(ex.residual) < 1e-10
-    assert abs(complex(ex.trivial_multiplier) - 1) < 1e-8 and bool(ex.stable)
+    # the trivial multiplier is 1 to the shooting's integration error: 1.8e-8 measured on one machine, below 1e-8 on
+    # another (a missing saltation matrix would put it off by O(1))
+    assert abs(complex(ex.trivial_multiplier) - 1) < 5e-8 and bool(ex.stable)
     T = float(ex.period)
     ts, ys = _cycle_samples(sc, ex, events=True)
     lam = precession(ts, *_disk(sc, ys), N, window=(0.0, 1.0)).mean
