@@ -24,7 +24,7 @@ def test_notebook_runs(name, figures, tmp_path):
     env = dict(os.environ, ROTORJAX_NOTEBOOK_OUT=str(tmp_path), MPLBACKEND="Agg")
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, os.path.join(ROOT, "notebooks", f"{name}.py")], env=env,
-                          capture_output=True, text=True, timeout=180, cwd=str(tmp_path))
+                          capture_output=True, text=True, timeout=400, cwd=str(tmp_path))
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert time.perf_counter() - t0 < 180
     for f in figures:

@@ -2,8 +2,8 @@
 (issue 32, item 6), and the automatic choice behind it is checked against what it
 estimates.
 
-Each run is 1% of the default run (2 of 200 revolutions) with the step budget scaled
-alike (5 000 of 500 000 steps): the plan's decisions (the modes kept, the solver) are
+Each run is 0.5% of the default run (1 of 200 revolutions) with the step budget
+scaled alike (2 500 of 500 000 steps): the plan's decisions (the modes kept, the solver) are
 those of the default run, whose estimate scales with the span. A rotor file at speed 0
 runs at 50 rad/s (`--speed 50`, as a user must give it). The full FE rotors ring at
 their top modes from rest and are reduced; the journal rig's films decay too fast for
@@ -25,7 +25,7 @@ from rotorjax.cli import main
 from rotorjax.solve import dopri8_stability_radius, estimate_stiffness, jacobian_at, simulate
 
 ROTORS = os.path.join(os.path.dirname(rotorjax.__file__), "rotors")
-SCALE, SAVES = 0.01, 200
+SCALE, SAVES = 0.005, 200
 MAX_STEPS = int(SCALE * 500_000)
 #: (preset or rotor file, --speed where the default is 0, the modes "auto" keeps, the solver "auto" takes)
 CASES = [("elliptic-abb", None, None, "Dopri8"), ("anisotropic-abb", None, None, "Dopri8"),

@@ -228,7 +228,9 @@ def test_sweep_of_initial_value_problems_keeps_grid_order(vectorised):
 
 def test_each_host_device_runs_its_own_buffer():
     """`shard=True` over 2 host devices (a subprocess: the device count is fixed at
-    start-up) equals one buffer on one device, in the points' order."""
+    start-up) equals one buffer on one device, in the points' order: the vectorised
+    stepper to the tolerance, diffrax's step (with contact events, devices ending
+    apart) to rounding."""
     code = (
         "import jax, jax.numpy as jnp, numpy as np, equinox as eqx\n"
         "from rotorjax.presets import anisotropic_abb as ab\n"
@@ -238,11 +240,6 @@ def test_each_host_device_runs_its_own_buffer():
         "y0 = jnp.asarray(ab.PRESET.build(P).y0)\n"
         "sp = jnp.linspace(1.0, 6.0, 5)\n"
         "sc = eqx.filter_vmap(lambda n: ab.scene_from_groups(**G, n=n, K=P['K']))(sp)\n"
-        "kw = dict(solver='dopri8', rtol=1e-9, atol=1e-12, lanes=2, method='buffered')\n"
-        "a = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), shard=True, **kw)\n"
-        "b = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), **kw)\n"
-        "np.testing.assert_allclose(a.ys, b.ys, rtol=1e-12, atol=1e-14)\n"
-        "np.testing.assert_array_equal(a.stats['num_steps'], b.stats['num_steps'])\n"
         "kw = dict(solver='dopri8', rtol=1e-9, atol=1e-12, lanes=4)\n"  # vectorised: to the tolerance
         "a = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), shard=True, **kw)\n"
         "b = simulate_batch(sc, jnp.tile(y0, (5, 1)), (0.0, 10.0), **kw)\n"
