@@ -10,6 +10,8 @@ writes, next to each, a PNG:
 - `harmonic_balance`: max relative amplitude error against the time for all speeds,
   harmonic balance (one marker per harmonic count) and the brute-force sweep (one per
   tolerance and integration length), the target error as a line;
+- `step_cost`: microseconds per lane-step split into right-hand sides, stage sums
+  and the rest, the arithmetic bound and the peer's right-hand sides marked;
 - `bench_quick` (the report of `rotorjax bench --quick`): its three panels
   (`rotorjax.plot.plot_bench`).
 Captions carry the machine and the JSON's `date` (else the file's time). Then writes
@@ -346,6 +348,49 @@ def journal_bearings(results):
             f"the references' disagreement, peer / rotorjax Dopri8: " + "; ".join(full_text) + "." + caveat)
 
 
+def step_cost(results):
+    """Where a lane-step's time goes (`benchmarks/step_cost.py`): per case, the
+    lane-step split into right-hand sides, stage sums and the rest, beside the
+    arithmetic bound and the peer's right-hand sides."""
+    d, date = _load(results, "step_cost")
+    cases = d["cases"]
+    fig, ax = plt.subplots(figsize=(9.0, 4.4))
+    labels = list(cases)
+    parts = (("step", "the step: 13 right-hand sides and the stage sums"),
+             ("control_dense_output_and_buffer", "step control, dense output, buffer"))
+    left = [0.0] * len(labels)
+    for key, name in parts:
+        widths = [cases[k]["split_us"][key] for k in labels]
+        ax.barh(range(len(labels)), widths, left=left, label=name)
+        left = [a + b for a, b in zip(left, widths)]
+    marks = (([cases[k]["rhs_alone_per_step_us"] for k in labels], "o", "w",
+              "13 right-hand sides alone, over the same lanes"),
+             ([13 * cases[k]["peer"]["numba_rhs_us"] for k in labels], "x", "r",
+              "13 numba right-hand sides (the C loop's)"),
+             ([cases[k]["arithmetic_bound_us"] for k in labels], "|", "k", "arithmetic bound (flops / one core's peak)"))
+    for xs, marker, color, name in marks:
+        ax.scatter(xs, range(len(labels)), marker=marker, s=120, color=color, edgecolors="k", label=name, zorder=3)
+    ax.set_xscale("log")
+    ax.set_yticks(range(len(labels)))
+    ax.set_yticklabels(labels, fontsize=7)
+    _caption(ax, d, date, "microseconds per lane-step, Dopri8, one core")
+    _save(fig, ax, os.path.join(results, "step_cost_bars.png"), "microseconds per lane-step", "")
+    said = "; ".join(
+        f"{k} ({c['lanes']} lanes): {c['lane_step_us']:.2f} us a lane-step, "
+        f"{100 * c['split_us']['step'] / c['lane_step_us']:.0f}% of it the step itself (13 right-hand sides alone: "
+        f"{c['rhs_alone_per_step_us']:.2f} us, {c['rhs_us'] * 1e3:.0f} ns each against the numba peer's "
+        f"{c['peer']['numba_rhs_us'] * 1e3:.0f} ns; over 512 lanes {c['rhs_us_by_lanes']['512'] * 1e3:.0f} ns), "
+        f"{100 * c['fraction_of_peak']:.1f}% of the core's peak (bound {c['arithmetic_bound_us']:.2f} us)"
+        + (f"; numba DOP853 {c['peer']['numba_dop853_step_us']:.2f} us a step" if "numba_dop853_step_us"
+           in c["peer"] else "")
+        for k, c in cases.items())
+    pk = d["peak"]
+    return ("step_cost_bars.png",
+            f"The batch path's cost per lane-step against its right-hand side and the arithmetic bound "
+            f"({pk['gflops_per_core']:.1f} GFLOP/s a core: {pk['clock_ghz']:.2f} GHz x {pk['flops_per_cycle']} "
+            f"flops a cycle, {pk['basis']}). {said}.")
+
+
 def bench_quick(results):
     """`rotorjax bench --quick` on this machine (its report copied to bench_quick.json)."""
     from rotorjax.plot import plot_bench
@@ -393,6 +438,7 @@ def main():
                ("Identification of a flexible rotor's bearings", fe_identification(args.results)),
                ("Harmonic balance against brute-force sweeps", harmonic_balance(args.results)),
                ("Journal bearings: time integration against CPU peers", journal_bearings(args.results)),
+               ("Where a lane-step's time goes", step_cost(args.results)),
                ("`rotorjax bench --quick`", bench_quick(args.results))]
     page(entries, args.page)
     print(f"wrote {len(entries)} diagrams and {args.page}")

@@ -9,9 +9,9 @@ from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification", "fe_identification",
-         "harmonic_balance", "journal_bearings", "bench_quick")
+         "harmonic_balance", "journal_bearings", "step_cost", "bench_quick")
 PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_bars", "identification_bars",
-        "fe_identification_bars", "harmonic_balance_wp", "journal_bearings_wp", "bench_quick")
+        "fe_identification_bars", "harmonic_balance_wp", "journal_bearings_wp", "step_cost_bars", "bench_quick")
 
 
 def test_page_and_diagrams_from_the_json(tmp_path):
@@ -41,6 +41,10 @@ def test_page_and_diagrams_from_the_json(tmp_path):
     hb = json.loads((tmp_path / "harmonic_balance.json").read_text())["matched"]
     assert f"takes {hb['hb_s']:.1f} s at error {hb['hb_error']:.1e}" in text
     assert f"{hb['ratio']:.1f}x faster" in text
+    cost = json.loads((tmp_path / "step_cost.json").read_text())
+    for label, c in cost["cases"].items():
+        assert f"{label} ({c['lanes']} lanes): {c['lane_step_us']:.2f} us a lane-step" in text
+        assert f"{100 * c['fraction_of_peak']:.1f}% of the core's peak" in text
     quick = json.loads((tmp_path / "bench_quick.json").read_text())
     for row in quick["table"]:  # every bracketed ratio is quoted with its error
         if row["match"] == "interpolated":
@@ -94,3 +98,43 @@ def test_readme_stiff_defaults_table_is_the_json():
     # every default run succeeded within the budget; the full FE rotors would not have
     assert all(c["auto"]["success"] and c["auto"]["steps"] <= c["max_steps"] for c in out["cases"])
     assert all(c["dopri8_full_model"]["steps"] > c["max_steps"] for c in out["cases"])
+
+
+def test_readme_step_cost_table_and_fe_batch_are_the_json():
+    """The README's table of where a lane-step's time goes is `step_cost.json`'s, and the
+    readings under it hold there; the FE rotor's batch ratios are `rotor_scene.json`'s."""
+    sys.path.insert(0, str(BENCH))
+    try:
+        import step_cost
+    finally:
+        sys.path.remove(str(BENCH))
+    out = json.loads((BENCH / "results" / "step_cost.json").read_text())
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    assert " ".join(step_cost.table(out).split()) in readme
+    c = out["cases"]
+    small = [c["model 001"], c["FE rotor, 8 modes"]]
+    full = c["FE rotor, full (28 dofs)"]
+    # "a quarter to a third of a lane-step" in control and the buffer; "16-19% of the peak"; "45%"
+    assert all(0.25 <= x["split_us"]["control_dense_output_and_buffer"] / x["lane_step_us"] <= 1 / 3 + 0.01
+               for x in small)
+    assert all(0.155 <= x["fraction_of_peak"] <= 0.195 for x in small) and round(100 * full["fraction_of_peak"]) == 45
+    ns = lambda x, k: f"{x['rhs_us_by_lanes'][k] * 1e3:.0f}"  # noqa: E731
+    m, r = small
+    assert (f"falls from {ns(m, '8')} to {ns(m, '512')} ns (model 001) and from {ns(r, '8')} to {ns(r, '512')} ns "
+            f"(8 modes)") in readme
+    assert all(x["rhs_us_by_lanes"]["8"] > x["rhs_us_by_lanes"]["512"] for x in small)
+    assert f"({ns(full, '128')} ns at 128 lanes, {ns(full, '512')} ns at 512)" in readme
+    assert full["rhs_us_by_lanes"]["512"] > full["rhs_us_by_lanes"]["128"] < full["rhs_us_by_lanes"]["8"]
+    assert all(x["rhs_us_by_lanes"]["512"] < x["peer"]["numba_rhs_us"] for x in small)
+    assert (f"({ns(m, '512')} and {ns(r, '512')} ns against {m['peer']['numba_rhs_us'] * 1e3:.0f} and "
+            f"{r['peer']['numba_rhs_us'] * 1e3:.0f} ns)") in readme
+    # the full rotor's right-hand side "about 3x cheaper" than numba's
+    assert 2.5 < full["peer"]["numba_rhs_us"] / full["rhs_us"] < 3.5
+    batch = json.loads((BENCH / "results" / "rotor_scene.json").read_text())["batch"]
+    f, r = batch["full (28 dofs)"], batch["reduced (8 modes)"]
+    assert (f"`simulate_batch` takes {f['rotorjax_batch']['s']:.2f} s for the full rotor: "
+            f"{f['ratios']['numba_loop_over_rotorjax_batch']:.2f}x the numba-compiled DOP853 loop on one thread and "
+            f"{f['ratios']['numba_prange_2_threads_over_rotorjax_batch']:.2f}x its `prange` loop on 2 threads") in readme
+    assert (f"{r['ratios']['numba_loop_over_rotorjax_one_call']:.2f}x the one-thread loop, "
+            f"{r['ratios']['numba_prange_2_threads_over_rotorjax_best']:.2f}x the 2-thread loop") in readme
+    assert f["rotorjax_batch"]["method"] == "Dopri8+vectorised" and f["rotorjax_batch"]["failed"] == 0

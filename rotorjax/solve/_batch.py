@@ -95,6 +95,10 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
       block of lanes in one Pallas kernel; explicit Runge-Kutta, final state only),
       "vmap" (`simulate` vmapped: lanes in lock-step).
 
+    Array leaves equal at every point (a speed sweep's matrices) enter the compiled
+    loop once, without the batch axis ("vectorised" and "buffered"): the lanes'
+    vector field applies them to every lane at once.
+
     **Returns:** a `SimulationResult` whose fields carry the batch axis in front, in
     the order of the points; a failed point is marked by its `code` (see `RESULTS`).
     """
@@ -150,10 +154,28 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     ts = jnp.ones((1,)) if final_only else jnp.linspace(0.0, 1.0, int(saveat)) if relative else f64(saveat)
     rest = (ts, solver, f64(rtol), f64(atol), jnp.asarray(max_steps))
     static = (steps_per_round, final_only, relative, events, method == "vectorised")
+    scenes, shared = _split_shared(scenes)
     devices = jax.local_devices() if shard else []
     if len(devices) < 2 or n < 2:
-        return _buffered(scenes, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
-    return _over_devices(scenes, y0s, f64(t0s), f64(t1s), rest, lanes, static, devices)
+        return _buffered(scenes, shared, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
+    return _over_devices(scenes, shared, y0s, f64(t0s), f64(t1s), rest, lanes, static, devices)
+
+
+def _split_shared(scenes):
+    """`(varying, shared)`: the scene's array leaves that are equal at every point
+    (a speed sweep's mass, stiffness and gyroscopic matrices) pass once, without the
+    batch axis, so that the lanes' vector field applies them to every lane at once
+    (a matrix-matrix product over the lanes, not one matrix-vector product per
+    lane); the others keep their batch axis. Leaves being traced stay batched."""
+    def same(a):
+        if not eqx.is_array(a) or isinstance(a, jax.core.Tracer) or np.ndim(a) == 0:
+            return False
+        v = np.asarray(a)
+        return bool(np.all(v == v[:1]))
+
+    mask = jax.tree_util.tree_map(same, scenes)
+    shared, varying = eqx.partition(scenes, mask)
+    return varying, jax.tree_util.tree_map(lambda a: a[0], shared)
 
 
 def _spans(t_span, n):
@@ -177,7 +199,7 @@ def _spans(t_span, n):
     return out
 
 
-def _over_devices(scenes, y0s, t0s, t1s, rest, lanes, static, devices):
+def _over_devices(scenes, shared, y0s, t0s, t1s, rest, lanes, static, devices):
     """`run` on each local device with its own buffer, as its own program (see
     `on_each_device`): point `i` goes to device `i mod D` (neighbouring points cost
     alike, so the devices share the work evenly); padded with the last point, results
@@ -186,7 +208,7 @@ def _over_devices(scenes, y0s, t0s, t1s, rest, lanes, static, devices):
     per = -(-n // d)
     order = np.minimum(np.arange(per * d).reshape(per, d).T.reshape(-1), n - 1)
     share = lambda a, i: a[order[i * per:(i + 1) * per]] if eqx.is_array(a) else a  # noqa: E731
-    parts = [(jax.tree_util.tree_map(lambda a: share(a, i), scenes), share(y0s, i), share(t0s, i),
+    parts = [(jax.tree_util.tree_map(lambda a: share(a, i), scenes), shared, share(y0s, i), share(t0s, i),
               share(t1s, i), *rest, min(-(-lanes // d), per), *static) for i in range(d)]
     outs = on_each_device(_buffered, parts)
     back = np.argsort(order, kind="stable")[:n]  # the first copy of each point
@@ -247,8 +269,8 @@ def _lane_field(t, y, args):
     return scene.vector_field(t, y, active) if active.shape[0] else scene.vector_field(t, y)
 
 
-def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lanes, steps_per_round, final_only,
-                   relative, events, vectorised):
+def _buffered_impl(scenes, shared, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lanes, steps_per_round,
+                   final_only, relative, events, vectorised):
     n, n_save = y0s.shape[0], ts.shape[0]
     term = diffrax.ODETerm(_lane_field)
     controller = diffrax.PIDController(rtol=rtol, atol=atol)
@@ -256,7 +278,7 @@ def _buffered_impl(scenes, y0s, t0s, t1s, ts, solver, rtol, atol, max_steps, lan
     order = solver.error_order(term)
     arrays, static = eqx.partition(scenes, eqx.is_array)
     ok = diffrax.RESULTS.successful
-    whole = lambda scene_arrays: eqx.combine(scene_arrays, static)  # noqa: E731
+    whole = lambda scene_arrays: eqx.combine(scene_arrays, shared, static)  # noqa: E731
     if vectorised:
         tableau = Tableau(solver)
         lanes_field = field_over_lanes(lambda a, t, y: whole(a).vector_field(t, y))

@@ -68,6 +68,22 @@ def test_each_point_equals_its_own_simulate(buffered, singles):
     np.testing.assert_array_equal(s["num_steps"], s["num_accepted_steps"] + s["num_rejected_steps"])
 
 
+def test_leaves_equal_at_every_point_pass_once(batch):
+    """A speed sweep's scene: the speed keeps its batch axis, every other array leaf
+    (equal at every point) passes once, without it (`_split_shared`); the fixtures'
+    batches above run through the split."""
+    from rotorjax.solve._batch import _split_shared
+
+    scenes, _ = batch
+    varying, shared = _split_shared(scenes)
+    kept = [a for a in jax.tree_util.tree_leaves(varying) if eqx.is_array(a)]
+    assert len(kept) == 1 and np.array_equal(kept[0], SPEEDS)
+    every = [a for a in jax.tree_util.tree_leaves(scenes) if eqx.is_array(a)]
+    once = [a for a in jax.tree_util.tree_leaves(shared) if eqx.is_array(a)]
+    assert len(once) == len(every) - 1 and all(a.shape == b.shape[1:] for a, b in zip(once, [
+        b for b in every if not np.array_equal(b, SPEEDS)]))
+
+
 def test_the_vectorised_stepper_is_diffrax_s_step(buffered, vectorised, singles):
     """The default ("auto") steps the lanes as arrays of lanes: the same method and
     controller, its sums in another order. The error estimate is a difference of
