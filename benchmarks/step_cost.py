@@ -127,16 +127,49 @@ def fe_rotor(n_modes, n_points, lanes, t_end):
 
 
 # ----------------------------------------------------------------------------- measures
-def measure(case, repeats):
-    """The lane-step, the step alone, the right-hand side alone, their flops."""
-    import diffrax
+def lanes_kernel(scenes, lanes):
+    """`(field, scene_t)`: the vector field over lanes as the vectorised stepper calls
+    it (`field(scene_t, t, Y)`, `Y[state, lane]`, the leaves equal at every point
+    unbatched) and the first `lanes` points' varying leaves, lanes last."""
     import equinox as eqx
     import jax
     import jax.numpy as jnp
 
-    from rotorjax.solve import simulate_batch
     from rotorjax.solve._batch import _split_shared
-    from rotorjax.solve._vectorised import Tableau, field_over_lanes, stages
+    from rotorjax.solve._vectorised import field_over_lanes
+
+    varying, shared = _split_shared(scenes)
+    arrays, static = eqx.partition(varying, eqx.is_array)
+    scene_t = jax.tree_util.tree_map(lambda a: jnp.moveaxis(a[:lanes], 0, -1), arrays)
+    return field_over_lanes(lambda a, t, y: eqx.combine(a, shared, static).vector_field(t, y)), scene_t
+
+
+def count_flops(field, scene_t, T, Y, tab):
+    """`(right-hand side flops, step flops, transcendentals)` per lane: XLA's cost
+    analysis of one right-hand side over the lanes (`Y[lane, state]`), times the
+    evaluations a step makes, plus the stage sums counted from the tableau (a
+    stage's sum over all `s` stages, 2 s n, and its update, 2 n; the solution and
+    error sums). XLA counts a while loop's body once, so the step's own analysis
+    would undercount."""
+    import jax
+
+    lanes, n_state = Y.shape
+    ca = jax.jit(lambda Y: field(scene_t, T, Y)).lower(Y.T).compile().cost_analysis()
+    ca = ca[0] if isinstance(ca, list) else ca
+    evals = tab.stages - 1 if tab.fsal else tab.stages
+    rhs = float(ca["flops"]) / lanes
+    sums = (evals * (2 * tab.stages + 2) + 2 * (2 * tab.stages + 2)) * n_state
+    return rhs, evals * rhs + sums, float(ca.get("transcendentals", 0.0)) / lanes
+
+
+def measure(case, repeats):
+    """The lane-step, the step alone, the right-hand side alone, their flops."""
+    import diffrax
+    import jax
+    import jax.numpy as jnp
+
+    from rotorjax.solve import simulate_batch
+    from rotorjax.solve._vectorised import Tableau, stages
 
     scenes, lanes = case["scenes"], case["lanes"]
     n = case["n"]
@@ -152,15 +185,13 @@ def measure(case, repeats):
     lane_steps = int(np.sum(np.asarray(steps)))
 
     # the kernel's pieces on the first `lanes` points, at their final states
-    varying, shared = _split_shared(scenes)
-    arrays, static = eqx.partition(varying, eqx.is_array)
-    scene_t = jax.tree_util.tree_map(lambda a: jnp.moveaxis(a[:lanes], 0, -1), arrays)
-    field = field_over_lanes(lambda a, t, y: eqx.combine(a, shared, static).vector_field(t, y))
+    field, scene_t = lanes_kernel(scenes, lanes)
     tab = Tableau(diffrax.Dopri8())
     Y = jnp.asarray(ys)[:lanes, -1]                       # [lanes, state]
     T = jnp.full((lanes,), case["span"][1])
     H = jnp.full((lanes,), (case["span"][1] - case["span"][0]) / (lane_steps / n))  # the mean step
     F0 = field(scene_t, T, Y.T).T
+
     def rhs_per_lane(k):
         """One right-hand side over `k` lanes (the first lanes repeated), per lane, us."""
         idx = np.arange(k) % lanes
@@ -173,11 +204,8 @@ def measure(case, repeats):
                                                                                    F0)[0], y))
     t_step, _, _ = timed(lambda: step_loop(Y), max(repeats, 1))
     evals = tab.stages - 1 if tab.fsal else tab.stages
-    ca = jax.jit(lambda Y: field(scene_t, T, Y)).lower(Y.T).compile().cost_analysis()
-    ca = ca[0] if isinstance(ca, list) else ca
     n_state = Y.shape[1]
-    rhs_flops = float(ca["flops"]) / lanes
-    sums_flops = (evals * (2 * tab.stages + 2) + 2 * (2 * tab.stages + 2)) * n_state
+    rhs_flops, step_flops, transcendentals = count_flops(field, scene_t, T, Y, tab)
     by_lanes = {str(k): rhs_per_lane(k) for k in sorted(set(RHS_LANES) | {lanes})}
     out = {"points": case["points"], "state_size": int(n_state), "lanes": lanes, "steps_per_round": SPR,
            "span": list(case["span"]), "rtol": case["rtol"], "atol": case["atol"], "method": how,
@@ -185,8 +213,7 @@ def measure(case, repeats):
            "lane_step_us": t_batch / lane_steps * 1e6, "step_us": t_step / LOOP / lanes * 1e6,
            "rhs_us": by_lanes[str(lanes)], "rhs_us_by_lanes": by_lanes,
            "rhs_evals_per_step": evals, "rhs_flops": rhs_flops,
-           "rhs_transcendentals": float(ca.get("transcendentals", 0.0)) / lanes,
-           "flops_per_lane_step": evals * rhs_flops + sums_flops}
+           "rhs_transcendentals": transcendentals, "flops_per_lane_step": step_flops}
     # the step (right-hand sides and stage sums, not separable: XLA fuses a stage's sum
     # into its right-hand side) and the rest of the lane-step; the right-hand sides
     # alone for comparison

@@ -138,3 +138,19 @@ def test_readme_step_cost_table_and_fe_batch_are_the_json():
     assert (f"{r['ratios']['numba_loop_over_rotorjax_one_call']:.2f}x the one-thread loop, "
             f"{r['ratios']['numba_prange_2_threads_over_rotorjax_best']:.2f}x the 2-thread loop") in readme
     assert f["rotorjax_batch"]["method"] == "Dopri8+vectorised" and f["rotorjax_batch"]["failed"] == 0
+
+
+def test_readme_gpu_batch_numbers_are_the_json():
+    """The accelerator benchmark's README numbers are `gpu_batch_cpu.json`'s, and no GPU
+    figure is quoted: no `gpu_batch_gpu.json` has been measured."""
+    out = json.loads((BENCH / "results" / "gpu_batch_cpu.json").read_text())
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    v, p = out["runs"]
+    assert out["device"]["platform"] == "cpu" and out["gpu_figure"].startswith("none")
+    assert not (BENCH / "results" / "gpu_batch_gpu.json").exists() and "No GPU figure exists yet" in readme
+    assert (f"`vectorised`: {v['trajectories_per_s']:.0f} trajectories/s, {100 * v['fraction_of_peak']:.1f}% of the "
+            f"CPU's peak") in readme
+    assert f"`pallas` (interpret mode): {p['trajectories_per_s']:.0f} trajectories/s" in readme
+    d = v["kernels_differ_by"]
+    assert f"differ by {d['median']:.0e} (median over the points, relative) and {d['p90']:.0e}" in readme
+    assert d["median"] < 1e-9 and all(r["points_failed"] == 0 for r in out["runs"])

@@ -15,8 +15,8 @@ import pytest
 
 HERE = Path(__file__).resolve().parent
 BENCH = HERE.parent / "benchmarks"
-SCRIPTS = ("auto07p", "balance_grid", "continuation", "fe_identification", "flexible", "harmonic_balance",
-           "identification", "identification_coverage", "journal_bearings", "limiters", "peers_001",
+SCRIPTS = ("auto07p", "balance_grid", "continuation", "fe_identification", "flexible", "gpu_batch",
+           "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters", "peers_001",
            "periodic_jaxcont", "ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup",
            "step_cost", "stiff_defaults", "sweep_throughput")
 #: modules that are not benchmarks: shared helpers, and the results page (tests/test_benchmark_pages.py)
