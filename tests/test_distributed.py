@@ -95,7 +95,10 @@ def test_two_processes_equal_single_process(tmp_path):
     for i in range(2):
         got = np.load(tmp_path / f"ivp{i}.npz")
         np.testing.assert_array_equal(got["code"], 0)
-        np.testing.assert_allclose(got["ys"], one.ys, rtol=0, atol=1e-10 * float(np.max(np.abs(one.ys))))
+        # to the tolerance (rtol 1e-8), as every batch split: the lanes' widths differ (2 per device here, 5
+        # in one process), and the compiled code for another width may round differently, which can move a
+        # step-size decision (measured 1.1e-9 of the largest state)
+        np.testing.assert_allclose(got["ys"], one.ys, rtol=0, atol=1e-7 * float(np.max(np.abs(one.ys))))
     # grid order: v holds the point itself
     got = np.load(tmp_path / "plain1.npz")
     np.testing.assert_array_equal(got["v"][..., 0], np.broadcast_to(GRID["a"][:, None], (5, 3)))
