@@ -32,7 +32,6 @@ one; the JSON says which device measured it.
 import argparse
 import os
 import sys
-import time
 
 os.environ.setdefault("XLA_FLAGS", "")  # the device's defaults (step_cost pins one CPU thread)
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -91,15 +90,10 @@ def run_kernel(method, scenes, y0s, t_end, repeats):
                            max_steps=1_000_000, method=method, **kw)
         return jax.block_until_ready((r.ys[:, -1], r.code, r.stats["num_steps"]))
 
-    t0 = time.perf_counter()
-    out = once()
-    first = time.perf_counter() - t0
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = once()
-        ts.append(time.perf_counter() - t0)
-    return min(ts or [first]), first, [np.asarray(x) for x in out]
+    import step_cost
+
+    s, first, out = step_cost.timed(once, repeats)
+    return s, first, [np.asarray(x) for x in out]
 
 
 def main():

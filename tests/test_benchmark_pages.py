@@ -14,6 +14,17 @@ PNGS = ("sweep_throughput_wp", "limiters_wp", "stability_map_wp", "ross_parity_b
         "fe_identification_bars", "harmonic_balance_wp", "journal_bearings_wp", "step_cost_bars", "bench_quick")
 
 
+def _bench_module(name):
+    """A benchmark script imported as a module (for its `table`), `benchmarks/` on the path meanwhile."""
+    import importlib
+
+    sys.path.insert(0, str(BENCH))
+    try:
+        return importlib.import_module(name)
+    finally:
+        sys.path.remove(str(BENCH))
+
+
 def test_page_and_diagrams_from_the_json(tmp_path):
     for name in NAMES:
         shutil.copy(BENCH / "results" / f"{name}.json", tmp_path)
@@ -56,11 +67,7 @@ def test_page_and_diagrams_from_the_json(tmp_path):
 def test_readme_startup_table_is_the_json():
     """The README's start-up table (first and cached runs of the everyday commands) is
     `benchmarks/results/startup.json`'s, as `python benchmarks/startup.py --table` prints it."""
-    sys.path.insert(0, str(BENCH))
-    try:
-        import startup
-    finally:
-        sys.path.remove(str(BENCH))
+    startup = _bench_module("startup")
     out = json.loads((BENCH / "results" / "startup.json").read_text())
     readme = (BENCH.parent / "README.md").read_text()
     assert startup.table(out) in readme
@@ -76,11 +83,7 @@ def test_readme_startup_table_is_the_json():
 def test_readme_stiff_defaults_table_is_the_json():
     """The README's table of `simulate`'s defaults on stiff rotor files, and the ratios
     quoted under it, are `benchmarks/results/stiff_defaults.json`'s."""
-    sys.path.insert(0, str(BENCH))
-    try:
-        import stiff_defaults
-    finally:
-        sys.path.remove(str(BENCH))
+    stiff_defaults = _bench_module("stiff_defaults")
     out = json.loads((BENCH / "results" / "stiff_defaults.json").read_text())
     readme = " ".join((BENCH.parent / "README.md").read_text().split())
     assert " ".join(stiff_defaults.table(out).split()) in readme
@@ -103,11 +106,7 @@ def test_readme_stiff_defaults_table_is_the_json():
 def test_readme_step_cost_table_and_fe_batch_are_the_json():
     """The README's table of where a lane-step's time goes is `step_cost.json`'s, and the
     readings under it hold there; the FE rotor's batch ratios are `rotor_scene.json`'s."""
-    sys.path.insert(0, str(BENCH))
-    try:
-        import step_cost
-    finally:
-        sys.path.remove(str(BENCH))
+    step_cost = _bench_module("step_cost")
     out = json.loads((BENCH / "results" / "step_cost.json").read_text())
     readme = " ".join((BENCH.parent / "README.md").read_text().split())
     assert " ".join(step_cost.table(out).split()) in readme
