@@ -10,7 +10,18 @@ host devices: XLA_FLAGS set below, before jax is imported; see the JSON's
 same vmapped computation compiled once (`jax.jit`, chunk by chunk, sharded alike) is
 timed too. Every timing: a compiling call first, then the median of repeats.
 
-The peers are Python loops of scipy `solve_ivp` (DOP853) over the same augmented
+`floquet_batch` (issue 32, item 4) integrates the same variational equations as a
+scene on the batch kernel (all 10 000 points in one queue of lanes, the lanes stepped
+together as arrays), with `CPU_COMPILER_OPTIONS`; the sweep is also timed with those
+options (`compiler_options=`), as `stability_margins` runs it.
+
+The compiled peer is Hairer's DOP853 in C (`numbalsoda`) over the same variational
+equations, a numba `cfunc` right-hand side whose Jacobian is taken by complex step
+(8 complex evaluations of the structured right-hand side), the points in a numba
+`prange` loop on 1 and on 2 threads (`rotorjax.bench._dop853_001.floquet_loop`),
+timed on the whole grid (target, issue 32: at least 1x).
+
+The scipy peers are Python loops of scipy `solve_ivp` (DOP853) over the same augmented
 system (state, monodromy matrix, trace integral), the Jacobian by complex step
 (exact to rounding) of either right-hand side: the closed-form pure-Python one
 (`peers_001.make_rhs_python(..., complex_step=True)`: scalar `cmath`, the 2x2 solve by
@@ -42,12 +53,15 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import jax  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
+import equinox as eqx  # noqa: E402
+
 import rotorjax as rj  # noqa: E402
 from rotorjax.bench import _peers001  # noqa: E402
 from rotorjax.bench._model001 import FLOQUET_BASE, Y_MAIN as Y_MAIN_001, floquet_margin_fn  # noqa: E402
 from _common import CpuWatch, today  # noqa: E402
 from rotorjax._distributed import on_each_device  # noqa: E402
-from rotorjax.analysis import critical_speeds  # noqa: E402
+from rotorjax.analysis import CPU_COMPILER_OPTIONS, critical_speeds, floquet_batch  # noqa: E402
+from rotorjax.bench import _dop853_001  # noqa: E402
 from rotorjax.presets import anisotropic_abb as A  # noqa: E402
 
 BASE, Y_MAIN = FLOQUET_BASE, Y_MAIN_001  # model 001's Floquet study, as `rotorjax bench` runs it
@@ -56,11 +70,46 @@ MU_W = np.linspace(0.05, 1.0, 50)
 margin_fn = floquet_margin_fn  # `point -> margin` at `rtol` (one function object per rtol)
 
 
-def rotorjax_map(rtol, chunk=250, shard=False):
-    """The map through `rotorjax.sweep` -> (margins (200, 50), seconds)."""
+def rotorjax_map(rtol, chunk=250, shard=False, options=None):
+    """The map through `rotorjax.sweep` (with the XLA `options`) -> (margins (200, 50), seconds)."""
     t0 = time.perf_counter()
-    res = rj.sweep(margin_fn(rtol), {"n": SPEEDS, "mu_w": MU_W}, chunk_size=chunk, progress=False, shard=shard)
+    res = rj.sweep(margin_fn(rtol), {"n": SPEEDS, "mu_w": MU_W}, chunk_size=chunk, progress=False, shard=shard,
+                   compiler_options=options)
     return np.asarray(jax.block_until_ready(res.values)), time.perf_counter() - t0
+
+
+def sweep_options_map(rtol, shard=False):
+    """`rotorjax_map` with `CPU_COMPILER_OPTIONS` (as `stability_margins` sweeps)."""
+    return rotorjax_map(rtol, shard=shard, options=CPU_COMPILER_OPTIONS)
+
+
+def _reference(rtol):
+    """`point -> PeriodicOrbit` of the main motion at `rtol` (as `floquet_margin_fn`)."""
+    def ref(p):
+        return A.main_motion_reference(dict(BASE, mu_w=p["mu_w"]), p["n"], 1.0, rtol, rtol * 1e-2)
+    return ref
+
+
+def batch_map(rtol, shard=False):
+    """The map through `floquet_batch`: the grid's orbits built (vmapped) and their
+    variational equations integrated on the batch kernel -> (margins, seconds)."""
+    n, mu = (jax.numpy.asarray(a.reshape(-1)) for a in np.meshgrid(SPEEDS, MU_W, indexing="ij"))
+    t0 = time.perf_counter()
+    res = floquet_batch(eqx.filter_vmap(_reference(rtol))({"n": n, "mu_w": mu}), shard=shard)
+    margins = np.where(np.asarray(res.code) == 0, np.asarray(jax.block_until_ready(res.margin)), np.nan)
+    return margins.reshape(SPEEDS.size, MU_W.size), time.perf_counter() - t0
+
+
+def c_dop853_map(rtol, threads):
+    """The map by C DOP853 over the variational equations, `threads` threads ->
+    (margins, seconds excluding numba's compilation, all succeeded)."""
+    n, mu = (a.reshape(-1) for a in np.meshgrid(SPEEDS, MU_W, indexing="ij"))
+    m, wall, ok = _dop853_001.floquet_loop(n, mu, Y_MAIN, BASE, rtol, rtol * 1e-2, threads=threads)
+    return m.reshape(SPEEDS.size, MU_W.size), wall, ok
+
+
+def c_dop853_margin(n, mu_w, rtol):
+    return float(_dop853_001.floquet_loop(np.array([n]), mu_w, Y_MAIN, BASE, rtol, rtol * 1e-2)[0][0])
 
 
 _COMPILED = {}
@@ -133,8 +182,10 @@ def scipy_margin(n, mu_w, rtol, rhs="python"):
     return np.max(np.log(np.abs(np.linalg.eigvals(mono)))) / period
 
 
-def scipy_critical(mu_w, rtol):
-    row = np.array([scipy_margin(n, mu_w, rtol) for n in SPEEDS])
+def scipy_critical(mu_w, rtol, margin=scipy_margin):
+    """Critical speeds at `mu_w` by a scan of the 200 speeds and bisection to 1e-9,
+    with `margin(n, mu_w, rtol)` (the scipy peer's, or the C DOP853 peer's)."""
+    row = np.array([margin(n, mu_w, rtol) for n in SPEEDS])
     out = []
     for i in range(len(SPEEDS) - 1):
         a, b, ma = SPEEDS[i], SPEEDS[i + 1], row[i]
@@ -142,7 +193,7 @@ def scipy_critical(mu_w, rtol):
             continue
         while b - a > 1e-9:
             c = 0.5 * (a + b)
-            mc = scipy_margin(c, mu_w, rtol)
+            mc = margin(c, mu_w, rtol)
             a, b, ma = (c, b, mc) if np.sign(mc) == np.sign(ma) else (a, c, ma)
         out.append(0.5 * (a + b))
     return np.array(out)
@@ -189,14 +240,19 @@ def main():
     ref = rotorjax_critical(0.25, ref_rtol)
     print(f"reference critical speeds (mu_w = 0.25, rotorjax rtol {ref_rtol:g}):", ref)
     out["reference_critical_speeds"] = ref.tolist()
-    variants = {"sweep, 1 device": (rotorjax_map, False)}
-    if not args.smoke:  # --smoke: the public path only (the compiled-once variant is the same vmapped function)
+    variants = {"sweep, 1 device": (rotorjax_map, False), "floquet_batch, 1 device": (batch_map, False)}
+    if not args.smoke:  # --smoke: the public paths only (the compiled-once variant is the same vmapped function)
         variants["vmapped, compiled once, 1 device"] = (compiled_map, False)
+        variants["sweep with CPU_COMPILER_OPTIONS, 1 device"] = (sweep_options_map, False)
+        if n_dev >= 2:  # the batch kernel's own buffer on each host device (no hang, unlike the sweep's)
+            variants[f"floquet_batch, shard=True over {n_dev} host devices"] = (batch_map, True)
     if args.shard:  # off by default: see the JSON's "sharded_note"
         variants.update({f"sweep, shard=True over {n_dev} host devices": (rotorjax_map, True),
                          f"vmapped, compiled once, sharded over {n_dev} host devices": (compiled_map, True)})
     out["sharded_note"] = (
-        "the sharded variants (--shard) are off by default: with both host devices running at once, XLA's CPU "
+        "floquet_batch's sharded variant (each host device its own buffer of lanes, the multipliers computed "
+        "afterwards) runs by default; the sweep's sharded variants (--shard) are off by default: with both host "
+        "devices running at once, XLA's CPU "
         "runtime hangs (every thread waiting) on this program; reproduced with the monodromy integration followed "
         "by eigvals, while each alone runs (with --xla_cpu_multi_thread_eigen on and off, OPENBLAS_NUM_THREADS=1 "
         "too). One such run finished before the cause was found: 825 points/s against 813 on one device.")
@@ -230,13 +286,40 @@ def main():
         t0 = time.perf_counter()
         sp_crit = scipy_critical(0.25, rtol)
         sp_crit_time = time.perf_counter() - t0
+        c_peer = {}
+        if _dop853_001.available():  # the compiled peer on the whole grid
+            for th in (1, 2):
+                watch = CpuWatch()
+                c_dop853_map(rtol, th)  # warm
+                walls, (cm, _, ok) = [], (None, None, None)
+                for _ in range(max(args.repeats, 1)):
+                    cm, wall, ok = c_dop853_map(rtol, th)
+                    walls.append(wall)
+                wall = float(np.median(walls))
+                c_peer[f"{th} thread{'s' if th > 1 else ''}"] = {
+                    "points_per_s": MU_W.size * SPEEDS.size / wall, "map_s": wall, "repeats": walls,
+                    "all_succeeded": ok, "max_margin_difference_to_sweep": float(np.max(np.abs(cm - first_map))),
+                    "other_cores_busy": watch.report()["other_cores_busy"]}
+                print(f"  C DOP853 ({th} thread(s)): {c_peer[list(c_peer)[-1]]['points_per_s']:.0f} points/s",
+                      flush=True)
+            c_crit = scipy_critical(0.25, rtol, margin=c_dop853_margin)
 
         def err(c):
             return float(np.max(np.abs(c - ref))) if len(c) == len(ref) else float("inf")
 
         strongest = max(peers, key=lambda k: peers[k]["points_per_s"])
+        if c_peer:
+            one = "floquet_batch, 1 device"
+            two = next((k for k in runs if k.startswith("floquet_batch, shard=True")), one)
+            c_target = {"target": ">= 1x the C DOP853 (numbalsoda) on the variational system",
+                        "rotorjax_vs_1_thread": one, "rotorjax_vs_2_threads": two,
+                        "critical_error": err(c_crit), "critical_speeds": c_crit.tolist(),
+                        "ratio_vs_1_thread": runs[one]["points_per_s"] / c_peer["1 thread"]["points_per_s"],
+                        "ratio_vs_2_threads": runs[two]["points_per_s"] / c_peer["2 threads"]["points_per_s"]}
+            c_target["met"] = c_target["ratio_vs_1_thread"] >= 1 and c_target["ratio_vs_2_threads"] >= 1
         best = max(runs, key=lambda k: runs[k]["points_per_s"])
-        best_public = max((k for k in runs if k.startswith("sweep")), key=lambda k: runs[k]["points_per_s"])
+        best_public = max((k for k in runs if k.startswith(("sweep", "floquet_batch"))),
+                          key=lambda k: runs[k]["points_per_s"])
         base = runs["sweep, 1 device"]
         row = {"rtol": rtol, "rotorjax_points_per_s": base["points_per_s"], "rotorjax_map_s": base["map_s"],
                "rotorjax_first_call_s": base["first_call_s"], "variants": runs,
@@ -247,6 +330,11 @@ def main():
                "rotorjax_critical_speeds": rj_crit.tolist(), "rotorjax_critical_error": err(rj_crit),
                "scipy_critical_speeds": sp_crit.tolist(), "scipy_critical_error": err(sp_crit),
                "scipy_critical_s": sp_crit_time, "stable_fraction": float(np.mean(first_map < 0)),
+               "floquet_batch_points_per_s": runs["floquet_batch, 1 device"]["points_per_s"],
+               "floquet_batch_speedup": runs["floquet_batch, 1 device"]["points_per_s"]
+               / peers[strongest]["points_per_s"],
+               "c_dop853": c_peer or "not run: numbalsoda missing (pip install numbalsoda)",
+               "target_c_dop853": c_target if c_peer else None,
                "target": {"target": ">= 100x the scipy loop on the CPU", "peer": strongest,
                           "public_path": {"variant": best_public,
                                           "ratio": runs[best_public]["points_per_s"] / peers[strongest]["points_per_s"],
@@ -257,6 +345,12 @@ def main():
                                            "met": runs[best]["points_per_s"] / peers[strongest]["points_per_s"] >= 100},
                           "vs_numpy_peer_best_variant": runs[best]["points_per_s"] / peers["numpy"]["points_per_s"]}}
         out["rows"].append(row)
+        if c_peer:
+            print(f"rtol {rtol:.0e}: floquet_batch {c_target['ratio_vs_1_thread']:.2f}x the C DOP853 loop on 1 "
+                  f"thread, {c_target['ratio_vs_2_threads']:.2f}x on 2 [{c_target['rotorjax_vs_2_threads']}] (target "
+                  f">= 1x: "
+                  f"{'met' if c_target['met'] else 'NOT met'}); its critical-speed error {c_target['critical_error']:.1e}",
+                  flush=True)
         tg = row["target"]
         print(f"rtol {rtol:.0e}: strongest scipy peer ({strongest} rhs) {row['scipy_points_per_s']:.1f} points/s; "
               f"public path [{best_public}] {tg['public_path']['ratio']:.1f}x, best [{best}] "

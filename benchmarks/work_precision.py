@@ -132,15 +132,24 @@ def stability_map(results):
         work_precision_curve(ax, [(r["scipy_critical_error"], 1.0 / r["scipy"][peer]["points_per_s"],
                                    f"{r['rtol']:.0e}")
                                   for r in rows], f"scipy DOP853 loop, {peer} rhs", "d:")
+    c_rows = [r for r in rows if isinstance(r.get("c_dop853"), dict)]
+    for peer in (c_rows[0]["c_dop853"] if c_rows else []):
+        work_precision_curve(ax, [(r["target_c_dop853"]["critical_error"], 1.0 / r["c_dop853"][peer]["points_per_s"],
+                                   f"{r['rtol']:.0e}") for r in c_rows], f"C DOP853 (numbalsoda) loop, {peer}", "s--")
     _caption(ax, d, date, "model 001 Floquet map, 200 x 50 points")
     _save(fig, ax, os.path.join(results, "stability_map_wp.png"), "seconds per point",
           "critical-speed error (mu_w = 0.25)")
     r0 = rows[0]
     return ("stability_map_wp.png",
-            f"At rtol {r0['rtol']:.0e} rotorjax maps {r0['rotorjax_points_per_s']:.0f} points/s, "
+            f"At rtol {r0['rtol']:.0e} the vmapped margin through `sweep` (XLA's default options) maps "
+            f"{r0['rotorjax_points_per_s']:.0f} points/s, "
             f"{r0['speedup']:.0f}x the strongest scipy loop ({r0['scipy_peer']} right-hand side) and "
             f"{r0['speedup_vs_numpy_peer']:.0f}x the numpy one, at the same critical-speed accuracy "
-            f"(the scipy curves use scipy's own critical-speed error).")
+            f"(the scipy curves use scipy's own critical-speed error)."
+            + "".join(f" At rtol {r['rtol']:.0e} `floquet_batch` maps {r['floquet_batch_points_per_s']:.0f} points/s, "
+                      f"{r['target_c_dop853']['ratio_vs_1_thread']:.2f}x the C DOP853 loop over the same variational "
+                      f"equations on 1 thread; over the 2 host devices {r['target_c_dop853']['ratio_vs_2_threads']:.2f}x its 2 threads."
+                      for r in rows if r.get("target_c_dop853")))
 
 
 def _bar_chart(path, data, date, what, ylabel, labels, ours, theirs, peer):

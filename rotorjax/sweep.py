@@ -13,7 +13,7 @@ import numpy as np
 
 from ._distributed import check_initialized, gather, local_range, on_each_device
 from .models._validate import InputError, as_count, check_choice, show
-from .solve._batch import IVP, METHODS, simulate_batch
+from .solve._batch import IVP, METHODS, compiler_option_pairs, simulate_batch
 
 
 @dataclasses.dataclass(frozen=True)
@@ -79,6 +79,7 @@ def sweep(
     lanes: int | None = None,
     steps_per_round: int = 8,
     batch: str = "auto",
+    compiler_options: dict | None = None,
 ) -> SweepResult:
     """Evaluate `fn(point)` at every point of `grid`, vmapped.
 
@@ -115,6 +116,9 @@ def sweep(
       "buffered", "pallas", or "vmap": the lock-step `simulate` under vmap, chunk
       by chunk). `chunk_size` and `progress` apply to the "vmap" method and to
       other functions; `shard=True` gives each local device its own buffer of lanes.
+    - `compiler_options`: XLA options for the compiled calls (see `simulate_batch`),
+      e.g. `rotorjax.analysis.CPU_COMPILER_OPTIONS` for a function that differentiates
+      a right-hand side forward (a Floquet margin) on the CPU.
 
     **Returns:** a `SweepResult` whose `values` leaves have the grid's shape in front.
     """
@@ -134,12 +138,12 @@ def sweep(
     n_chunks = max(int(math.ceil((stop - start) / chunk)), 1)  # an empty slice still yields shapes
     check_choice("batch", batch, METHODS)
     if batch != "vmap" and isinstance(eqx.filter_eval_shape(fn, {k: v[0] for k, v in flat.items()}), IVP):
-        values = _integrate(fn, flat, start, stop, lanes, steps_per_round, batch, shard)
+        values = _integrate(fn, flat, start, stop, lanes, steps_per_round, batch, shard, compiler_options)
         if distributed:
             values = gather(values, total)
         values = jax.tree_util.tree_map(lambda x: x.reshape(shape + x.shape[1:]), values)
         return SweepResult(axes=axes, points=points, values=values, shape=shape)
-    batched = _vmapped(fn, simulated=True)
+    batched = _vmapped(fn, simulated=True, options=compiler_option_pairs(compiler_options))
 
     starts = range(0, n_chunks * chunk, chunk)
     if progress is None:
@@ -167,18 +171,18 @@ def sweep(
     return SweepResult(axes=axes, points=points, values=values, shape=shape)
 
 
-def _vmapped(fn, simulated):
-    """`fn` vmapped and jitted, the same object for the same `fn`, so that sweeping
-    one function again does not compile it again."""
+def _vmapped(fn, simulated, options=()):
+    """`fn` vmapped and jitted (with the XLA `options`, pairs), the same object for the
+    same `fn`, so that sweeping one function again does not compile it again."""
     try:
-        return _vmapped_cached(fn, simulated)
+        return _vmapped_cached(fn, simulated, options)
     except TypeError:  # an unhashable callable (e.g. a module holding arrays)
-        return _vmapped_cached.__wrapped__(fn, simulated)
+        return _vmapped_cached.__wrapped__(fn, simulated, options)
 
 
 @functools.lru_cache(maxsize=32)
-def _vmapped_cached(fn, simulated):
-    return eqx.filter_jit(eqx.filter_vmap(_simulated(fn) if simulated else fn))
+def _vmapped_cached(fn, simulated, options=()):
+    return eqx.filter_jit(eqx.filter_vmap(_simulated(fn) if simulated else fn), compiler_options=dict(options) or None)
 
 
 def _simulated(fn):
@@ -204,7 +208,7 @@ def _simulated_point(fn, point):
     return out
 
 
-def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
+def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard, compiler_options):
     """The points `[start, stop)` of `fn`'s initial-value problems, integrated in one batch
     (an empty slice integrates the last point once, for the shapes)."""
     idx = np.arange(start, stop) if stop > start else np.array([stop - 1])
@@ -212,7 +216,7 @@ def _integrate(fn, flat, start, stop, lanes, steps_per_round, method, shard):
     res = simulate_batch(problems.scene, problems.y0, problems.t_span, saveat=problems.saveat,
                          solver=problems.solver, rtol=problems.rtol, atol=problems.atol,
                          max_steps=problems.max_steps, lanes=lanes, steps_per_round=steps_per_round,
-                         method=method, shard=shard, events=problems.events)
+                         method=method, shard=shard, events=problems.events, compiler_options=compiler_options)
     return jax.tree_util.tree_map(lambda x: np.asarray(x)[:stop - start], res)
 
 

@@ -132,6 +132,17 @@ def balancing(**kw):
     return idf.simulate_balancing(**dict(args, **kw))
 
 
+def orbit(**kw):
+    """jeffcott()'s rest as a periodic reference, unbatched."""
+    s = jeffcott()
+    return rj.analysis.PeriodicOrbit(s, s.rest_state(np.array([1.0, 2.0])), 1.0)
+
+
+def margins(**kw):
+    args = dict(reference_at=lambda p: orbit(), points={"a": [1.0, 2.0]})
+    return rj.analysis.stability_margins(**dict(args, **kw))
+
+
 NAN, INF = float("nan"), float("inf")
 
 # (callable, kwargs, regex): the regex names the parameter and, where it fits, the value
@@ -318,6 +329,16 @@ CASES = [
     (batch, dict(events=True), r"simulate_batch\(events=True\) needs a scene with `contact_indicator`"),
     (batch, dict(method="pallas", saveat=5), r"saveat: method='pallas' returns the final state only"),
     (batch, dict(method="pallas", solver="kvaerno5"), r"solver"),
+    (batch, dict(compiler_options=["xla_cpu_use_fusion_emitters"]),
+     r"compiler_options must be a dict of XLA option names to values .*got \['xla_cpu_use_fusion_emitters'\]"),
+    (sweep, dict(compiler_options={"xla_cpu_use_fusion_emitters": [False]}), r"compiler_options must be a dict"),
+    # the Floquet analysis of many periodic motions (issue 32, item 4)
+    (lambda orbits: rj.analysis.floquet_batch(orbits), dict(orbits=jeffcott()),
+     r"orbits must be a batch of PeriodicOrbit references .*got Scene"),
+    (lambda orbits: rj.analysis.floquet_batch(orbits), dict(orbits=orbit()),
+     r"orbits must carry one batch axis in front .*got y0 of shape \(8,\), period of shape \(\)"),
+    (margins, dict(reference_at=5), r"reference_at must be a function of one point .*got 5"),
+    (margins, dict(points={"a": [1.0, 2.0], "b": [1.0]}), r"points: every entry must hold the same number"),
     # a time run's plan (issue 32, item 6)
     (plan, dict(modes="some"), r"modes must be 'auto', 'all' or a number of modes 1\.\.12, got 'some'"),
     (plan, dict(modes=2.5), r"modes must be 'auto', 'all' or a number of modes 1\.\.12, got 2\.5"),

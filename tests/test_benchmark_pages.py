@@ -153,3 +153,26 @@ def test_readme_gpu_batch_numbers_are_the_json():
     d = v["kernels_differ_by"]
     assert f"differ by {d['median']:.0e} (median over the points, relative) and {d['p90']:.0e}" in readme
     assert d["median"] < 1e-9 and all(r["points_failed"] == 0 for r in out["runs"])
+
+
+def test_readme_floquet_map_numbers_are_the_json():
+    """The README's Floquet-map table (issue 32, item 4) quotes `stability_map.json`:
+    `floquet_batch` and the C DOP853 loop over the same variational equations, on 1 and
+    2 cores, the vmapped margin with and without the XLA option, the scipy loop; and
+    the measured target holds as stated (at least 1x the C loop on one core)."""
+    out = json.loads((BENCH / "results" / "stability_map.json").read_text())
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    for r in out["rows"]:
+        t, c, v = r["target_c_dop853"], r["c_dop853"], r["variants"]
+        row = (f"| {r['rtol']:.0e} | {v['floquet_batch, 1 device']['points_per_s']:.0f} points/s | "
+               f"{c['1 thread']['points_per_s']:.0f} (**{t['ratio_vs_1_thread']:.2f}x**) | "
+               f"{v[t['rotorjax_vs_2_threads']]['points_per_s']:.0f} | {c['2 threads']['points_per_s']:.0f} "
+               f"(**{t['ratio_vs_2_threads']:.2f}x**) | "
+               f"{v['sweep with CPU_COMPILER_OPTIONS, 1 device']['points_per_s']:.0f} / "
+               f"{v['sweep, 1 device']['points_per_s']:.0f} | {r['scipy_points_per_s']:.0f} "
+               f"({r['floquet_batch_speedup']:.0f}x) |")
+        assert row in readme, row
+        assert t["ratio_vs_1_thread"] >= 1
+    r6 = out["rows"][0]
+    assert (f"error {r6['rotorjax_critical_error']:.1e} (rotorjax) and {r6['target_c_dop853']['critical_error']:.1e} "
+            "(C DOP853)") in readme

@@ -14,7 +14,10 @@ from ._steady import stability as stability
 from ._steady import steady_state as steady_state
 from ._steady import steady_states as steady_states
 from ._floquet import FloquetResult as FloquetResult
+from ._floquet import CPU_COMPILER_OPTIONS as CPU_COMPILER_OPTIONS
+from ._floquet import Variational as Variational
 from ._floquet import floquet as floquet
+from ._floquet import floquet_many as floquet_many
 from ._floquet import monodromy as monodromy
 from ._harmonic_balance import PeriodicSolution as PeriodicSolution
 from ._harmonic_balance import balance_residual as balance_residual
@@ -138,7 +141,9 @@ from ._reference import StationaryRegime as StationaryRegime
 from ._reference import StraightRunning as StraightRunning
 from ._reference import branch_problem as branch_problem
 from ._reference import floquet_family as floquet_family
+from ._reference import floquet_batch as floquet_batch
 from ._reference import floquet_of as floquet_of
 from ._reference import margin_gradient as margin_gradient
 from ._reference import regime as regime
 from ._reference import stability_margin as stability_margin
+from ._reference import stability_margins as stability_margins

@@ -178,13 +178,30 @@ def floquet_margin_fn(rtol):
     return one
 
 
-def _margins(fn, grid, chunk):
+def _batch_margins(rtol, n, mu_w):
+    """The main motion's largest Floquet exponent at the (n, mu_w) pairs, by
+    `floquet_batch` (the variational equations on the batch kernel); NaN where a
+    point failed."""
+    import equinox as eqx
     import jax
+    import jax.numpy as jnp
 
-    from rotorjax.sweep import sweep
+    from rotorjax.analysis import floquet_batch
 
-    res = sweep(fn, grid, chunk_size=chunk, progress=False)
-    m = np.asarray(jax.block_until_ready(res.values))
+    A = _preset()
+
+    def ref(p):
+        return A.main_motion_reference(dict(FLOQUET_BASE, mu_w=p["mu_w"]), p["n"], 1.0, rtol, rtol * 1e-2)
+
+    res = floquet_batch(eqx.filter_vmap(ref)({"n": jnp.asarray(n, dtype=jnp.float64),
+                                             "mu_w": jnp.asarray(mu_w, dtype=jnp.float64)}))
+    return np.where(np.asarray(res.code) == 0, np.asarray(jax.block_until_ready(res.margin)), np.nan)
+
+
+def _margins(rtol, speeds, mu_w):
+    """The map over the product grid (speed-major), by `floquet_batch`."""
+    n, mu = (a.reshape(-1) for a in np.meshgrid(speeds, mu_w, indexing="ij"))
+    m = _batch_margins(rtol, n, mu)
     if not np.all(np.isfinite(m)):
         raise FloatingPointError(f"Floquet map: {int(np.sum(~np.isfinite(m)))} point(s) without a finite "
                                  "exponent")
@@ -213,10 +230,9 @@ def floquet_comparison(sizes, progress, repeats):
     comp.checks["references_agree"] = agree
 
     progress("Floquet map: rotorjax")
-    label = "rotorjax sweep (vmapped variational equations)"
+    label = "rotorjax floquet_batch (variational equations on the batch kernel)"
     for rtol in sizes.floquet_rtols:
-        fn = floquet_margin_fn(rtol)
-        first, run_s, m = timed(lambda: _margins(fn, {"n": speeds, "mu_w": mu_w}, sizes.floquet_chunk), repeats)
+        first, run_s, m = timed(lambda: _margins(rtol, speeds, mu_w), repeats)
         e = float(np.max(np.abs(m.reshape(-1)[idx] - ref)))
         comp.add(label, Point(f"{rtol:.0e}", e, run_s / n_points, first_call_s=first))
     comp.rotorjax = label
@@ -230,17 +246,30 @@ def floquet_comparison(sizes, progress, repeats):
                                   1, warm=False)
         comp.add(peer, Point(f"{rtol:.0e}", float(np.max(np.abs(vals - ref))), wall / idx.size))
     comp.peers.append(peer)
+
+    from . import _dop853_001
+
+    if not _dop853_001.available():
+        comp.notes.append("C DOP853 (numbalsoda) over the variational equations: skipped, numbalsoda missing "
+                          "(pip install numbalsoda)")
+        return comp
+    progress("Floquet map: C DOP853")
+    peer = "C DOP853 (numbalsoda) loop, variational equations, 1 thread"
+    for rtol in sorted({*sizes.floquet_rtols, min(sizes.floquet_rtols) * 1e-2}, reverse=True):
+        n, mu = (a.reshape(-1) for a in np.meshgrid(speeds, mu_w, indexing="ij"))
+        walls = []
+        for _ in range(max(repeats, 1)):
+            m, wall, ok = _dop853_001.floquet_loop(n, mu, Y_MAIN, FLOQUET_BASE, rtol, rtol * 1e-2)
+            walls.append(wall)
+        comp.add(peer, Point(f"{rtol:.0e}", float(np.max(np.abs(m[idx] - ref))), float(np.median(walls)) / n.size,
+                             failed=int(not ok)))
+    comp.peers.append(peer)
     return comp
 
 
 def _subset_margins(rtol, sub_n, sub_mu):
     """Margins at the listed (n, mu_w) pairs (not their product)."""
-    import jax
-
-    from rotorjax.sweep import sweep
-
-    res = sweep(floquet_margin_fn(rtol), {"n": sub_n, "mu_w": sub_mu}, mode="zip", progress=False)
-    return np.asarray(jax.block_until_ready(res.values)).reshape(-1)
+    return _batch_margins(rtol, sub_n, sub_mu)
 
 
 def matched_rows(comp):

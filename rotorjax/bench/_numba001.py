@@ -4,7 +4,6 @@ solve), as a fast compiled CPU code would be written. Needs numba (an optional
 dependency, `pip install rotorjax[bench]`): import this module only when
 `importlib.util.find_spec("numba")` finds it. Parameters as in `_peers001`."""
 
-import math
 import time
 
 import numba
@@ -15,19 +14,22 @@ _KEYS = ("n_eta", "mu_xi", "mu_eta", "sigma", "c", "eps", "mu_w")
 
 @numba.njit(fastmath=False, cache=False, inline="always")
 def _rhs_nb(t, y, out, n, n_eta, mu_xi, mu_eta, sigma, c, eps, mu_w, N):
-    """Structured RHS: phi_j'' = g_j + eps (s_j X - c_j E), g_j = -mu_w psid_j, -> 2x2 solve."""
+    """Structured RHS: phi_j'' = g_j + eps (s_j X - c_j E), g_j = -mu_w psid_j, -> 2x2 solve.
+    Generic in the state's type (`np.sin`, not `math.sin`): with complex `y` and `out`
+    it is the complex-step derivative's right-hand side (the Floquet peer's Jacobian)."""
     nt = n * t
-    Sss = 0.0
-    Scc = 0.0
-    Ssc = 0.0
-    Ssg = 0.0
-    Scg = 0.0
-    Sc2 = 0.0  # sum phid^2 cos
-    Ss2 = 0.0  # sum phid^2 sin
+    z = y[0] * 0.0  # a zero of the state's type
+    Sss = z
+    Scc = z
+    Ssc = z
+    Ssg = z
+    Scg = z
+    Sc2 = z  # sum phid^2 cos
+    Ss2 = z  # sum phid^2 sin
     for j in range(N):
         phi = y[2 + j] + nt
-        s = math.sin(phi)
-        co = math.cos(phi)
+        s = np.sin(phi)
+        co = np.cos(phi)
         psid = y[4 + N + j]
         phid = psid + n
         g = -mu_w * psid
@@ -40,8 +42,8 @@ def _rhs_nb(t, y, out, n, n_eta, mu_xi, mu_eta, sigma, c, eps, mu_w, N):
         Sc2 += w2 * co
         Ss2 += w2 * s
     cn2 = c * n * n
-    r1 = -2.0 * mu_xi * y[2 + N] - y[0] + sigma * Sc2 + cn2 * math.cos(nt)
-    r2 = -2.0 * mu_eta * y[3 + N] - n_eta * n_eta * y[1] + sigma * Ss2 + cn2 * math.sin(nt)
+    r1 = -2.0 * mu_xi * y[2 + N] - y[0] + sigma * Sc2 + cn2 * np.cos(nt)
+    r2 = -2.0 * mu_eta * y[3 + N] - n_eta * n_eta * y[1] + sigma * Ss2 + cn2 * np.sin(nt)
     se = sigma * eps
     a11 = 1.0 - se * Sss
     a12 = se * Ssc
@@ -58,7 +60,7 @@ def _rhs_nb(t, y, out, n, n_eta, mu_xi, mu_eta, sigma, c, eps, mu_w, N):
     out[m + 1] = E
     for j in range(N):
         phi = y[2 + j] + nt
-        out[m + 2 + j] = -mu_w * y[4 + N + j] + eps * (math.sin(phi) * X - math.cos(phi) * E)
+        out[m + 2 + j] = -mu_w * y[4 + N + j] + eps * (np.sin(phi) * X - np.cos(phi) * E)
 
 
 @numba.njit(parallel=True, fastmath=False, cache=True)  # cached: its compilation takes ~20 s

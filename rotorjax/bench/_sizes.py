@@ -20,7 +20,6 @@ class Sizes:
     floquet_mu_w: int
     floquet_subset: int          # grid points with a tight reference: the errors, the scipy loop
     floquet_rtols: tuple
-    floquet_chunk: int           # points per vmapped call (grid order: speed-major, so a chunk spans few speeds)
     # Campbell diagram of `ross-compare` (ROSS's rotor_example)
     campbell_speeds: int
     campbell_modes: int
@@ -30,15 +29,15 @@ class Sizes:
 QUICK = Sizes(sweep_speeds=100, sweep_subset=8, sweep_rtols=(1e-6, 1e-9),
               scipy_rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11),
               numba_steps=(10_000, 20_000, 40_000, 80_000, 160_000, 320_000), numba_timing_speeds=8, t_end=200.0,
-              floquet_speeds=40, floquet_mu_w=10, floquet_subset=12, floquet_rtols=(1e-6, 1e-8), floquet_chunk=50,
+              floquet_speeds=40, floquet_mu_w=10, floquet_subset=12, floquet_rtols=(1e-6, 1e-8),
               campbell_speeds=50, campbell_modes=8, repeats=3)
 
 FULL = Sizes(sweep_speeds=1000, sweep_subset=40, sweep_rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
              scipy_rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12),
              numba_steps=(5_000, 10_000, 20_000, 40_000, 80_000, 160_000, 320_000, 640_000),
              numba_timing_speeds=100, t_end=200.0, floquet_speeds=200, floquet_mu_w=50, floquet_subset=30,
-             floquet_rtols=(1e-6, 1e-8, 1e-10), floquet_chunk=250, campbell_speeds=50, campbell_modes=8, repeats=3)
+             floquet_rtols=(1e-6, 1e-8, 1e-10), campbell_speeds=50, campbell_modes=8, repeats=3)
 
 SMOKE = Sizes(sweep_speeds=6, sweep_subset=3, sweep_rtols=(1e-6,), scipy_rtols=(1e-5, 1e-7),
               numba_steps=(1_000, 2_000), numba_timing_speeds=3, t_end=10.0, floquet_speeds=3, floquet_mu_w=2,
-              floquet_subset=2, floquet_rtols=(1e-6,), floquet_chunk=8, campbell_speeds=4, campbell_modes=4, repeats=1)
+              floquet_subset=2, floquet_rtols=(1e-6,), campbell_speeds=4, campbell_modes=4, repeats=1)

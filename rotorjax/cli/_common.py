@@ -367,6 +367,7 @@ class Study(NamedTuple):
     Floquet analysis along a parameter."""
 
     margin: object
+    margins: object
     regime: str
     gradient: str
     branch_problem: object = None
@@ -377,7 +378,7 @@ class Study(NamedTuple):
 def stability_study(preset, params, setup=None):
     """The preset's `Study` at `params` (`setup`: the preset built there already), or
     None where its scene has no reference motion."""
-    from rotorjax.analysis import PeriodicOrbit, branch_problem, floquet_family, stability_margin
+    from rotorjax.analysis import PeriodicOrbit, branch_problem, floquet_family, stability_margin, stability_margins
 
     setup = build(preset, params) if setup is None else setup
     ref = setup.reference
@@ -390,6 +391,7 @@ def stability_study(preset, params, setup=None):
     periodic = isinstance(ref, PeriodicOrbit)
     return Study(
         margin=lambda p: stability_margin(at(p)),
+        margins=lambda points, chunk, bar: stability_margins(lambda p: at(dict(params, **p)), points, chunk, bar),
         regime=ref.label,
         gradient=margin_gradient_of(ref),
         branch_problem=None if periodic else (

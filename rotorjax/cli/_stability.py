@@ -212,7 +212,6 @@ def _crossings(preset, params, lo, hi, args, found) -> int:
 
 def cmd_stability_map(args) -> int:
     from rotorjax.plot import plot_stability_map
-    from rotorjax.sweep import sweep
 
     from ._common import save_figure
 
@@ -227,9 +226,8 @@ def cmd_stability_map(args) -> int:
     prepare_out(args.out)
     grid = {xk: np.linspace(xlo, xhi, nx), yk: np.linspace(ylo, yhi, ny)}
     study.margin(dict(params, **{xk: grid[xk][0], yk: grid[yk][0]}))  # validates
-    res = sweep(lambda pt: study.margin(dict(params, **pt)), grid, chunk_size=args.chunk,
-                progress=not args.json)
-    margin = np.asarray(res.values)
+    gx, gy = np.meshgrid(grid[xk], grid[yk], indexing="ij")
+    margin = study.margins({xk: gx.reshape(-1), yk: gy.reshape(-1)}, args.chunk, not args.json).reshape(nx, ny)
     ok = np.isfinite(margin)
     if not ok.any():
         raise NumericalError(f"stability-map: the margin could not be computed at any of the {nx}x{ny} points")

@@ -18,6 +18,7 @@ round for a new point.
 """
 
 import dataclasses
+import functools
 
 import diffrax
 import equinox as eqx
@@ -67,7 +68,7 @@ class IVP(eqx.Module):
 def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float = 1e-8,
                    atol: float = 1e-10, max_steps: int = 200_000, lanes: int | None = None,
                    steps_per_round: int = 8, method: str = "auto", shard: bool = False,
-                   events: bool = False) -> SimulationResult:
+                   events: bool = False, compiler_options: dict | None = None) -> SimulationResult:
     """Integrate a batch of scenes, each from its own initial state.
 
     **Arguments:**
@@ -94,6 +95,9 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
       where it applies, else "buffered"), "pallas" (the whole adaptive loop of a
       block of lanes in one Pallas kernel; explicit Runge-Kutta, final state only),
       "vmap" (`simulate` vmapped: lanes in lock-step).
+    - `compiler_options`: XLA options for the compiled loop ("vectorised" and
+      "buffered"), e.g. `{"xla_cpu_use_fusion_emitters": False}`, which
+      `floquet_batch` passes on the CPU (see there); each set compiles its own program.
 
     Array leaves equal at every point (a speed sweep's matrices) enter the compiled
     loop once, without the batch axis ("vectorised" and "buffered"): the lanes'
@@ -103,6 +107,7 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     the order of the points; a failed point is marked by its `code` (see `RESULTS`).
     """
     check_choice("method", method, METHODS)
+    program = _program(compiler_option_pairs(compiler_options))
     y0s = _batch_states(scenes, y0s)
     n = y0s.shape[0]
     t0s, t1s = _spans(t_span, n)
@@ -157,8 +162,25 @@ def simulate_batch(scenes, y0s, t_span, saveat=None, solver="auto", rtol: float 
     scenes, shared = _split_shared(scenes)
     devices = jax.local_devices() if shard else []
     if len(devices) < 2 or n < 2:
-        return _buffered(scenes, shared, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
-    return _over_devices(scenes, shared, y0s, f64(t0s), f64(t1s), rest, lanes, static, devices)
+        return program(scenes, shared, y0s, f64(t0s), f64(t1s), *rest, lanes, *static)
+    return _over_devices(program, scenes, shared, y0s, f64(t0s), f64(t1s), rest, lanes, static, devices)
+
+
+def compiler_option_pairs(compiler_options):
+    """`compiler_options` as a sorted tuple of pairs (hashable), checked."""
+    if compiler_options is None:
+        return ()
+    if not isinstance(compiler_options, dict) or not all(
+            isinstance(k, str) and isinstance(v, (bool, int, float, str)) for k, v in compiler_options.items()):
+        raise InputError(f"compiler_options must be a dict of XLA option names to values (bool, number or "
+                         f"string), e.g. {{'xla_cpu_use_fusion_emitters': False}}; got {compiler_options!r}")
+    return tuple(sorted(compiler_options.items()))
+
+
+@functools.lru_cache(maxsize=None)
+def _program(options: tuple):
+    """The compiled batch loop, with these XLA options (one jitted function per set)."""
+    return eqx.filter_jit(_buffered_impl, compiler_options=dict(options)) if options else _buffered
 
 
 def _split_shared(scenes):
@@ -199,7 +221,7 @@ def _spans(t_span, n):
     return out
 
 
-def _over_devices(scenes, shared, y0s, t0s, t1s, rest, lanes, static, devices):
+def _over_devices(program, scenes, shared, y0s, t0s, t1s, rest, lanes, static, devices):
     """`run` on each local device with its own buffer, as its own program (see
     `on_each_device`): point `i` goes to device `i mod D` (neighbouring points cost
     alike, so the devices share the work evenly); padded with the last point, results
@@ -210,7 +232,7 @@ def _over_devices(scenes, shared, y0s, t0s, t1s, rest, lanes, static, devices):
     share = lambda a, i: a[order[i * per:(i + 1) * per]] if eqx.is_array(a) else a  # noqa: E731
     parts = [(jax.tree_util.tree_map(lambda a: share(a, i), scenes), shared, share(y0s, i), share(t0s, i),
               share(t1s, i), *rest, min(-(-lanes // d), per), *static) for i in range(d)]
-    outs = on_each_device(_buffered, parts)
+    outs = on_each_device(program, parts)
     back = np.argsort(order, kind="stable")[:n]  # the first copy of each point
     return jax.tree_util.tree_map(lambda *xs: jnp.asarray(np.concatenate(xs, axis=0)[back]), *outs)
 

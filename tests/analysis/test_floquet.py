@@ -3,12 +3,16 @@
 import dataclasses
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import rotorjax as rj
-from rotorjax.analysis import critical_speed_gradient, critical_speeds, floquet, periodic_orbit
+from rotorjax.analysis import (Variational, critical_speed_gradient, critical_speeds, floquet, floquet_batch,
+                               floquet_of, periodic_orbit, stability_margins)
+from rotorjax.analysis import _reference
+from rotorjax.analysis._floquet import _augmented
 from rotorjax.models import ConstantSpeed, RigidRotor, Scene, Supports
 from rotorjax.presets import anisotropic_abb as A
 from rotorjax.solve import RESULTS, code_of
@@ -115,3 +119,78 @@ def test_critical_speed_gradient_matches_finite_differences():
     g = critical_speed_gradient(margin2, s, 0.25)
     fd = central_difference(crit, 0.25, 1e-4)
     assert g == pytest.approx(fd, rel=1e-4)
+
+
+# --- many periodic motions at once: the variational equations as a scene, on the batch kernel (issue 32, item 4)
+
+BATCH_SPEEDS = np.array([1.5, 3.0, 6.0, 8.0, 9.5])
+
+
+def _orbit(n):
+    return A.main_motion_reference(TABLE1, n, 1.0, 1e-8, 1e-10)
+
+
+@pytest.fixture(scope="module")
+def batch():
+    orbits = eqx.filter_vmap(_orbit)(jnp.asarray(BATCH_SPEEDS))
+    return orbits, floquet_batch(orbits)
+
+
+def test_the_variational_scene_is_the_augmented_field():
+    """The flat state (y, Phi row by row, int tr J) and its field are `monodromy`'s
+    tuple state and field, element for element."""
+    scene = A.scene_from_groups(**TABLE1, n=3.0)
+    rng = np.random.default_rng(3)
+    y, phi = jnp.asarray(rng.normal(size=8)), jnp.asarray(rng.normal(size=(8, 8)))
+    var = Variational(scene)
+    s = jnp.concatenate([y, phi.reshape(-1), jnp.array([0.4])])
+    dy, dphi, tr = _augmented(1.3, (y, phi, None), scene)
+    np.testing.assert_array_equal(var.vector_field(1.3, s), jnp.concatenate([dy, dphi.reshape(-1), tr[None]]))
+    assert var.state_size == 73 and var.speed is scene.speed
+    np.testing.assert_array_equal(Variational.initial_state(y), jnp.concatenate([y, jnp.eye(8).reshape(-1), jnp.zeros(1)]))
+    for a, b in zip(Variational.split(s), (y, phi, 0.4)):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_floquet_batch_equals_floquet_point_by_point(batch):
+    """Each point's monodromy, margin and self-checks are `floquet`'s to the
+    tolerance, the verdicts the same (stable and unstable points both present)."""
+    _, r = batch
+    one = jax.vmap(lambda n: floquet_of(_orbit(n)))(jnp.asarray(BATCH_SPEEDS))
+    assert np.all(np.asarray(r.code) == 0) and np.all(np.asarray(one.code) == 0)
+    np.testing.assert_allclose(np.asarray(r.monodromy), np.asarray(one.monodromy), atol=1e-6)
+    np.testing.assert_allclose(np.asarray(r.margin), np.asarray(one.margin), atol=1e-7)
+    assert np.array_equal(np.asarray(r.stable), np.asarray(one.stable))
+    assert 0 < int(np.sum(np.asarray(r.stable))) < BATCH_SPEEDS.size
+    assert float(np.max(r.liouville_error)) < 1e-6 and float(np.max(r.closure)) < 1e-12
+    np.testing.assert_allclose(np.asarray(r.period), 2 * np.pi / BATCH_SPEEDS, rtol=1e-15)
+
+
+def test_a_failed_point_of_a_batch_is_marked_and_its_margin_refused(batch, monkeypatch):
+    """A step budget too small marks every point `max_steps_reached` (the same codes as
+    `simulate`); `stability_margins` turns a failed point's margin into NaN, and
+    equals `floquet_batch` where the points succeed."""
+    orbits, r = batch
+    bad = floquet_batch(orbits, max_steps=3)
+    assert np.all(np.asarray(bad.code) == code_of(RESULTS.max_steps_reached))
+    monkeypatch.setattr(_reference, "FLOQUET_BATCH_FROM", 1)
+    m = stability_margins(lambda p: _orbit(p["n"]), {"n": BATCH_SPEEDS})
+    np.testing.assert_allclose(m, np.asarray(r.margin), atol=1e-7)
+    failed = jnp.array([0, 0, 1, 0, 2], dtype=jnp.int32)  # a point out of steps, one non-finite
+    monkeypatch.setattr(_reference, "floquet_batch", lambda orbits: eqx.tree_at(lambda x: x.code, r, failed))
+    m = stability_margins(lambda p: _orbit(p["n"]), {"n": BATCH_SPEEDS})
+    assert np.array_equal(np.isnan(m), np.asarray(failed) != 0)
+
+
+def test_the_c_dop853_peer_computes_the_same_margins(batch):
+    """The benchmark's compiled peer (Hairer's DOP853 in C over the variational
+    equations, Jacobian by complex step) gives `floquet_batch`'s margins: the two
+    solve the same equations (`benchmarks/stability_map.py` times them)."""
+    pytest.importorskip("numbalsoda")
+    from rotorjax.bench._dop853_001 import floquet_loop
+    from rotorjax.bench._model001 import Y_MAIN
+
+    _, r = batch
+    m, _, ok = floquet_loop(BATCH_SPEEDS, TABLE1["mu_w"], Y_MAIN, TABLE1, 1e-8, 1e-10)
+    assert ok
+    np.testing.assert_allclose(m, np.asarray(r.margin), atol=1e-7)
