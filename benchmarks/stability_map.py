@@ -57,7 +57,8 @@ import equinox as eqx  # noqa: E402
 
 import rotorjax as rj  # noqa: E402
 from rotorjax.bench import _peers001  # noqa: E402
-from rotorjax.bench._model001 import FLOQUET_BASE, Y_MAIN as Y_MAIN_001, floquet_margin_fn  # noqa: E402
+from rotorjax.bench._model001 import (FLOQUET_BASE, Y_MAIN as Y_MAIN_001, floquet_margin_fn,  # noqa: E402
+                                      floquet_reference_fn)
 from _common import CpuWatch, today  # noqa: E402
 from rotorjax._distributed import on_each_device  # noqa: E402
 from rotorjax.analysis import CPU_COMPILER_OPTIONS, critical_speeds, floquet_batch  # noqa: E402
@@ -83,20 +84,13 @@ def sweep_options_map(rtol, shard=False):
     return rotorjax_map(rtol, shard=shard, options=CPU_COMPILER_OPTIONS)
 
 
-def _reference(rtol):
-    """`point -> PeriodicOrbit` of the main motion at `rtol` (as `floquet_margin_fn`)."""
-    def ref(p):
-        return A.main_motion_reference(dict(BASE, mu_w=p["mu_w"]), p["n"], 1.0, rtol, rtol * 1e-2)
-    return ref
-
-
 def batch_map(rtol, shard=False):
     """The map through `floquet_batch`: the grid's orbits built (vmapped) and their
     variational equations integrated on the batch kernel -> (margins, seconds)."""
     n, mu = (jax.numpy.asarray(a.reshape(-1)) for a in np.meshgrid(SPEEDS, MU_W, indexing="ij"))
     t0 = time.perf_counter()
-    res = floquet_batch(eqx.filter_vmap(_reference(rtol))({"n": n, "mu_w": mu}), shard=shard)
-    margins = np.where(np.asarray(res.code) == 0, np.asarray(jax.block_until_ready(res.margin)), np.nan)
+    res = floquet_batch(eqx.filter_vmap(floquet_reference_fn(rtol))({"n": n, "mu_w": mu}), shard=shard)
+    margins = np.asarray(res.checked_margin)
     return margins.reshape(SPEEDS.size, MU_W.size), time.perf_counter() - t0
 
 

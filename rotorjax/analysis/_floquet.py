@@ -57,6 +57,11 @@ class FloquetResult(AbstractOutcome):
     def max_modulus(self):
         return jnp.max(jnp.abs(self.multipliers))
 
+    @property
+    def checked_margin(self):
+        """`margin` where the integration succeeded (`code == 0`), NaN elsewhere."""
+        return jnp.where(self.code == 0, self.margin, jnp.nan)
+
 
 def _augmented(t, state, scene):
     """`(f, J Phi, tr J)`: the Jacobian `J = df/dy` is formed once (n tangents of one

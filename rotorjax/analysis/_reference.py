@@ -183,8 +183,7 @@ def stability_margins(reference_at, points: dict, chunk_size=None, progress=Fals
     probe = eqx.filter_eval_shape(reference_at, {k: v[0] for k, v in flat.items()})
     periodic = isinstance(probe, PeriodicOrbit)
     if periodic and next(iter(sizes)) >= FLOQUET_BATCH_FROM:
-        res = floquet_batch(eqx.filter_vmap(reference_at)(flat))
-        return np.where(np.asarray(res.code) == 0, np.asarray(res.margin), np.nan)
+        return np.asarray(floquet_batch(eqx.filter_vmap(reference_at)(flat)).checked_margin)
     options = CPU_COMPILER_OPTIONS if periodic and jax.default_backend() == "cpu" else None
     res = sweep(lambda p: stability_margin(reference_at(p)), flat, mode="zip", chunk_size=chunk_size,
                 progress=progress, compiler_options=options)

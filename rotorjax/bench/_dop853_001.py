@@ -61,6 +61,7 @@ def _loop(d):
             ok[i] = success
         return out, ok
 
+    loop(np.ones(2), np.zeros(d), 0.01, np.ones(len(_KEYS)), 1e-6, 1e-9, 1000)  # compiled once, here
     _LOOPS[d] = (rhs, loop)  # the cfunc kept alive with its loop
     return _LOOPS[d]
 
@@ -73,7 +74,6 @@ def dop853_loop(speeds, y0, t_end, p, rtol, atol, threads=1):
     pars = np.array([float(p[k]) for k in _KEYS], dtype=np.float64)
     _, loop = _loop(y0.size)
     numba.set_num_threads(int(threads))
-    loop(speeds[:2], y0, 0.01, pars, 1e-6, 1e-9, 1000)  # compiled
     t0 = time.perf_counter()
     out, ok = loop(speeds, y0, float(t_end), pars, float(rtol), float(atol), MAX_STEPS)
     return out, time.perf_counter() - t0, bool(np.all(ok))
@@ -143,6 +143,7 @@ def _floquet_loop(d):
             ok[i] = success
         return mono, ok
 
+    loop(np.ones((2, 8)), np.zeros(d), np.full(2, 1e-3), 1e-6, 1e-9, 1000)  # compiled once, here
     _FLOQUET_LOOPS[d] = (rhs, loop)
     return _FLOQUET_LOOPS[d]
 
@@ -154,12 +155,11 @@ def floquet_loop(speeds, mu_w, y0, p, rtol, atol, threads=1):
     (margins, wall_s excluding compilation, all succeeded)."""
     speeds = np.ascontiguousarray(speeds, dtype=np.float64)
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
-    pars = np.array([[s, *(float(p[k]) for k in _KEYS[:-1]), float(m)] for s, m in
-                     zip(speeds, np.broadcast_to(mu_w, speeds.shape))], dtype=np.float64)
+    mu_w = np.broadcast_to(np.asarray(mu_w, dtype=np.float64), speeds.shape)
+    pars = np.array([[s, *(m if k == "mu_w" else float(p[k]) for k in _KEYS)] for s, m in zip(speeds, mu_w)])
     periods = 2 * np.pi / speeds
     _, loop = _floquet_loop(y0.size)
     numba.set_num_threads(int(threads))
-    loop(pars[:2], y0, periods[:2] * 1e-3, 1e-6, 1e-9, 1000)  # compiled
     t0 = time.perf_counter()
     mono, ok = loop(pars, y0, periods, float(rtol), float(atol), MAX_STEPS)
     margins = np.max(np.log(np.abs(np.linalg.eigvals(mono))), axis=1) / periods

@@ -166,14 +166,27 @@ def sweep_comparison(sizes, progress, repeats):
 
 
 @functools.lru_cache(maxsize=None)
+def floquet_reference_fn(rtol):
+    """`point -> PeriodicOrbit`: the main motion at (n, mu_w), its Floquet analysis at
+    `rtol` (atol `rtol * 1e-2`)."""
+    A = _preset()
+
+    def ref(p):
+        return A.main_motion_reference(dict(FLOQUET_BASE, mu_w=p["mu_w"]), p["n"], 1.0, rtol, rtol * 1e-2)
+
+    return ref
+
+
+@functools.lru_cache(maxsize=None)
 def floquet_margin_fn(rtol):
     """`point -> largest Floquet exponent` of the main motion at (n, mu_w) (one function
     object per `rtol`, so that `sweep` reuses its compilation)."""
-    A = _preset()
+    from rotorjax.analysis import floquet_of
+
+    ref = floquet_reference_fn(rtol)
 
     def one(p):
-        g = dict(FLOQUET_BASE, mu_w=p["mu_w"])
-        return A.main_motion_floquet(g, p["n"], rtol=rtol, atol=rtol * 1e-2).margin
+        return floquet_of(ref(p)).margin
 
     return one
 
@@ -183,19 +196,13 @@ def _batch_margins(rtol, n, mu_w):
     `floquet_batch` (the variational equations on the batch kernel); NaN where a
     point failed."""
     import equinox as eqx
-    import jax
     import jax.numpy as jnp
 
     from rotorjax.analysis import floquet_batch
 
-    A = _preset()
-
-    def ref(p):
-        return A.main_motion_reference(dict(FLOQUET_BASE, mu_w=p["mu_w"]), p["n"], 1.0, rtol, rtol * 1e-2)
-
-    res = floquet_batch(eqx.filter_vmap(ref)({"n": jnp.asarray(n, dtype=jnp.float64),
-                                             "mu_w": jnp.asarray(mu_w, dtype=jnp.float64)}))
-    return np.where(np.asarray(res.code) == 0, np.asarray(jax.block_until_ready(res.margin)), np.nan)
+    res = floquet_batch(eqx.filter_vmap(floquet_reference_fn(rtol))({"n": jnp.asarray(n, dtype=jnp.float64),
+                                                                     "mu_w": jnp.asarray(mu_w, dtype=jnp.float64)}))
+    return np.asarray(res.checked_margin)
 
 
 def _margins(rtol, speeds, mu_w):
