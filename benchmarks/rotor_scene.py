@@ -15,9 +15,13 @@ model is measured against its own reference (integration error); the reduced
 model's distance from the full one is reported beside it (reduction error).
 (2) Batch: 64 speeds spread over 100..200 rad/s at rtol 1e-8: the batch path,
 `simulate_batch` (its default: the vectorised stepper, lanes refilled from the
-queue, the matrices equal at every speed applied to all lanes at once), and
+queue, the matrices equal at every speed applied to all lanes at once) on one
+device (one core) and with `shard=True` over the two host devices (two cores,
+against the peer's 2-thread loop; XLA_FLAGS set below, before jax is imported), and
 `eqx.filter_vmap` over `simulate` (compiled ahead of time, then timed), vs a loop
-of the peers. Vmapped adaptive solves run in lock-step (every lane pays the slowest lane's
+of the peers; the reduced rotor again at `--large-batch` (512) speeds, where both
+devices' lanes fill (64 speeds leave 32 lanes a device, where its right-hand side
+costs twice as much a lane: benchmarks/step_cost.py). Vmapped adaptive solves run in lock-step (every lane pays the slowest lane's
 steps): the per-lane step counts are reported, and where the waste (max / mean)
 exceeds 10 % four calls of 16 neighbouring speeds are timed too. Errors on 8 lanes
 against numba DOP853 at rtol 1e-12 (itself checked against rotorjax in (1)).
@@ -60,6 +64,10 @@ import time
 
 import numpy as np
 
+# Two host devices, one core each, so that `simulate_batch(..., shard=True)` runs on both
+# cores against the peer's 2-thread `prange` loop, and the one-device runs on one core
+# (no Eigen threads): must precede jax's import.
+os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _common import machine, numba_dop853, write_results  # noqa: E402
 from rotorjax.bench._matching import interpolate_cost  # noqa: E402
@@ -352,6 +360,7 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
     where the one call's lock-step waste (max / mean steps) exceeds
     `group_if_waste` (below it grouping cannot gain more than that); the peers."""
     import equinox as eqx
+    import jax
     import jax.numpy as jnp
 
     import rotorjax as rj
@@ -404,6 +413,17 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
                              "steps_mean": float(steps_b.mean()), "steps_max": int(steps_b.max()),
                              "us_per_lane_step": t_buf / int(steps_b.sum()) * 1e6}
     best_rj = min(t_one, t_buf)
+    n_dev = len(jax.local_devices())
+    if n_dev > 1:  # the same batch split over the host devices (one core each), against the 2-thread loop
+        def sharded():
+            r = simulate_batch(scenes, y0s, (0.0, T_END), solver="dopri8", rtol=rtol, atol=atol,
+                               max_steps=MAX_STEPS, shard=True)
+            return r.ys[:, -1], r.code
+        t_sh, first_sh, (ys_sh, codes_sh), ts_sh = timed(sharded, repeats)
+        res[f"rotorjax_batch_{n_dev}_devices"] = {
+            "s": t_sh, "first_call_s": first_sh, "repeats_s": ts_sh, "devices": n_dev,
+            "failed": int(np.sum(np.asarray(codes_sh) != 0)),
+            "max_abs_diff_from_one_device": float(np.max(np.abs(np.asarray(ys_sh) - ys_b)))}
     chunk = max(1, n_batch // 4)
     if steps.max() / steps.mean() > group_if_waste:
         parts = [jnp.asarray(speeds[i:i + chunk]) for i in range(0, n_batch, chunk)]
@@ -414,7 +434,7 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
             "s": t_grp, "compile_s": c_grp, "steps_max_per_call": [int(x.max()) for x in sg],
             "lane_steps_paid_over_mean": float(sum(x.max() * x.size for x in sg) / steps.sum())}
         ratios["rotorjax_one_call_over_grouped"] = t_one / t_grp
-        best_rj = min(t_one, t_grp)
+        best_rj = min(best_rj, t_grp)
     else:
         t_grp = None
         res["grouped_calls"] = (f"not timed: lock-step waste {steps.max() / steps.mean():.3f} <= "
@@ -479,10 +499,13 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
                    "numba_loop_over_rotorjax_best": t_nb / best_rj,
                    f"numba_prange_{threads}_threads_over_rotorjax_best": t_par / best_rj,
                    "scipy_loop_over_rotorjax_best": t_sp / best_rj})
+    if n_dev > 1:
+        ratios[f"numba_prange_{threads}_threads_over_rotorjax_batch_{n_dev}_devices"] = t_par / t_sh
     res["ratios"] = ratios
     grp = "" if t_grp is None else f", {n_batch // chunk} calls of {chunk} {t_grp:.3f} s"
     print(f"  [{label}] batch {n_batch}: rotorjax vmap {t_one:.3f} s (steps mean {steps.mean():.0f}, max "
-          f"{steps.max()}){grp}, simulate_batch ({how}) {t_buf:.3f} s; numba loop {t_nb:.3f} s, prange "
+          f"{steps.max()}){grp}, simulate_batch ({how}) {t_buf:.3f} s"
+          f"{f' ({n_dev} devices {t_sh:.3f} s)' if n_dev > 1 else ''}; numba loop {t_nb:.3f} s, prange "
           f"{threads} thr {t_par:.3f} s; "
           f"scipy loop {t_sp:.2f} s (scaled from {len(sub)}); err rotorjax {np.max(errs_rj):.1e} "
           f"(batch {np.max(errs_b):.1e}), "
@@ -518,6 +541,8 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--batch", type=int, default=64)
     ap.add_argument("--reduced-modes", type=int, default=8)
+    ap.add_argument("--large-batch", type=int, default=512,
+                    help="the reduced rotor's batch timed again at this many speeds (0: not)")
     args = ap.parse_args()
     args.quick = args.quick or args.smoke
     rtols = (RTOLS[1],) if args.smoke else (RTOLS[0], RTOLS[2]) if args.quick else RTOLS
@@ -546,7 +571,7 @@ def main():
            "setup": {"preset": "ross-compare", "params": {"kyy": 1e6, "cxx": 2000.0, "cyy": 2000.0},
                      "unbalance": UNBALANCE, "cubic_bearings": CUBIC, "speed_rad_s": SPEED, "t_end_s": T_END,
                      "initial_state": "rest", "atol": f"rtol * {ATOL_PER_RTOL}", "repeats": repeats,
-                     "max_steps": MAX_STEPS},
+                     "max_steps": MAX_STEPS, "xla_flags": os.environ.get("XLA_FLAGS")},
            "work_precision": {}, "batch": {}}
     # --smoke: everything on the reduced scene only (the same code as the full one, which is built)
     run_scenes = dict(list(scenes.items())[1:]) if args.smoke else scenes
@@ -566,6 +591,11 @@ def main():
         print(f"batch: {label}")
         # --smoke: grouped calls whatever the lock-step waste (to run that path too)
         out["batch"][label] = batch(label, scene, n_batch, repeats, nb, group_if_waste=1.0 if args.smoke else 1.1)
+    if not args.quick and args.large_batch:  # the small rotor with enough speeds to fill both devices' lanes
+        label = list(scenes)[1]
+        print(f"batch: {label}, {args.large_batch} speeds")
+        out["batch"][f"{label}, {args.large_batch} speeds"] = batch(label, scenes[label], args.large_batch, repeats,
+                                                                     nb)
     out["total_wall_s"] = time.perf_counter() - t_start
     print_table(out)
     print("\nbatch (s; ratio = peer / best rotorjax):")
