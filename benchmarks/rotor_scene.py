@@ -21,9 +21,10 @@ against the peer's 2-thread loop; XLA_FLAGS set below, before jax is imported), 
 `eqx.filter_vmap` over `simulate` (compiled ahead of time, then timed), vs a loop
 of the peers; the reduced rotor again at `--large-batch` (512) speeds, where both
 devices' lanes fill (64 speeds leave 32 lanes a device, where its right-hand side
-costs twice as much a lane: benchmarks/step_cost.py). Vmapped adaptive solves run in lock-step (every lane pays the slowest lane's
-steps): the per-lane step counts are reported, and where the waste (max / mean)
-exceeds 10 % four calls of 16 neighbouring speeds are timed too. Errors on 8 lanes
+costs twice as much a lane: benchmarks/step_cost.py). Vmapped adaptive solves run
+in lock-step (every lane pays the slowest lane's steps): the per-lane step counts
+are reported, and where the waste (max / mean) exceeds 10 % four calls of 16
+neighbouring speeds are timed too. Errors on 8 lanes
 against numba DOP853 at rtol 1e-12 (itself checked against rotorjax in (1)).
 
 The peers integrate the same matrices (taken from the scene, so the comparison is

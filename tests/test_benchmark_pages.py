@@ -139,7 +139,8 @@ def test_readme_step_cost_table_and_fe_batch_are_the_json():
             f"`prange` over 2 threads. The 8-mode rotor's batch takes {r['rotorjax_batch']['s'] * 1e3:.0f} ms on one "
             f"core: {x(r['ratios'][one])} the one-thread loop. On two devices it is {x(r['ratios'][two])} the "
             f"2-thread loop: 64 speeds leave each device 32 lanes, where the 8-mode right-hand side costs "
-            f"{ns(c['FE rotor, 8 modes'], '32')} ns a lane against {ns(c['FE rotor, 8 modes'], '64')} ns at 64") in readme
+            f"{ns(c['FE rotor, 8 modes'], '32')} ns a lane against {ns(c['FE rotor, 8 modes'], '64')} ns "
+            f"at 64") in readme
     # "a device's half takes as long as the whole batch on one": two devices no faster than one (within 25 %)
     assert r["rotorjax_batch_2_devices"]["s"] > 0.8 * r["rotorjax_batch"]["s"]
     assert (f"At 512 speeds the lanes fill: {x(big['ratios'][one])} the one-thread loop on one core, "
