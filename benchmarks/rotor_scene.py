@@ -404,8 +404,9 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
     scenes = eqx.filter_vmap(lambda w: eqx.tree_at(lambda sc: sc.speed.constant, scene, w))(ws_all)
     y0s = jnp.tile(y0j, (n_batch, 1))
 
-    def batched():
-        r = simulate_batch(scenes, y0s, (0.0, T_END), solver="dopri8", rtol=rtol, atol=atol, max_steps=MAX_STEPS)
+    def batched(shard=False):
+        r = simulate_batch(scenes, y0s, (0.0, T_END), solver="dopri8", rtol=rtol, atol=atol, max_steps=MAX_STEPS,
+                           shard=shard)
         return r.ys[:, -1], r.stats["num_steps"], r.code, r.solver
     t_buf, first_buf, (ys_b, steps_b, codes_b, how), ts_buf = timed(batched, repeats)
     ys_b, steps_b = np.asarray(ys_b), np.asarray(steps_b)
@@ -416,11 +417,7 @@ def batch(label, scene, n_batch, repeats, nb, n_check=8, group_if_waste=1.1):
     best_rj = min(t_one, t_buf)
     n_dev = len(jax.local_devices())
     if n_dev > 1:  # the same batch split over the host devices (one core each), against the 2-thread loop
-        def sharded():
-            r = simulate_batch(scenes, y0s, (0.0, T_END), solver="dopri8", rtol=rtol, atol=atol,
-                               max_steps=MAX_STEPS, shard=True)
-            return r.ys[:, -1], r.code
-        t_sh, first_sh, (ys_sh, codes_sh), ts_sh = timed(sharded, repeats)
+        t_sh, first_sh, (ys_sh, _, codes_sh, _), ts_sh = timed(lambda: batched(shard=True), repeats)
         res[f"rotorjax_batch_{n_dev}_devices"] = {
             "s": t_sh, "first_call_s": first_sh, "repeats_s": ts_sh, "devices": n_dev,
             "failed": int(np.sum(np.asarray(codes_sh) != 0)),
