@@ -157,6 +157,21 @@ def test_readme_step_cost_table_and_fe_batch_are_the_json():
             f"{x(f['ratios']['numba_loop_over_rotorjax_one_call'])} / "
             f"{x(r['ratios']['numba_loop_over_rotorjax_one_call'])} numba") in readme
     assert all(b[k]["failed"] == 0 for b in (f, r, big) for k in ("rotorjax_batch", "rotorjax_batch_2_devices"))
+    # the table row's single runs: Dopri8's time at rtol 1e-8, and each peer's range of ratios at matched error
+    wp = json.loads((BENCH / "results" / "rotor_scene.json").read_text())["work_precision"]
+    wf, wr = wp["full (28 dofs)"], wp["reduced (8 modes)"]
+
+    def ranges(w):
+        by_peer = {}
+        for row in w["ratios"]:
+            if row["rotorjax"] == "rotorjax Dopri8":
+                by_peer.setdefault(row["peer"], []).append(row["matched_error"])
+        g = lambda v: f"{v:.1f}" if v >= 0.5 else f"{v:.2f}"  # noqa: E731
+        return " / ".join(f"{g(min(v))}-{g(max(v))}x" for v in by_peer.values())
+
+    at_1e8 = lambda w: next(x["s"] for x in w["runs"]["rotorjax Dopri8"]["ladder"] if x["rtol"] == 1e-8)  # noqa: E731
+    assert f"full 28 dofs: {at_1e8(wf):.2f} s at rtol 1e-8; 8 modes: {at_1e8(wr) * 1e3:.0f} ms; 64 speeds" in readme
+    assert f"one run: {ranges(wf)} (full); {ranges(wr)} (8 modes" in readme
     assert f["rotorjax_batch"]["method"] == "Dopri8+vectorised" and f["rotorjax_batch"]["failed"] == 0
 
 
