@@ -212,3 +212,20 @@ def test_readme_floquet_map_numbers_are_the_json():
     r6 = out["rows"][0]
     assert (f"error {r6['rotorjax_critical_error']:.1e} (rotorjax) and {r6['target_c_dop853']['critical_error']:.1e} "
             "(C DOP853)") in readme
+
+
+def test_readme_fe_identification_row_is_the_json():
+    """The README's FE-identification rows quote `fe_identification.json`: the fit
+    alone from 1 and 32 starts against scipy's LM (one start, and from the same 32
+    starts), the ratios, and the whole `identify_rotor` call."""
+    fe = json.loads((BENCH / "results" / "fe_identification.json").read_text())
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    fit, sp, ratio = fe["rotorjax_fit_only"], fe["scipy"], fe["time_ratios_scipy_over_rotorjax"]
+    eq = ratio["equal_work_fit_only"]
+    assert (f"| {1e3 * fit['n_starts_1']['s']:.2g} ms / {fit['n_starts_32']['s']:.2g} s (LM, receptance coupling) | "
+            f"scipy `least_squares` LM with finite differences, numpy model: {1e3 * sp['lm']['s']:.2g} ms / "
+            f"{sp['lm_32_starts']['s']:.2g} s | {eq['scipy_lm_over_rotorjax_fit_only_1_start']:.2g}x / "
+            f"{eq['scipy_lm_32_starts_over_rotorjax_fit_only_32_starts']:.2g}x (same optimum to 1e-6; residual + "
+            f"Jacobian {ratio['res_jac']:.2g}x) |") in readme
+    whole = fe["rotorjax"]["n_starts_32"]
+    assert f"| {whole['s']:.2g} s (first, compiling, call {whole['first_call_s']:.2g} s) |" in readme

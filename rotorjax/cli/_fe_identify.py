@@ -4,7 +4,7 @@ fitted to a phasor file."""
 import json
 import os
 
-from ._common import InputError, NumericalError, build, prepare_out, preset_and_params, write_json
+from ._common import InputError, NumericalError, prepare_out, preset_and_params, write_json
 
 #: the dataset a shipped rotor file is identified from when --data is not given
 DEFAULT_DATA = {"flexible_rig.toml": "flexible-runup"}
@@ -46,7 +46,7 @@ def cmd_fe_identify(args) -> int:
 
     preset, params = preset_and_params(args, "identify")
     path = preset.name
-    model = rotor_model(path, scene=build(preset, params).scene, entries=preset.defaults)
+    model = rotor_model(path, {k: v for k, v in params.items() if v != preset.defaults.get(k)})
     data = args.data or DEFAULT_DATA.get(os.path.basename(path))
     if data is None:
         raise InputError(f"identify {preset.name}: give the measurements with --data FILE (a phasor file: speed, "

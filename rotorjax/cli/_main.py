@@ -361,7 +361,8 @@ def build_parser():
                                 "file (default for flexible_rig.toml: flexible-runup)")),
         (("--fit",), dict(default=None, help=f"comma-separated parameters to fit: from {', '.join(FITTABLE)} for "
                                              "the balancing machine (default k1,k2,c1,c2); a rotor file's names, "
-                                             "e.g. bearing0.kxx,bearing1.cyy (default: the kxx, kyy, cxx, cyy its "
+                                             "e.g. bearing0.kxx,bearing1.cyy,material0.E,shaft2.od (default: the "
+                                             "kxx, kyy, cxx, cyy its "
                                              "bearings give); the others stay at the file's and --set values, "
                                              "which are the start")),
         (("--fit-unbalance",), dict(nargs="?", const=True, default=None, metavar="NODES",

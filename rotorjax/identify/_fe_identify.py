@@ -1,6 +1,6 @@
 """Identification of a finite-element rotor (any rotor file) from measured 1x
-phasors or impact-test receptances: bearing, support, disk and unbalance
-parameters by their rotor-file names.
+phasors or impact-test receptances: bearing, support, disk, point-mass, material,
+shaft-geometry and unbalance parameters by their rotor-file names.
 
 The fit: weighted least squares on the complex residuals `(model - measured) /
 sigma` (real and imaginary parts), over log-parameters (positive quantities) and
@@ -40,6 +40,7 @@ from scipy.stats import chi2
 
 from .._errors import InputError, NumericalError
 from ._fe_model import phasor_model, receptances
+from ..models._parameters import SceneParts
 from ._fe_params import RotorModel, apply, rotor_model
 from ._fit import AbstractJacobianResidual, optax_fit, theta_covariance
 from ._phasor_file import PhasorData, read_phasors
@@ -55,11 +56,10 @@ class FEResidual(AbstractJacobianResidual):
     """`r(theta)`: the scaled residuals (real parts, then imaginary parts) of the
     rows at rotor parameters `theta`, the fitted unbalances projected out."""
 
-    rotor: eqx.Module
+    parts: SceneParts                     # the rotor file's full rotor and components, at the start
     params: tuple = eqx.field(static=True)
     unb_nodes: tuple = eqx.field(static=True)
-    unb_mag: jax.Array
-    unb_phase: jax.Array
+    unb_places: tuple = eqx.field(static=True)   # the file's unbalances' places among the components
     fit_nodes: tuple = eqx.field(static=True)
     model: eqx.Module
     X: jax.Array
@@ -67,8 +67,18 @@ class FEResidual(AbstractJacobianResidual):
     scales: jax.Array                     # the parameters' scales (signed ones), as `apply` takes them
     coupling: eqx.Module | None = None    # `Receptances` around the start, or None: direct solves
 
+    @property
+    def rotor(self):
+        """The rotor at the start."""
+        return self.parts.rotor
+
     def _rotor(self, theta):
-        return apply(self.params, self.rotor, (self.unb_nodes, self.unb_mag, self.unb_phase), theta, self.scales)
+        """`(rotor, (nodes, magnitudes, phases))`: the rotor and the file's unbalances at `theta`."""
+        parts = apply(self.params, self.parts, theta, self.scales)
+        unb = [parts.components[j] for j in self.unb_places]
+        mags, phases = (jnp.stack([getattr(u, k) for u in unb]) if unb else jnp.zeros(0)
+                        for k in ("magnitude", "phase"))
+        return parts.rotor, (self.unb_nodes, mags, phases)
 
     def values(self, theta):
         """The parameters' values at `theta` (`(p,)`)."""
@@ -84,8 +94,7 @@ class FEResidual(AbstractJacobianResidual):
         unit responses (computed when not given)."""
         if self.coupling is not None:
             # the parameters' values set into the coupling directly: no FE assembly
-            _, (_, mags, phases) = apply(self.params, None, (self.unb_nodes, self.unb_mag, self.unb_phase), theta,
-                                         self.scales)
+            _, (_, mags, phases) = self._rotor(theta)
             if R is None:
                 R = self.coupling.rows(self.model, self.values(theta))
         else:
@@ -281,7 +290,7 @@ def problem(rotor, data, fit, fit_unbalance=(), overrides=None, weights="relativ
         if fit_unbalance:
             raise InputError(f"--fit-unbalance: {data.path} holds receptances (impact tests), which no unbalance "
                              "drives")
-        if any(p.leaf == "unbalance" for p in params):
+        if any(p.unbalance for p in params):
             raise InputError(f"--fit: {data.path} holds receptances (impact tests): unbalance parameters cannot "
                              "be fitted from them")
     elif not (model.unbalances or fit_unbalance or np.any(data.trial_node >= 0)):
@@ -290,13 +299,12 @@ def problem(rotor, data, fit, fit_unbalance=(), overrides=None, weights="relativ
     unb_nodes = tuple(int(u.node_index) for u in model.unbalances)
     pm = phasor_model(model.rotor, data, unb_nodes + fit_unbalance)
     sig = _sigma(data, weights)
-    r = FEResidual(model.rotor, params, unb_nodes,
-                   jnp.array([float(u.magnitude) for u in model.unbalances], dtype=jnp.float64),
-                   jnp.array([float(u.phase) for u in model.unbalances], dtype=jnp.float64),
+    r = FEResidual(model.parts, params, unb_nodes, model.unbalance_places,
                    fit_unbalance, pm, jnp.asarray(data.X, dtype=jnp.complex128), jnp.asarray(sig),
                    jnp.array([q.scale for q in params], dtype=jnp.float64).reshape(len(params)))
     center = np.array([p.to_theta(p.start) for p in params], dtype=float)
-    if coupling:
+    # receptance coupling holds where the matrices are affine in every fitted value (not a material, a diameter)
+    if coupling and all(q.path.affine or q.unbalance for q in params):
         v0 = np.array([q.from_theta(c) for q, c in zip(params, center)], dtype=float).reshape(len(params))
         dv0 = np.array([v if q.log else q.scale for q, v in zip(params, v0)], dtype=float).reshape(len(params))
         r = eqx.tree_at(lambda m: m.coupling, r, receptances(pm, model.rotor, r._matrices, center, v0, dv0),

@@ -11,6 +11,7 @@ from ._validate import (InputError, as_param, as_vector, check, check_choice, ch
 from ._contract import AbstractShaftModel, LinearMatrices
 from ._fe_elements import element_matrices
 from ._interpolate import spline
+from ._materials import poisson_ratio
 from ._plausibility import disk_warnings, shaft_warnings, warn
 
 DOFS_PER_NODE = 4  # x, y, sx, sy
@@ -43,6 +44,21 @@ def _material(name, value, n_el, sign):
 
 
 BEARING_COEFFICIENTS = ("kxx", "kyy", "kxy", "kyx", "cxx", "cyy", "cxy", "cyx", "mxx", "myy", "mxy", "myx")
+#: a bearing's coefficient left out takes the one it follows (`Bearing`, rotor files, fitted parameters)
+BEARING_FOLLOWS = {"kyy": "kxx", "cyy": "cxx", "myy": "mxx"}
+#: a pedestal's likewise (`Support`)
+SUPPORT_KEYS = ("m", "kxx", "kyy", "cxx", "cyy")
+SUPPORT_FOLLOWS = {"kyy": "kxx", "cyy": "cxx"}
+
+
+def follow(values: dict, follows: dict) -> dict:
+    """`values` with each key of `follows` that is None (or absent) set to the value
+    of the key it follows: the one place a follower's default is taken."""
+    out = dict(values)
+    for k, leader in follows.items():
+        if out.get(k) is None:
+            out[k] = out[leader]
+    return out
 _NONNEGATIVE = ("kxx", "kyy", "cxx", "cyy")
 
 
@@ -81,12 +97,10 @@ class Bearing(eqx.Module):
     def __init__(self, node, *, kxx, kyy=None, kxy=0.0, kyx=0.0, cxx=0.0, cyy=None, cxy=0.0, cyx=0.0, mxx=0.0,
                  myy=None, mxy=0.0, myx=0.0, speeds=None):
         self.node = node
-        self.kxx, self.kyy = kxx, kxx if kyy is None else kyy
-        self.kxy, self.kyx = kxy, kyx
-        self.cxx, self.cyy = cxx, cxx if cyy is None else cyy
-        self.cxy, self.cyx = cxy, cyx
-        self.mxx, self.myy = mxx, mxx if myy is None else myy
-        self.mxy, self.myx = mxy, myx
+        given = dict(kxx=kxx, kyy=kyy, kxy=kxy, kyx=kyx, cxx=cxx, cyy=cyy, cxy=cxy, cyx=cyx, mxx=mxx, myy=myy,
+                     mxy=mxy, myx=myx)
+        for k, v in follow(given, BEARING_FOLLOWS).items():
+            setattr(self, k, v)
         self.speeds = speeds
 
 
@@ -107,8 +121,9 @@ class Support(eqx.Module):
 
     def __init__(self, bearing, m, kxx, kyy=None, cxx=0.0, cyy=None):
         self.bearing = bearing
-        self.m, self.kxx, self.kyy = m, kxx, kxx if kyy is None else kyy
-        self.cxx, self.cyy = cxx, cxx if cyy is None else cyy
+        self.m = m
+        for k, v in follow(dict(kxx=kxx, kyy=kyy, cxx=cxx, cyy=cyy), SUPPORT_FOLLOWS).items():
+            setattr(self, k, v)
 
 
 def _diameter(name, value, n_el, sign):
@@ -244,7 +259,6 @@ class FlexibleRotor(AbstractShaftModel):
     G: jax.Array
     rho: jax.Array
     nu: jax.Array  # Poisson's ratio behind kappa (given, or E / (2 G) - 1)
-    kappa: jax.Array
     tapered: bool = eqx.field(static=True)
     disk_nodes: tuple = eqx.field(static=True)
     disk_params: jax.Array  # (n_disks, 3): mass, It, Ip
@@ -279,15 +293,11 @@ class FlexibleRotor(AbstractShaftModel):
         self.G = _material("G (shear modulus)", G, n_el, "positive")
         self.rho = _material("rho (density)", rho, n_el, "positive")
         if nu is None:
-            nu = self.E / (2 * self.G) - 1
+            nu = poisson_ratio(self.E, self.G)
         else:
             nu = _material("nu (Poisson's ratio)", nu, n_el, "any")
             check("nu (Poisson's ratio)", nu, lambda a: (a > -1) & (a <= 0.5), "in (-1, 0.5]")
         self.nu = nu
-        # ROSS: Cowper's coefficient with the ratio of the mean inner and outer diameters
-        mean_out = d_out.mean(axis=1) if self.tapered else d_out
-        mean_in = d_in.mean(axis=1) if self.tapered else d_in
-        self.kappa = cowper_shear_coefficient(nu, mean_out, mean_in)
         check_choice("theory", theory, ("timoshenko", "rayleigh", "euler-bernoulli"))
         self.theory = theory
         n_nodes = n_el + 1
@@ -371,6 +381,15 @@ class FlexibleRotor(AbstractShaftModel):
         self.fixed_dofs = tuple(sorted(set(fixed)))
         if len(self.fixed_dofs) == self.n_dofs:
             raise InputError("fixed_dofs hold every dof of the shaft at zero: nothing is left to move")
+
+    @property
+    def kappa(self) -> jax.Array:
+        """Cowper's shear coefficient per element, from `nu` and the mean inner and
+        outer diameters (as ROSS): derived from the leaves, so it follows a fitted
+        diameter or Poisson's ratio."""
+        mean_out = self.d_out.mean(axis=1) if self.tapered else self.d_out
+        mean_in = self.d_in.mean(axis=1) if self.tapered else self.d_in
+        return cowper_shear_coefficient(self.nu, mean_out, mean_in)
 
     @property
     def n_nodes(self) -> int:

@@ -59,7 +59,7 @@ import jax
 import jax.numpy as jnp
 
 from .._errors import PlausibilityWarning
-from ._fe_rotor import DOFS_PER_NODE
+from ._fe_rotor import DOFS_PER_NODE, follow
 from ._rotor_component import AbstractBearingAt, node_index
 from ._validate import InputError, as_param, check_choice, is_concrete, show
 
@@ -285,6 +285,10 @@ class JournalBearing(_Film):
         return self.label
 
 
+#: a damper's centring spring: `kyy` left out is `kxx`
+SFD_FOLLOWS = {"kyy": "kxx"}
+
+
 class SqueezeFilmDamper(_Film):
     """A squeeze-film damper at shaft node `node`: a short film round a ring that
     orbits with the node but does not spin (module docstring), with an optional
@@ -307,9 +311,9 @@ class SqueezeFilmDamper(_Film):
         owner = f"squeeze-film damper at node {self.node_index}"
         self.viscosity, self.length, self.diameter, self.clearance = _film_geometry(
             owner, viscosity, length, diameter, clearance)
-        self.kxx = as_param(f"{owner}: kxx (centring spring, N/m)", kxx, sign="nonnegative", shape=())
-        self.kyy = (self.kxx if kyy is None
-                    else as_param(f"{owner}: kyy (centring spring, N/m)", kyy, sign="nonnegative", shape=()))
+        spring = follow(dict(kxx=kxx, kyy=kyy), SFD_FOLLOWS)
+        self.kxx, self.kyy = (as_param(f"{owner}: {k} (centring spring, N/m)", spring[k], sign="nonnegative",
+                                       shape=()) for k in ("kxx", "kyy"))
 
     kind = property(lambda self: f"squeeze-film damper ({self.film} film)")
     short_name = "sfd"

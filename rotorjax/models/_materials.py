@@ -28,12 +28,23 @@ class Material(NamedTuple):
         return {"E": self.E, "G": self.G, "rho": self.rho, "nu": self.nu}
 
 
+def shear_modulus(E, nu):
+    """`G = E / (2 (1 + nu))`: the one place it is computed (materials, rotor files,
+    fitted parameters), so every path gives the same bits."""
+    return E / (2 * (1 + nu))
+
+
+def poisson_ratio(E, G):
+    """`nu = E / (2 G) - 1` (likewise)."""
+    return E / (2 * G) - 1
+
+
 def _from_e_nu(name, E, nu, rho, source):
-    return Material(name, E, E / (2 * (1 + nu)), rho, nu, source + "; G = E / (2 (1 + nu))")
+    return Material(name, E, shear_modulus(E, nu), rho, nu, source + "; G = E / (2 (1 + nu))")
 
 
 MATERIALS = {
-    "steel": Material("steel", 211e9, 81.2e9, 7810.0, 211e9 / (2 * 81.2e9) - 1,
+    "steel": Material("steel", 211e9, 81.2e9, 7810.0, poisson_ratio(211e9, 81.2e9),
                       "ROSS 2.3.0 ross/available_materials.toml, 'Steel' (E 211 GPa, G_s 81.2 GPa, "
                       "rho 7810 kg/m^3); nu = E / (2 G) - 1"),
     "stainless": _from_e_nu("stainless", 193e9, 0.29, 8000.0,

@@ -75,8 +75,13 @@ class ClearanceBearing(AbstractBearingAt):
         self.clearance = as_param("clearance", clearance, sign="positive", shape=())
         self.k = as_param("k (bearing stiffness)", k, sign="positive", shape=())
         self.c = as_param("c (bearing damping)", c, sign="nonnegative", shape=())
-        smoothing = 1e-3 * self.clearance if smoothing is None else smoothing
+        smoothing = self.default_smoothing(self.clearance) if smoothing is None else smoothing
         self.smoothing = as_param("smoothing", smoothing, sign="positive", shape=())
+
+    @staticmethod
+    def default_smoothing(clearance):
+        """The smoothing length when none is given: `clearance / 1000`."""
+        return 1e-3 * clearance
 
     @property
     def n_contacts(self) -> int:

@@ -78,6 +78,13 @@ radii outside 0.5 mm..5 m (bores: above 5 m), an element's `L / od` outside
 Overrides (`load_rotor(path, {"bearing0.kxx": 2e7})`, the CLI's `--set`) name an
 entry as `<table><index>.<key>` for array tables, `<table>.<key>` for single
 tables, and `speed` for `[rotor] speed`.
+
+The same names are parameter paths (`read_rotor_file(path).path(name)`): each
+numeric key of an entry resolves, here, where the file's meaning is known, to the
+leaves of the scene it sets (`rotorjax.models._parameters`), with the values that
+follow it where the file leaves them out (`kyy` after `kxx`, a material's `G` or
+`nu`, a clearance bearing's smoothing), so that setting it through the leaves builds
+the scene the override builds.
 """
 
 import dataclasses
@@ -97,15 +104,17 @@ from .._errors import InputError
 from ._balancer import INERTIA_FACTORS, AutoBalancer, Race
 from ._external_damping import DiskDamping, ExternalDamping
 from ._fe_reduction import ReducedRotor
-from ._fe_rotor import BEARING_COEFFICIENTS, DOFS_PER_NODE, Bearing, FlexibleRotor, Support
-from ._fluid_film import JOURNAL_MODELS, SFD_FILMS, JournalBearing, SqueezeFilmDamper
+from ._fe_rotor import (BEARING_COEFFICIENTS, BEARING_FOLLOWS, DOFS_PER_NODE, SUPPORT_FOLLOWS, SUPPORT_KEYS, Bearing,
+                        FlexibleRotor, Support, follow)
+from ._fluid_film import JOURNAL_MODELS, SFD_FILMS, SFD_FOLLOWS, JournalBearing, SqueezeFilmDamper
 from ._journal_bearing import PlainJournal
 from ._gravity import Gravity
 from ._internal_damping import InternalDamping
 from ._limiters import Limiters
-from ._materials import MATERIALS
+from ._materials import MATERIALS, poisson_ratio, shear_modulus
 from ._node_parts import BalancerAt, LimitersAt
 from ._node_probe import NodeProbe
+from ._parameters import ParameterPath, Target
 from ._nonlinear_bearings import ClearanceBearing, CubicBearing
 from ._plausibility import IP_TOLERANCE, RANGES, gyration, judge, number, warn
 from ._rotor_scene import RotorScene
@@ -631,10 +640,10 @@ def _bearing(ctx, i, b):
                      f"bearing is linear (give type = \"plain-journal\", or kxx, ...)", _loc("bearing", i, extra[0]))
         if "kxx" not in b:
             ctx.fail(f"{_loc('bearing', i, 'kxx')} is missing (required: stiffness xx, N/m)")
-        for key, default in (("kyy", "kxx"), ("cxx", None), ("cyy", "cxx"), ("mxx", None), ("myy", "mxx")):
-            b.setdefault(key, b[default] if default else 0.0)
-        for k in ("kxy", "kyx", "cxy", "cyx", "mxy", "myx"):
-            b.setdefault(k, 0.0)
+        for k in BEARING_COEFFICIENTS:
+            if k not in BEARING_FOLLOWS:
+                b.setdefault(k, 0.0)
+        b.update(follow(b, BEARING_FOLLOWS))
     speeds = b.get("speeds")
     if speeds is not None:
         if len(speeds) < 2:
@@ -697,7 +706,7 @@ def _film_bearing(ctx, i, b, given):
     else:
         b.setdefault("film", "pi")
         b.setdefault("kxx", 0.0)
-        b.setdefault("kyy", b["kxx"])
+        b.update(follow(b, SFD_FOLLOWS))
     return b
 
 
@@ -730,7 +739,7 @@ def _validate(ctx, doc):
         materials[m["name"]] = i
         if "G" not in m and "nu" not in m:
             ctx.fail(f"material[{i}]: give G (shear modulus, Pa) or nu (Poisson's ratio)", _loc("material", i))
-        m.setdefault("G", m["E"] / (2 * (1 + m.get("nu", 0.0))))
+        m.setdefault("G", shear_modulus(m["E"], m.get("nu", 0.0)))
     for i, s in enumerate(out["shaft"]):
         for key in ("od", "id"):
             v = s.get(key, 0.0)
@@ -781,9 +790,8 @@ def _validate(ctx, doc):
             ctx.fail(f"support[{i}].bearing = {sup['bearing']}: that bearing already sits on "
                      f"support[{carried[sup['bearing']]}]", _loc("support", i, "bearing"))
         carried[sup["bearing"]] = i
-        sup.setdefault("kyy", sup["kxx"])
         sup.setdefault("cxx", 0.0)
-        sup.setdefault("cyy", sup["cxx"])
+        sup.update(follow(sup, SUPPORT_FOLLOWS))
     fixed = set()
     for i, f in enumerate(out["fixed"]):
         f.setdefault("dofs", list(DOF_NAMES))
@@ -955,10 +963,7 @@ def _material_constants(spec):
         mats[name] = {"name": name, "E": lib.E, "G": lib.G, "rho": lib.rho, "nu": lib.nu}
     used = [mats[s["material"]] for s in spec["shaft"]]
 
-    def default_nu(m):
-        return m["E"] / (2 * m["G"]) - 1  # as FlexibleRotor computes it (IEEE: the same bits)
-
-    eff = [(m["E"], m["G"], m["rho"], m.get("nu", default_nu(m))) for m in used]
+    eff = [(m["E"], m["G"], m["rho"], m.get("nu", poisson_ratio(m["E"], m["G"]))) for m in used]
     given = any("nu" in m for m in used)
     if all(e == eff[0] for e in eff):
         E, G, rho, nu = eff[0]
@@ -999,6 +1004,37 @@ def _film_component(b):
     return SqueezeFilmDamper(b["node"], *geometry, film=b["film"], kxx=b["kxx"], kyy=b["kyy"])
 
 
+def _limiters(lim):
+    return LimitersAt(lim["node"], Limiters(np.array(lim["angles"]), np.asarray(lim["clearance"]),
+                                            np.asarray(lim["stiffness"]), np.asarray(lim["damping"]),
+                                            np.asarray(lim["friction"]), lim["smoothing"]), lim["radius"])
+
+
+def _auto_balancer(ab):
+    race = Race(ab["r1"], ab["r2"], tuple(ab["center"]))
+    if "inertia_factor" in ab:
+        bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], inertia_factor=ab["inertia_factor"])
+    else:
+        bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], kind=ab.get("kind", "ball"))
+    return BalancerAt(ab["node"], bal)
+
+
+#: the scene's components, in its order: each table's entries in file order (`[[bearing]]`: the fluid films)
+_COMPONENTS = (
+    ("unbalance", lambda u: Unbalance(u["node"], u["magnitude"], u["phase"])),
+    ("internal_damping", lambda d: InternalDamping(d["relaxation_time"])),
+    ("external_damping", lambda d: ExternalDamping(d["coefficient"])),
+    ("disk_damping", lambda d: DiskDamping(d["node"], d["translational"], d["angular"])),
+    ("gravity", lambda g: Gravity(g["g"], g["angle"])),
+    ("bearing", _film_component),
+    ("cubic_bearing", lambda c: CubicBearing(c["node"], c["k3"], c["k"], c["c"])),
+    ("clearance_bearing", lambda c: ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"])),
+    ("limiters", _limiters),
+    ("auto_balancer", _auto_balancer),
+    ("probe", lambda p: NodeProbe(p["node"], p["name"])),
+)
+
+
 def _extras(spec):
     """Point masses and supports (keyword arguments only where the file has them)."""
     out = {}
@@ -1012,7 +1048,9 @@ def _extras(spec):
     return out
 
 
-def _build(ctx, spec, track_work):
+def _build(ctx, spec, track_work, placed=None):
+    """The scene of a checked file; `placed` (a dict), when given, receives each
+    component entry's place among the scene's components, `(table, index) -> j`."""
     r = spec["rotor"][0]
     E, G, rho, nu = _material_constants(spec)
     shafts = spec["shaft"]
@@ -1027,27 +1065,13 @@ def _build(ctx, spec, track_work):
             fixed_dofs=tuple((f["node"], DOF_NAMES.index(d)) for f in spec["fixed"] for d in f["dofs"]))
         if "n_modes" in r:
             rotor = rotor.reduce(r["n_modes"])
-        parts = [Unbalance(u["node"], u["magnitude"], u["phase"]) for u in spec["unbalance"]]
-        parts += [InternalDamping(d["relaxation_time"]) for d in spec["internal_damping"]]
-        parts += [ExternalDamping(d["coefficient"]) for d in spec["external_damping"]]
-        parts += [DiskDamping(d["node"], d["translational"], d["angular"]) for d in spec["disk_damping"]]
-        parts += [Gravity(g["g"], g["angle"]) for g in spec["gravity"]]
-        parts += [_film_component(b) for b in spec["bearing"] if b["type"] in FILM_TYPES]
-        parts += [CubicBearing(c["node"], c["k3"], c["k"], c["c"]) for c in spec["cubic_bearing"]]
-        parts += [ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"])
-                  for c in spec["clearance_bearing"]]
-        parts += [LimitersAt(lim["node"], Limiters(np.array(lim["angles"]), np.asarray(lim["clearance"]),
-                                                   np.asarray(lim["stiffness"]), np.asarray(lim["damping"]),
-                                                   np.asarray(lim["friction"]), lim["smoothing"]), lim["radius"])
-                  for lim in spec["limiters"]]
-        for ab in spec["auto_balancer"]:
-            race = Race(ab["r1"], ab["r2"], tuple(ab["center"]))
-            if "inertia_factor" in ab:
-                bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], inertia_factor=ab["inertia_factor"])
-            else:
-                bal = AutoBalancer(np.array(ab["masses"]), race, ab["drag"], kind=ab.get("kind", "ball"))
-            parts.append(BalancerAt(ab["node"], bal))
-        parts += [NodeProbe(p["node"], p["name"]) for p in spec["probe"]]
+        parts = []
+        placed = {} if placed is None else placed
+        for table, make in _COMPONENTS:
+            for i, entry in enumerate(spec[table]):
+                if table != "bearing" or entry["type"] in FILM_TYPES:
+                    placed[(table, i)] = len(parts)
+                    parts.append(make(entry))
         return RotorScene(rotor, ConstantSpeed(r["speed"]), tuple(parts), track_work=track_work)
     except InputError as e:  # a check the loader does not repeat (e.g. nu from E and G)
         raise InputError(f"{ctx.label}: {e}") from None
@@ -1083,6 +1107,7 @@ class FileParameter:
     meaning: str
     domain: str
     integer: bool
+    path: ParameterPath = dataclasses.field(default=None, compare=False)  # the leaves it sets in the scene
 
 
 def file_parameters(path):
@@ -1095,14 +1120,66 @@ def file_parameters(path):
 def file_parameters_and_scene(path):
     """`file_parameters(path)` and the `RotorScene` the file builds (the check's
     build, for a caller that needs the scene as the file gives it: no second build)."""
+    f = read_rotor_file(path)
+    return f.label, f.name, f.entries, f.scene
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class RotorFile:
+    """A rotor file read, checked and built once: its label and `[rotor] name`, its
+    scalar entries (`{key: FileParameter}`), its scene, and `path(name)`, the
+    `ParameterPath` of any numeric key of its entries (given or left at its default)."""
+
+    label: str
+    name: str
+    entries: dict
+    scene: RotorScene
+    spec: dict = dataclasses.field(repr=False)
+    raw: dict = dataclasses.field(repr=False)      # table -> [(index, the entry as the file gives it)]
+    placed: dict = dataclasses.field(repr=False)   # (table, index) -> the component's place in the scene
+
+    def path(self, name):
+        """The `ParameterPath` called `name` (`bearing0.kxy`, `material0.E`, `speed`),
+        or None when the file has no such entry or key."""
+        if name in self.entries:
+            return self.entries[name].path
+        if not isinstance(name, str):
+            return None
+        m = _OVERRIDE.match(name)
+        if not m or m.group(1) not in SCHEMA or name in SINGLE_KEY_ALIASES:
+            return None
+        table, index, key = m.group(1), m.group(2), m.group(3)
+        spec = SCHEMA[table]
+        i = None if index is None else int(index)
+        if key not in spec.keys or spec.array != (i is not None) or spec.keys[key].kind not in (
+                "number", "number_or_numbers"):
+            return None
+        entries = dict(self.raw.get(table, []))
+        if i not in entries:
+            return None
+        return _parameter_path(name, table, i, key, entries[i], self.spec, self.placed, self.scene.full_rotor)
+
+    def signed(self, name) -> bool:
+        """Whether the key `name` may be negative (a cross-coupled coefficient, a phase)."""
+        if name == "speed":
+            return True
+        table, key = _OVERRIDE.match(name).group(1), name.rpartition(".")[2]
+        return SCHEMA[table].keys[key].sign == "any"
+
+
+def read_rotor_file(path, overrides=None) -> RotorFile:
+    """The `RotorFile` of `path` with `overrides` (as `load_rotor`'s) applied."""
     label, doc = _read(path)
     ctx = _Ctx(label)
+    doc = _apply_overrides(ctx, doc, overrides)
     spec = _validate(ctx, doc)
-    scene = _build(ctx, spec, False)
+    placed = {}
+    scene = _build(ctx, spec, False, placed)
     n_el = len(spec["shaft"])
     n_free = len(scene.rotor.free_dofs)
     r = spec["rotor"][0]
-    out = {"speed": FileParameter(float(r["speed"]), "rad/s", "operating speed ([rotor] speed)", "any", False)}
+    out = {"speed": FileParameter(float(r["speed"]), "rad/s", "operating speed ([rotor] speed)", "any", False,
+                                  ParameterPath("speed", (Target(("speed", "constant")),)))}
     for table, t in SCHEMA.items():
         for index, entry in _entries(ctx, doc, table):
             for key, value in entry.items():
@@ -1123,9 +1200,120 @@ def file_parameters_and_scene(path):
                 else:
                     domain = k.domain or {"positive": ">0", "nonnegative": ">=0", "any": "any"}[k.sign]
                 integer = k.kind in ("node", "count", "index")
+                where = _parameter_path(name, table, index, key, entry, spec, placed, scene.full_rotor)
                 out[name] = FileParameter(int(value) if integer else float(value), k.unit or "dimensionless",
-                                          meaning, domain, integer)
-    return label, r["name"], out, scene
+                                          meaning, domain, integer, where)
+    raw = {table: _entries(ctx, doc, table) for table in SCHEMA}
+    return RotorFile(label, r["name"], out, scene, spec, raw, placed)
+
+
+def _refused(name, why):
+    return ParameterPath(name, refusal=why)
+
+
+#: keys of component tables that are not the component's field of the same name
+_COMPONENT_LEAVES = {
+    ("limiters", "clearance"): ("limiters", "clearance"), ("limiters", "stiffness"): ("limiters", "stiffness"),
+    ("limiters", "damping"): ("limiters", "damping"), ("limiters", "friction"): ("limiters", "friction"),
+    ("limiters", "smoothing"): ("limiters", "smoothing"), ("limiters", "radius"): ("radius",),
+    ("auto_balancer", "mass"): ("balancer", "mass"), ("auto_balancer", "drag"): ("balancer", "drag"),
+    ("auto_balancer", "inertia_factor"): ("balancer", "inertia_factor"),
+    ("auto_balancer", "r1"): ("balancer", "race", "r1"), ("auto_balancer", "r2"): ("balancer", "race", "r2"),
+}
+#: a key that sets several leaves
+_COMPONENT_SPREAD = {("auto_balancer", "radius"): ("r1", "r2")}
+
+
+def _parameter_path(name, table, i, key, entry, spec, placed, rotor):
+    """The `ParameterPath` of the scalar file entry `name` (`table[i].key`; `entry`
+    the keys the file gives): the leaves of the scene it sets, with the values that
+    follow it where the file leaves them out, or why it is not a leaf; None for a key
+    of another type of the entry's table (a film's key on a linear bearing)."""
+    kind = SCHEMA[table].keys[key].kind
+    if isinstance(entry.get(key), list):
+        if table == "bearing":
+            return _refused(name, f"bearing{i} is tabulated against speed (one value per speed); only its "
+                                  f"single-valued coefficients are parameters")
+        return _refused(name, f"{_loc(table, i, key)} is a list, not one value")
+    if kind in ("count", "node", "index"):
+        return _refused(name, "an integer that shapes the scene (a --set rebuilds it); it is not a value "
+                              "that can be fitted")
+    if table == "material":
+        return _material_path(name, i, key, entry, spec, rotor)
+    if table == "shaft":
+        leaf = {"L": "lengths", "od": "d_out", "id": "d_in"}[key]
+        return ParameterPath(name, (Target(("rotor", leaf), (i,)),))
+    if table == "disk":
+        return ParameterPath(name, (Target(("rotor", "disk_params"), (i, ("m", "Id", "Ip").index(key))),), True)
+    if table == "point_mass":
+        cols = {"m": (0, 1), "mx": (0,), "my": (1,)}[key]
+        return ParameterPath(name, tuple(Target(("rotor", "point_mass_params"), (i, c)) for c in cols), True)
+    if table == "support":
+        keys = [key] + [f for f, lead in SUPPORT_FOLLOWS.items() if lead == key and f not in entry]
+        return ParameterPath(name, tuple(Target(("rotor", "support_params"), (i, SUPPORT_KEYS.index(k)))
+                                         for k in keys), True)
+    if table == "bearing" and spec["bearing"][i]["type"] not in FILM_TYPES:
+        return _bearing_path(name, i, key, entry, spec, rotor)
+    i = 0 if i is None else i   # a single table: its one entry
+    j = placed[(table, i)]
+    if (table, key) == ("limiters", "first_angle"):
+        return _refused(name, "it places the limiters when the file is read (their angles are the leaves); "
+                              "not a value that can be fitted")
+    if table == "bearing" and key not in FILM_KEYS + (("kxx", "kyy") if spec["bearing"][i]["type"] == "sfd" else ()):
+        return None   # a key of another bearing type
+    keys = list(_COMPONENT_SPREAD.get((table, key), (key,)))
+    if table == "bearing":   # a squeeze-film damper's centring spring
+        keys += [f for f, lead in SFD_FOLLOWS.items() if lead == key and f not in entry]
+    targets = [Target(("components", j) + _COMPONENT_LEAVES.get((table, k), (k,))) for k in keys]
+    if (table, key) == ("clearance_bearing", "clearance") and "smoothing" not in entry:
+        targets.append(Target(("components", j, "smoothing"), None, "smoothing"))
+    return ParameterPath(name, tuple(targets))
+
+
+def _bearing_path(name, i, key, entry, spec, rotor):
+    """A linear bearing's coefficient: its entry of the rotor's constant coefficients, or
+    every speed of its table; its followers with it (`BEARING_FOLLOWS`)."""
+    b = spec["bearing"][i]
+    if b["type"] == "plain-journal":
+        return _refused(name, f"bearing{i} is a plain journal, which computes its coefficients (tabulated against "
+                              f"speed) when the rotor is built: they are not leaves of the scene")
+    if key not in BEARING_COEFFICIENTS:
+        return None   # a key of another bearing type
+    row = [k for k, e in enumerate(spec["bearing"]) if e["type"] not in FILM_TYPES].index(i)
+    keys = [key] + [f for f, lead in BEARING_FOLLOWS.items() if lead == key and f not in entry]
+    targets = []
+    for k in keys:
+        col = BEARING_COEFFICIENTS.index(k)
+        if rotor.bearing_tables[row] is not None:
+            targets.append(Target(("rotor", "bearing_tables", row, 1), (col,)))
+        elif col < 8:
+            targets.append(Target(("rotor", "bearing_params"), (row, col)))
+        else:
+            targets.append(Target(("rotor", "bearing_mass"), (row, col - 8)))
+    return ParameterPath(name, tuple(targets), True)
+
+
+def _material_path(name, i, key, entry, spec, rotor):
+    """A material constant: the entries of the shaft's elements made of it; `G` follows
+    `E` and `nu` when the material leaves `G` out, `nu` follows `E` and `G` when it
+    leaves `nu` out (as the loader and `FlexibleRotor` complete them)."""
+    mat = spec["material"][i]["name"]
+    used = tuple(j for j, s in enumerate(spec["shaft"]) if s["material"] == mat)
+    if not used:
+        return _refused(name, f"no [[shaft]] element is made of material {mat!r}")
+    if np.ndim(rotor.E) == 0:
+        if len(used) < len(spec["shaft"]):
+            return _refused(name, f"material {mat!r} has the same constants as another material of the shaft, "
+                                  f"and the rotor holds them once: give it different constants to fit it")
+        index = None
+    else:
+        index = (used,)
+    targets = [Target(("rotor", key), index)]
+    if key in ("E", "nu") and "G" not in entry:
+        targets.append(Target(("rotor", "G"), index, "shear_modulus"))
+    if key in ("E", "G") and "nu" not in entry:
+        targets.append(Target(("rotor", "nu"), index, "poisson"))
+    return ParameterPath(name, tuple(targets))
 
 
 # --- writing --------------------------------------------------------------------------
@@ -1188,7 +1376,7 @@ def rotor_file_text(scene, name="rotor") -> str:
             E, G, rho, nu = m
             lines += ["", "[[material]]", f"name = {_s(names[m])}", f"E = {_f(E)}", f"G = {_f(G)}",
                       f"rho = {_f(rho)}"]
-            if nu != E / (2 * G) - 1:
+            if nu != poisson_ratio(E, G):
                 lines.append(f"nu = {_f(nu)}")
     lengths, d_out, d_in = (np.asarray(a) for a in (rotor.lengths, rotor.d_out, rotor.d_in))
     for i in range(n_el):
@@ -1246,7 +1434,7 @@ def rotor_file_text(scene, name="rotor") -> str:
                   f"angular = {_f(d.angular)}"]
     for g in groups[Gravity]:
         lines += ["", "[gravity]", f"g = {_f(g.g)}", f"angle = {_f(g.angle)}"]
-    for c in groups[JournalBearing] + groups[SqueezeFilmDamper]:
+    for c in [c for c in scene.components if type(c) in (JournalBearing, SqueezeFilmDamper)]:  # the scene's order
         lines += ["", "[[bearing]]", f"node = {c.node}"]
         if isinstance(c, JournalBearing):
             lines += ['type = "journal"', f"model = {_s(c.model)}"]
