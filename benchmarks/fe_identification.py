@@ -34,7 +34,7 @@ the truth (up or down at random).
   and the median over the starts. The whole call's time is also split into stages
   (rotor file read, problem set-up, fit, critical speeds, the rest: data read, optimum
   Jacobian, covariance, intervals, other minima) from timers around those functions.
-- One residual + Jacobian evaluation of each: rotorjax `_fit._res_jac` (forward
+- One residual + Jacobian evaluation of each: rotorjax `_lm._res_jac` (forward
   autodiff; the unbalances projected out: 400 x 8) and numpy residual + 2-point
   finite differences (400 x 12, as least_squares computes it).
 
@@ -179,7 +179,7 @@ def main():
     import rotorjax
     from rotorjax.identify import _fe_identify as fi
     from rotorjax.identify import identify_rotor, read_phasors, rotor_model
-    from rotorjax.identify._fit import _res_jac
+    from rotorjax.identify._lm import _res_jac
     from rotorjax.identify._make_fe_data import TRUTH, UNBALANCES
     from rotorjax.models import shipped_rotor
 

@@ -36,7 +36,7 @@ from ._fit import identify as identify
 from ._fit import RunupIdentification as RunupIdentification
 from ._fit import identify_runup as identify_runup
 from ._fit import FITTABLE as FITTABLE
-from ._fit import levenberg_marquardt as levenberg_marquardt
+from ._lm import levenberg_marquardt as levenberg_marquardt
 from ._fit import optax_fit as optax_fit
 from ._fit import residual_fn as residual_fn
 from ._fit import response_band as response_band

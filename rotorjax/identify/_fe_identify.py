@@ -14,10 +14,9 @@ A local fit from a start a factor of a few off falls into spurious minima (a
 bearing stiffness collapsing to near zero while the unbalance absorbs the
 amplitude), so the search is global: `n_starts` starts, the given one and a
 Latin hypercube over `spread`-fold factors either way (log-parameters), all run
-by one vmapped LM (`lm_batch`), each lane to convergence; the best is the
-estimate. (Model 002's fits keep their own Python-loop LM, `_fit.levenberg_marquardt`,
-whose residuals the autodiff Jacobian there also serves.) Other minima whose cost is within the 95 %
-chi-square margin of the best and whose parameters differ by more than three
+by one vmapped LM (`_lm.lm_batch`, the one LM, which model 002's fits run as one
+lane), each lane to convergence; the best is the estimate. Other minima whose cost
+is within the 95 % chi-square margin of the best and whose parameters differ by more than three
 standard deviations are reported: the data do not tell them apart.
 
 Uncertainty: the delta method at the optimum (`theta_covariance`, classical or
@@ -42,7 +41,8 @@ from .._errors import InputError, NumericalError
 from ._fe_model import phasor_model, receptances
 from ..models._parameters import SceneParts
 from ._fe_params import RotorModel, apply, rotor_model
-from ._fit import AbstractJacobianResidual, optax_fit, theta_covariance
+from ._fit import optax_fit, theta_covariance
+from ._lm import AbstractJacobianResidual, lm_batch
 from ._phasor_file import PhasorData, read_phasors
 
 WEIGHTS = ("relative", "uniform")
@@ -156,55 +156,6 @@ class FEResidual(AbstractJacobianResidual):
         p, k = len(self.params), len(self.fit_nodes)
         u = theta_u[p:p + k] + 1j * theta_u[p + k:]
         return self._scaled(self.predict(theta_u[:p], u if k else None))
-
-
-def _res_jac(r, th):
-    return r.res_jac(th)
-
-
-@eqx.filter_jit
-def _lm_init(r, theta0):
-    res, J = jax.vmap(lambda th: _res_jac(r, th))(theta0)
-    n = theta0.shape[0]
-    return (theta0, res, J, jnp.sum(res**2, axis=1), jnp.full(n, 1e-3), jnp.zeros(n, dtype=bool))
-
-
-@eqx.filter_jit
-def _lm_step(r, state, center, tol):
-    """One Levenberg-Marquardt iteration of every lane (lanes that are done keep their state)."""
-
-    def one(th, res, J, cost, lam, done):
-        JtJ, g = J.T @ J, J.T @ res
-        d = jnp.diag(JtJ)
-        step = -jnp.linalg.solve(JtJ + lam * jnp.diag(d + 1e-12 * jnp.max(d)), g)
-        new = jnp.clip(th + jnp.clip(step, -2.0, 2.0), center - BOUND, center + BOUND)
-        res_n, J_n = _res_jac(r, new)
-        cost_n = res_n @ res_n
-        ok = jnp.isfinite(cost_n) & (cost_n < cost) & ~done
-        small = ok & (((cost - cost_n) <= tol * cost) | (jnp.max(jnp.abs(new - th)) < 1e-10))
-        th, res, J, cost = (jnp.where(ok, a, b) for a, b in ((new, th), (res_n, res), (J_n, J), (cost_n, cost)))
-        lam = jnp.where(done, lam, jnp.where(ok, jnp.maximum(lam / 10, 1e-12), lam * 10))
-        return th, res, J, cost, lam, done | small | (lam > 1e12)
-
-    return jax.vmap(one)(*state)
-
-
-def lm_batch(r, theta0, center, max_iter=200, tol=1e-12):
-    """Levenberg-Marquardt from each row of `theta0` at once: the fit, global stage
-    and polish in one. Each iteration is one compiled, vmapped step over all lanes (a
-    Python loop around it: XLA's CPU runtime can stall on a `while_loop` around
-    LAPACK calls, and the loop stops as soon as every lane is done; a lane is done
-    when a step lowers the cost by less than `tol` relatively, or when no damping
-    makes a step lower it, i.e. at rounding). Steps are limited to 2 units and the
-    iterates to `center +- BOUND`. Returns `(theta, cost, done, iterations)`."""
-    state = _lm_init(r, jnp.asarray(theta0))
-    center = jnp.asarray(center)
-    it = 0
-    for it in range(1, max_iter + 1):
-        state = _lm_step(r, state, center, tol)
-        if bool(jnp.all(state[5])):
-            break
-    return state[0], state[3], state[5], it
 
 
 def starts(center, params, n_starts, spread, seed=0):
@@ -392,7 +343,7 @@ def identify_rotor(rotor, data, fit, *, fit_unbalance=(), overrides=None, weight
         theta, info["converged"] = np.asarray(theta), True
     elif p:
         th0 = starts(center, params, n_starts, spread, seed)
-        ths, costs, done, it = lm_batch(r, jnp.asarray(th0), jnp.asarray(center), max_iter=max_iter)
+        ths, costs, done, it = lm_batch(r, jnp.asarray(th0), jnp.asarray(center), max_iter=max_iter, bound=BOUND)
         ths, costs = np.asarray(ths), np.asarray(costs)
         ok = np.isfinite(costs)
         if not ok.any():

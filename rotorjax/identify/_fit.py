@@ -52,7 +52,6 @@ autocorrelation or a runs test on their signs, per sensor and Re/Im): a model
 that misses a systematic effect.
 """
 
-import abc
 import dataclasses
 import functools
 
@@ -63,6 +62,7 @@ import numpy as np
 
 from ..analysis._balancing002 import balancing_response
 from ..models._balancing_machine import BalancingMachine
+from ._lm import levenberg_marquardt
 
 FITTABLE = ("k1", "k2", "c1", "c2", "m", "I")
 
@@ -148,66 +148,6 @@ def residual_fn(base, names, speeds, planes, X, sigma=1.0, unbalances=None) -> R
 def _stacked_influence(machine, speeds, planes):
     K = jax.vmap(lambda w: machine.influence_matrix(w, planes))(speeds)
     return K.reshape(-1, planes.shape[0])
-
-
-class AbstractJacobianResidual(eqx.Module):
-    """A residual `r(theta)` that has its own (faster) `res_jac(theta) -> (r, dr/dtheta)`."""
-
-    @abc.abstractmethod
-    def __call__(self, theta):
-        """The residuals at `theta`."""
-
-    @abc.abstractmethod
-    def res_jac(self, theta):
-        """`(r(theta), dr/dtheta)`."""
-
-
-@eqx.filter_jit
-def _res_jac(r, theta):
-    """The residuals and their Jacobian: `r.res_jac` where the residual has its own
-    (faster) one, else forward-mode autodiff."""
-    if isinstance(r, AbstractJacobianResidual):
-        return r.res_jac(theta)
-    return r(theta), jax.jacfwd(r)(theta)
-
-
-def levenberg_marquardt(r, theta0, max_iter=100, tol=1e-12, lam0=1e-3):
-    """Minimise `|r(theta)|^2` with autodiff Jacobians; returns `(theta, J, info)`."""
-    def res_jac(th):
-        return _res_jac(r, th)
-
-    theta = jnp.asarray(theta0, dtype=jnp.float64)
-    res, J = res_jac(theta)
-    cost = float(res @ res)
-    lam = lam0
-    history = [cost]
-    converged = False
-    it = 0
-    for it in range(1, max_iter + 1):
-        JtJ, g = J.T @ J, J.T @ res
-        step = -jnp.linalg.solve(JtJ + lam * jnp.diag(jnp.diag(JtJ) + 1e-300), g)
-        new = theta + step
-        res_new, J_new = res_jac(new)
-        cost_new = float(res_new @ res_new)
-        if np.isfinite(cost_new) and cost_new < cost:
-            small = float(jnp.max(jnp.abs(step))) < 1e-10 or (cost - cost_new) <= tol * cost
-            theta, res, J, cost = new, res_new, J_new, cost_new
-            lam = max(lam / 10, 1e-12)
-            history.append(cost)
-            if small:
-                converged = True
-                break
-        else:
-            lam *= 10
-            if lam > 1e12:
-                # no step lowers the cost any more (rounding): converged if the Gauss-Newton step
-                # would not lower it measurably either (a test independent of the parameters' scales)
-                Jn, gn = np.asarray(J), np.asarray(g)
-                predicted = float(gn @ (np.linalg.pinv(Jn.T @ Jn) @ gn))
-                converged = (float(np.max(np.abs(gn))) < 1e-8 * max(cost, 1e-300) ** 0.5
-                             or predicted <= 1e-8 * max(cost, 1e-300))
-                break
-    return theta, J, {"iterations": it, "converged": converged, "history": history, "cost": cost}
 
 
 def optax_fit(r, theta0, steps=2000, learning_rate=1e-2):

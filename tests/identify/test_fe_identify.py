@@ -15,8 +15,9 @@ from rotorjax._errors import InputError
 from rotorjax.flexible import critical_speeds_1x, frf, unbalance_response_many
 from rotorjax.identify import estimates_jacobian, identify_rotor, make_phasors, read_phasors, rotor_model
 from rotorjax.identify import _make_fe_data as rig
-from rotorjax.identify._fe_identify import _res_jac, problem
-from rotorjax.identify._fit import levenberg_marquardt
+from rotorjax.identify._fe_identify import problem
+from rotorjax.identify._lm import res_jac as _res_jac
+from rotorjax.identify._lm import levenberg_marquardt
 from rotorjax.models import load_rotor, shipped_rotor
 
 from ..models.test_rotor_files import assert_identical
