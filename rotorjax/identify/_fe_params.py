@@ -82,7 +82,7 @@ def parameter(name, file, parts, option="--fit"):
     """The `Parameter` called `name` of the `RotorFile` `file`, its start the value in
     `parts` (the `SceneParts` of the file's scene)."""
     path = file.path(name) if isinstance(name, str) else None
-    table = name.rstrip(".").partition(".")[0].rstrip("0123456789") if isinstance(name, str) else None
+    table = name.partition(".")[0].rstrip("0123456789") if isinstance(name, str) else None
     if path is None or not path.refusal and not _on_linear_model(path, file.scene):
         known = _fittable(file)
         hint = f"; fittable here: {', '.join(known[:12])}{', ...' if len(known) > 12 else ''}" if known else ""

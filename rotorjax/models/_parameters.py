@@ -3,10 +3,11 @@
 A parameter path (`bearing0.kxx`, `material0.E`, `shaft3.od`, `unbalance1.phase`:
 a rotor file's `--set` keys) is resolved once, by whoever knows what the name
 means (the rotor-file loader), into `Target`s: the array leaves of the scene it
-sets, which entries, and how. Everything downstream (a `--set`, an identification,
-an optimiser) sets values through `with_values` / `set_parameters`: pure JAX,
-differentiable and vmappable in the values, one mechanism (`eqx.tree_at`) for
-every component.
+sets, which entries, and how. Identification (and, next, design optimisation) sets
+values through `with_values` / `set_parameters`: pure JAX, differentiable and
+vmappable in the values, one mechanism (`eqx.tree_at`) for every component. A
+`--set` reads the file again with the value; the two build the same scene, bit for
+bit (`tests/models/test_parameters.py`).
 
 A target's `leaf` is a path of attribute names and tuple indices from
 `SceneParts` (the scene's full linear rotor, its speed profile and its
