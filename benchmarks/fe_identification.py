@@ -181,7 +181,7 @@ def main():
     from rotorjax.identify import identify_rotor, read_phasors, rotor_model
     from rotorjax.identify._lm import _res_jac
     from rotorjax.identify._make_fe_data import TRUTH, UNBALANCES
-    from rotorjax.models import shipped_rotor
+    from rotorjax.io import shipped_rotor
 
     path = str(shipped_rotor("flexible_rig"))
     fit = list(TRUTH)

@@ -108,14 +108,15 @@ RTOLS_REDUCED = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10)
 
 # ------------------------------------------------------------------------------- scene
 def rotor_path():
-    from rotorjax.models._rotor_file import shipped_rotor
+    from rotorjax.io import shipped_rotor
 
     return str(shipped_rotor(ROTOR_FILE))
 
 
 def build_scene(n_modes=None):
     """The shipped rotor; with `n_modes`, its modal reduction (`[rotor] n_modes`)."""
-    from rotorjax.models import ReducedRotor, load_rotor
+    from rotorjax.models import ReducedRotor
+    from rotorjax.io import load_rotor
 
     scene = load_rotor(rotor_path(), None if n_modes is None else {"rotor.n_modes": n_modes})
     assert (n_modes is None) != isinstance(scene.rotor, ReducedRotor)

@@ -119,7 +119,7 @@ def main():
 
     import rotorjax
     from rotorjax import flexible as fx
-    from rotorjax.models import load_rotor, shipped_rotor
+    from rotorjax.io import load_rotor, shipped_rotor
 
     scene = load_rotor(shipped_rotor("ross_compare"))
     rotor = scene.rotor

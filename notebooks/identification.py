@@ -275,7 +275,7 @@ with open(os.path.join(OUT, "identification_claims.json"), "w") as f:
 from rotorjax.identify import _make_fe_data as fe
 from rotorjax.flexible import critical_speeds_1x
 
-rig_path = str(rotorjax.models.shipped_rotor("flexible_rig"))
+rig_path = str(rotorjax.io.shipped_rotor("flexible_rig"))
 FE_NAMES = tuple(fe.TRUTH)
 runup_data = idf.read_phasors("flexible-runup")
 fe_fit = idf.identify_rotor(idf.rotor_model(rig_path), runup_data, FE_NAMES, fit_unbalance=[2, 4])
@@ -306,7 +306,7 @@ for u in fe_fit.unbalances:
           f"[{u['phase_ci95'][0]:.4f}, {u['phase_ci95'][1]:.4f}] rad  (true {1e6 * abs(ut):.2f} g mm at "
           f"{np.angle(ut):.4f} rad: |error| {100 * rel:.3f} % of it)")
 true_machine = fe.true_rotor()
-design_machine = rotorjax.models.load_rotor(rig_path).rotor
+design_machine = rotorjax.io.load_rotor(rig_path).rotor
 lo_w, hi_w = float(runup_data.speed.min()), float(runup_data.speed.max())
 
 
@@ -331,7 +331,7 @@ claims["flexible"] = flex
 #    correction is minus the machine's unbalance.
 
 # %%
-identified = rotorjax.models.load_rotor(rig_path, overrides=fe_fit.estimates).rotor
+identified = rotorjax.io.load_rotor(rig_path, overrides=fe_fit.estimates).rotor
 trials_data = idf.read_phasors("flexible-trials")
 flex["balancing"] = {}
 for method in ("ls", "minmax"):

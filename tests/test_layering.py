@@ -1,5 +1,6 @@
-"""The package's layers: imports run one way, models -> solve -> analysis/identify ->
-presets -> cli, with no cycles between packages.
+"""The package's layers: imports run one way, models -> io -> solve -> analysis/identify ->
+presets -> cli, with no cycles between packages (`io`: rotor files, read into scenes and
+written from them; each part's table is declared by its component, in `models`).
 
 Every module under `rotorjax/` is parsed (imports inside functions included) and each
 import of another part of rotorjax is checked against the part's rank. Where the
@@ -21,6 +22,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "rotorjax"
 RANK = {
     "_errors": 0, "_config": 0, "_newton": 0, "_sincos": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
     "models": 1,
+    "io": 1.5,  # rotor files: read into scenes, written from them (each part's table declared in models/)
     "solve": 2, "sweep": 2, "_distributed": 2,
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
     "plot": 3.5,

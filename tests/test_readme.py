@@ -89,7 +89,7 @@ def _balance_check(out):
 def _journal_rig():
     import tomllib
 
-    from rotorjax.models._rotor_file import shipped_rotor
+    from rotorjax.io import shipped_rotor
 
     with open(shipped_rotor("journal_rig"), "rb") as f:
         return tomllib.load(f)
@@ -121,8 +121,8 @@ def _film_static_check(out, printed, argv):
 def _film_hopf_check(out):
     """The onset as the README states it, and the equilibrium's largest real part
     changing sign across it (numpy's eigenvalues of the state matrix)."""
-    from rotorjax.models import load_rotor
-    from rotorjax.models._rotor_file import shipped_rotor
+    from rotorjax.io import load_rotor
+    from rotorjax.io import shipped_rotor
 
     onset, whirl, ratio = stated(r"loses stability at ([\d.]+) rad/s, whirling forward at ([\d.]+) rad/s "
                                  r"\(ratio ([\d.]+)\)")

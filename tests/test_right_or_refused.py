@@ -17,7 +17,7 @@ import pytest
 import rotorjax
 from rotorjax.cli import main
 from rotorjax.flexible import frf, unbalance_response_many
-from rotorjax.models import load_rotor
+from rotorjax.io import load_rotor
 
 SHIPPED = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "tapered_two_material.toml")
 

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from rotorjax._errors import InputError
-from rotorjax.models._rotor_file import load_rotor
+from rotorjax.io import load_rotor
 from rotorjax.presets._rotor_file import preset_from_file
 
 
@@ -223,6 +223,23 @@ CASES = [
      ['bearing[1].viscosity belongs to type = "plain-journal" bearings']),
     ("point-mass-both", add("point_mass", {"node": 2, "m": 1.0, "mx": 1.0}), None,
      ["point_mass[0]: give either m or mx and my, not both"]),
+    # [[seal]] (issue 33): its table declared by its component, checked by the same reader
+    ("seal-no-kxx", add("seal", {"node": 2, "cxx": 10.0}), None, ["seal[0].kxx is missing (required: stiffness xx"]),
+    ("seal-list-no-speeds", add("seal", {"node": 2, "kxx": [1e5, 2e5]}), None,
+     ["seal[0].kxx is a list: give the speeds it is tabulated at"]),
+    ("seal-list-length", add("seal", {"node": 2, "speeds": [0.0, 100.0, 200.0], "kxx": 1e5, "kxy": [1.0, 2.0]}),
+     None, ["seal[0].kxy has 2 values but speeds has 3"]),
+    ("seal-speeds-order", add("seal", {"node": 2, "speeds": [0.0, 200.0, 100.0], "kxx": 1e5}), None,
+     ["seal[0].speeds must be strictly increasing (speeds[2] = 100.0 after 200.0)"]),
+    ("seal-negative-damping", add("seal", {"node": 2, "kxx": -1e5, "cxx": -1.0}), None,
+     ["seal[0].cxx must be >= 0 (got -1.0)"]),
+    ("seal-node", add("seal", {"node": 7, "kxx": 1e5}), None, ["seal[0].node = 7: the shaft has nodes 0..6"]),
+    ("seal-unknown-key", add("seal", {"node": 2, "kxx": 1e5, "leakage": 0.1}), None,
+     ["seal[0].leakage: unknown key; the keys of [[seal]] are node, speeds, kxx"]),
+    ("seal-single", add("seal", {"node": 2, "kxx": 1e5}, single=True), None,
+     ["seal must be an array of tables: write [[seal]]"]),
+    ("seal-override-missing", edit(lambda d: None), {"seal0.kxx": 1.0},
+     ["override seal0.kxx: the file has no [[seal]] table"]),
     ("point-mass-half", add("point_mass", {"node": 2, "mx": 1.0}), None,
      ["point_mass[0].my is missing (mx and my go together)"]),
     ("point-mass-node", add("point_mass", {"node": 9, "m": 1.0}), None,

@@ -77,7 +77,7 @@ def campbell_comparison(sizes, progress, repeats, ross_py=None):
     import jax
 
     from rotorjax.analysis import campbell
-    from rotorjax.models import load_rotor, shipped_rotor
+    from rotorjax.io import load_rotor, shipped_rotor
 
     speeds = np.linspace(*SPEED_RANGE, sizes.campbell_speeds)
     k = sizes.campbell_modes

@@ -27,11 +27,12 @@ import numpy as np
 from .._errors import InputError
 from ..models._fe_rotor import BEARING_COEFFICIENTS
 from ..models._parameters import ParameterPath, SceneParts, parts_of, value_of, with_values
-from ..models._rotor_file import SCHEMA, read_rotor_file
+from ..io import read_rotor_file
+from ..io._schema import SCHEMA
 from ..models._unbalance import Unbalance
 
 #: the tables whose values the linear 1x model holds (the rotor's, and the unbalances)
-FITTED_TABLES = ("material", "shaft", "disk", "bearing", "point_mass", "support", "unbalance")
+FITTED_TABLES = ("material", "shaft", "disk", "bearing", "seal", "point_mass", "support", "unbalance")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -86,7 +86,7 @@ TRIALS_COLUMNS = RUNUP_COLUMNS + ("trial_node", "trial_magnitude", "trial_phase"
 
 def true_rotor():
     """The as-built machine: the shipped design with the bearing coefficients `TRUTH`."""
-    from ..models import load_rotor, shipped_rotor
+    from ..io import load_rotor, shipped_rotor
 
     return load_rotor(shipped_rotor(ROTOR), overrides=TRUTH).rotor
 

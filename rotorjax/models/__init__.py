@@ -20,6 +20,7 @@ from ._fe_rotor import DOFS_PER_NODE as DOFS_PER_NODE
 from ._fe_rotor import FlexibleRotor as FlexibleRotor
 from ._fe_rotor import Bearing as Bearing
 from ._fe_rotor import Support as Support
+from ._seal import Seal as Seal
 from ._materials import MATERIALS as MATERIALS
 from ._materials import Material as Material
 from ._materials import material as material
@@ -57,9 +58,6 @@ from ._nonlinear_bearings import ClearanceBearing as ClearanceBearing
 from ._nonlinear_bearings import CubicBearing as CubicBearing
 from ._node_parts import BalancerAt as BalancerAt
 from ._node_parts import LimitersAt as LimitersAt
-from ._rotor_file import load_rotor as load_rotor
-from ._rotor_file import save_rotor as save_rotor
-from ._rotor_file import shipped_rotor as shipped_rotor
 from ._balancing_machine import BalancingMachine as BalancingMachine
 from ._balancing_machine import BalancingScene as BalancingScene
 from ._balancing_machine import scalar_influence_matrix as scalar_influence_matrix

@@ -15,6 +15,7 @@ from ._fe_elements import conical_translational_mass
 from ._fe_rotor import DOFS_PER_NODE
 from ._rotor_component import AbstractRotorComponent, node_index
 from ._validate import as_param
+from ._table import ComponentTable, Key, node_key
 
 
 def unit_line_mass(rotor):
@@ -85,3 +86,19 @@ class DiskDamping(AbstractRotorComponent):
     def describe(self):
         return (f"disk damping at node {self.node} ({float(self.translational):g}, "
                 f"angular {float(self.angular):g})")
+
+
+#: the rotor-file tables, `[external_damping]` and `[[disk_damping]]`
+TABLE = ComponentTable(False, {
+    "coefficient": Key("number", "N s/m^2", "viscous damping of the shaft's lateral motion per unit length",
+                       "nonnegative", True),
+}, "viscous damping of the shaft by its surroundings", name="external_damping", builds=ExternalDamping,
+    from_table=lambda d: ExternalDamping(d["coefficient"]),
+    to_table=lambda d: {"coefficient": float(d.coefficient)})
+DISK_TABLE = ComponentTable(True, {
+    "node": node_key("disk damping"),
+    "translational": Key("number", "N s/m", "viscous damping of the node's x, y motion", "nonnegative", True),
+    "angular": Key("number", "N m s", "viscous damping of the node's tilts sx, sy", "nonnegative", default=0.0),
+}, "viscous damping at a node (a disk's: air, squeeze film)", name="disk_damping", builds=DiskDamping,
+    from_table=lambda d: DiskDamping(d["node"], d["translational"], d["angular"]),
+    to_table=lambda d: {"node": d.node, "translational": float(d.translational), "angular": float(d.angular)})

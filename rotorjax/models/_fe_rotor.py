@@ -59,7 +59,28 @@ def follow(values: dict, follows: dict) -> dict:
         if out.get(k) is None:
             out[k] = out[leader]
     return out
-_NONNEGATIVE = ("kxx", "kyy", "cxx", "cyy")
+
+
+def check_speed_table(entry, where, i):
+    """A rotor-file entry of bearing coefficients (a `[[bearing]]`, a `[[seal]]`):
+    `speeds` holds >= 2 strictly increasing speeds, and a coefficient given as a list
+    has one value per speed (`where.fail`, `where.loc` name the entry)."""
+    speeds = entry.get("speeds")
+    if speeds is not None:
+        loc = where.loc(i, "speeds")
+        if len(speeds) < 2:
+            where.fail(f"{loc} must hold at least 2 speeds (got {len(speeds)})", loc)
+        if any(b <= a for a, b in zip(speeds, speeds[1:])):
+            j = next(j for j in range(1, len(speeds)) if speeds[j] <= speeds[j - 1])
+            where.fail(f"{loc} must be strictly increasing (speeds[{j}] = {speeds[j]!r} after "
+                       f"{speeds[j - 1]!r})", loc)
+    for k in BEARING_COEFFICIENTS:
+        v, loc = entry.get(k), where.loc(i, k)
+        if isinstance(v, list):
+            if speeds is None:
+                where.fail(f"{loc} is a list: give the speeds it is tabulated at (speeds = [...], rad/s)", loc)
+            if len(v) != len(speeds):
+                where.fail(f"{loc} has {len(v)} values but speeds has {len(speeds)}", loc)
 
 
 class Bearing(eqx.Module):
@@ -77,8 +98,13 @@ class Bearing(eqx.Module):
 
     The coefficients are keyword-only, `Bearing(node, kxx=1e7, cxx=500.0)`: a
     positional list would read one way here (`kxx, kyy, kxy, kyx`) and another in
-    the `(node, kxx, kyy, cxx, cyy)` tuples `FlexibleRotor` accepts."""
+    the `(node, kxx, kyy, cxx, cyy)` tuples `FlexibleRotor` accepts.
 
+    `kind` names the element (a subclass with the same law, such as a `Seal`, has its
+    own): the rotor keeps it, so a rotor file writes the element back to its table."""
+
+    kind = "bearing"
+    nonnegative = ("kxx", "kyy", "cxx", "cyy")   # the coefficients that may not be negative
     node: int = eqx.field(static=True)
     kxx: object
     kyy: object
@@ -142,9 +168,10 @@ def _bearing_entry(i, b, n_nodes):
     """`(node, values, speeds)`: `values` (12,) for a constant bearing, (12, n) with
     `speeds` (n,) for a table (order `BEARING_COEFFICIENTS`)."""
     p = f"bearings[{i}]"
+    nonnegative = Bearing.nonnegative
     if isinstance(b, Bearing):
         raw = {k: getattr(b, k) for k in BEARING_COEFFICIENTS}
-        node, speeds = b.node, b.speeds
+        node, speeds, nonnegative = b.node, b.speeds, b.nonnegative
     else:
         forms = ("a Bearing or a tuple (node, kxx, kyy, cxx, cyy) or (node, kxx, kyy, cxx, cyy, kxy, kyx, "
                  "cxy, cyx)")
@@ -176,7 +203,7 @@ def _bearing_entry(i, b, n_nodes):
             raise InputError(f"{p} speeds must be strictly increasing, got {show(speeds)}")
     rows = []
     for k in BEARING_COEFFICIENTS:
-        v = as_param(f"{p} {k}", raw[k], sign="nonnegative" if k in _NONNEGATIVE else "any")
+        v = as_param(f"{p} {k}", raw[k], sign="nonnegative" if k in nonnegative else "any")
         if speeds is None:
             if v.ndim != 0:
                 raise InputError(f"{p} {k} must be one value (give speeds for a table), got shape {v.shape}: "
@@ -266,6 +293,7 @@ class FlexibleRotor(AbstractShaftModel):
     bearing_params: jax.Array  # (n_bearings, 8): kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx (NaN for tables)
     bearing_mass: jax.Array    # (n_bearings, 4): mxx, myy, mxy, myx (NaN for tables)
     bearing_tables: tuple      # per bearing None, or (speeds (n,), values (12, n))
+    bearing_kinds: tuple = eqx.field(static=True)   # per bearing its `kind` ("bearing", "seal")
     point_mass_nodes: tuple = eqx.field(static=True)
     point_mass_params: jax.Array  # (n_point_masses, 2): mx, my
     support_bearings: tuple = eqx.field(static=True)
@@ -340,6 +368,7 @@ class FlexibleRotor(AbstractShaftModel):
         self.bearing_params = jnp.stack(brow) if brow else jnp.zeros((0, 8))
         self.bearing_mass = jnp.stack(mrow) if mrow else jnp.zeros((0, 4))
         self.bearing_tables = tuple(tables)
+        self.bearing_kinds = tuple(b.kind if isinstance(b, Bearing) else Bearing.kind for b in bearings)
 
         pm_nodes, pm_rows = [], []
         for i, pm in enumerate(_entries("point_masses", point_masses)):
@@ -445,6 +474,16 @@ class FlexibleRotor(AbstractShaftModel):
             else:
                 rows.append(spline(table[0], table[1], speed))
         return jnp.stack(rows) if rows else jnp.zeros((0, 12))
+
+    def bearing(self, i, cls=Bearing):
+        """Bearing `i` as a `cls` (`Bearing`, or the subclass of its kind): its node,
+        its coefficients (arrays over `speeds` for a table) and `speeds`."""
+        table = self.bearing_tables[i]
+        if table is None:
+            speeds, values = None, jnp.concatenate([self.bearing_params[i], self.bearing_mass[i]])
+        else:
+            speeds, values = table
+        return cls(self.bearing_nodes[i], speeds=speeds, **dict(zip(BEARING_COEFFICIENTS, values)))
 
     @property
     def supports(self) -> tuple:

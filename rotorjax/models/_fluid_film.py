@@ -61,6 +61,7 @@ import jax.numpy as jnp
 from .._errors import PlausibilityWarning
 from ._fe_rotor import DOFS_PER_NODE, follow
 from ._rotor_component import AbstractBearingAt, node_index
+from ._table import ComponentTable
 from ._validate import InputError, as_param, check_choice, is_concrete, show
 
 __all__ = ["JOURNAL_MODELS", "SFD_FILMS", "JournalBearing", "SqueezeFilmDamper", "film_force"]
@@ -336,3 +337,29 @@ class SqueezeFilmDamper(_Film):
 
     def describe(self):
         return self.label
+
+
+def _film_part(b):
+    geometry = (b["viscosity"], b["length"], b["diameter"], b["clearance"])
+    if b["type"] == "journal":
+        return JournalBearing(b["node"], *geometry, model=b["model"])
+    return SqueezeFilmDamper(b["node"], *geometry, film=b["film"], kxx=b["kxx"], kyy=b["kyy"])
+
+
+def _film_entry(c):
+    out = {"node": c.node}
+    if isinstance(c, JournalBearing):
+        out.update(type="journal", model=c.model)
+    else:
+        out.update(type="sfd", film=c.film, kxx=float(c.kxx), kyy=float(c.kyy))
+    out.update(viscosity=float(c.viscosity), length=float(c.length), diameter=float(c.diameter),
+               clearance=float(c.clearance))
+    return out
+
+
+#: the fluid films' rotor-file entries: `[[bearing]]` entries of type "journal" and "sfd" (the rotor file's
+#: bearing table declares and checks their keys; `rotorjax.io`)
+FILM_TABLE = ComponentTable(True, {}, "a fluid film (journal bearing, squeeze-film damper) as a nonlinear force",
+                            name="bearing", builds=(JournalBearing, SqueezeFilmDamper), from_table=_film_part,
+                            to_table=_film_entry, part="film",
+                            followers={lead: ((f, "value"),) for f, lead in SFD_FOLLOWS.items()})

@@ -6,6 +6,7 @@ import numpy as np
 
 from ._rotor_component import AbstractRotorComponent
 from ._validate import as_param
+from ._table import ComponentTable, Key
 
 
 class Gravity(AbstractRotorComponent):
@@ -28,3 +29,12 @@ class Gravity(AbstractRotorComponent):
 
     def describe(self):
         return "gravity"
+
+
+#: its rotor-file table, `[gravity]`
+TABLE = ComponentTable(False, {
+    "g": Key("number", "m/s^2", "gravitational acceleration", "nonnegative", default=9.81),
+    "angle": Key("number", "rad", "direction of gravity in the x-y plane", default=-np.pi / 2),
+}, "gravity", name="gravity", builds=Gravity,
+    from_table=lambda g: Gravity(g["g"], g["angle"]),
+    to_table=lambda g: {"g": float(g.g), "angle": float(g.angle)})

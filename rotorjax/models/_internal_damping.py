@@ -6,6 +6,7 @@ import jax.numpy as jnp
 from ._rotation import quarter_turn_matrix
 from ._rotor_component import AbstractRotorComponent
 from ._validate import as_param
+from ._table import ComponentTable, Key
 
 
 class InternalDamping(AbstractRotorComponent):
@@ -35,3 +36,11 @@ class InternalDamping(AbstractRotorComponent):
 
     def describe(self):
         return f"internal damping (T_V = {float(self.relaxation_time):g} s)"
+
+
+#: its rotor-file table, `[internal_damping]`
+TABLE = ComponentTable(False, {
+    "relaxation_time": Key("number", "s", "Voigt relaxation time T_V", "nonnegative", True),
+}, "Voigt internal damping of the shaft", name="internal_damping", builds=InternalDamping,
+    from_table=lambda d: InternalDamping(d["relaxation_time"]),
+    to_table=lambda d: {"relaxation_time": float(d.relaxation_time)})

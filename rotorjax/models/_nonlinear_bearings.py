@@ -7,6 +7,7 @@ import jax.numpy as jnp
 from ._fe_rotor import DOFS_PER_NODE
 from ._rotor_component import AbstractBearingAt, node_index
 from ._validate import as_param
+from ._table import ComponentTable, Key, node_key
 
 
 def _radial(p):
@@ -103,3 +104,25 @@ class ClearanceBearing(AbstractBearingAt):
 
     def describe(self):
         return f"clearance bearing at node {self.node}"
+
+
+#: the rotor-file tables, `[[cubic_bearing]]` and `[[clearance_bearing]]`
+CUBIC_TABLE = ComponentTable(True, {
+    "node": node_key("cubic bearing"),
+    "k3": Key("number", "N/m^3", "cubic (hardening) stiffness", "nonnegative", True),
+    "k": Key("number", "N/m", "linear stiffness", "nonnegative", default=0.0),
+    "c": Key("number", "N s/m", "damping", "nonnegative", default=0.0),
+}, "an isotropic bearing with cubic stiffness", name="cubic_bearing", builds=CubicBearing,
+    from_table=lambda c: CubicBearing(c["node"], c["k3"], c["k"], c["c"]),
+    to_table=lambda c: {"node": c.node, "k3": float(c.k3), "k": float(c.k), "c": float(c.c)})
+CLEARANCE_TABLE = ComponentTable(True, {
+    "node": node_key("clearance bearing"),
+    "clearance": Key("number", "m", "radial clearance", "positive", True),
+    "k": Key("number", "N/m", "contact stiffness", "positive", True),
+    "c": Key("number", "N s/m", "contact damping", "nonnegative", default=0.0),
+    "smoothing": Key("number", "m", "contact smoothing length", "positive", default=None),
+}, "a bearing with a radial clearance", name="clearance_bearing", builds=ClearanceBearing,
+    from_table=lambda c: ClearanceBearing(c["node"], c["clearance"], c["k"], c["c"], c["smoothing"]),
+    to_table=lambda c: {"node": c.node, "clearance": float(c.clearance), "k": float(c.k), "c": float(c.c),
+                        "smoothing": float(c.smoothing)},
+    followers={"clearance": (("smoothing", "smoothing"),)})

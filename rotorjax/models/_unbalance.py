@@ -7,6 +7,7 @@ import jax.numpy as jnp
 from ._fe_rotor import DOFS_PER_NODE
 from ._rotor_component import AbstractRotorComponent, node_index
 from ._validate import as_param
+from ._table import ComponentTable, Key, node_key
 
 
 class Unbalance(AbstractRotorComponent):
@@ -49,3 +50,13 @@ class Unbalance(AbstractRotorComponent):
 
     def describe(self):
         return f"unbalance at node {self.node}"
+
+
+#: its rotor-file table, `[[unbalance]]`
+TABLE = ComponentTable(True, {
+    "node": node_key("unbalance"),
+    "magnitude": Key("number", "kg m", "unbalance (mass times eccentricity)", "nonnegative", True),
+    "phase": Key("number", "rad", "angle from the reference mark", default=0.0),
+}, "an unbalance", name="unbalance", builds=Unbalance,
+    from_table=lambda u: Unbalance(u["node"], u["magnitude"], u["phase"]),
+    to_table=lambda u: {"node": u.node, "magnitude": float(u.magnitude), "phase": float(u.phase)})

@@ -26,7 +26,7 @@ def get(name) -> Preset:
         import os
 
         if not os.path.exists(name) and os.sep not in str(name):
-            from ..models._rotor_file import shipped_rotor
+            from ..io import shipped_rotor
 
             try:
                 name = str(shipped_rotor(str(name)))

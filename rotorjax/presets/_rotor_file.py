@@ -14,7 +14,7 @@ import math
 
 from ..analysis import StraightRunning
 from ..models import has_films, static_equilibrium
-from ..models._rotor_file import file_parameters_and_scene, load_rotor
+from ..io import file_parameters_and_scene, load_rotor
 from ._base import Preset, Setup
 
 #: revolutions in a default run of a rotor file (`t_end` at a positive speed)

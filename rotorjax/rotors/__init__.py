@@ -1,2 +1,2 @@
-"""Rotor files shipped with rotorjax (TOML, SI units): `rotorjax.models._rotor_file.shipped_rotor(name)`
-gives a file's path. See `rotorjax/models/_rotor_file.py` for the tables."""
+"""Rotor files shipped with rotorjax (TOML, SI units): `rotorjax.io.shipped_rotor(name)` gives a
+file's path. See `rotorjax/io/__init__.py` for the tables."""

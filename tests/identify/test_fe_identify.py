@@ -18,7 +18,7 @@ from rotorjax.identify import _make_fe_data as rig
 from rotorjax.identify._fe_identify import problem
 from rotorjax.identify._lm import res_jac as _res_jac
 from rotorjax.identify._lm import levenberg_marquardt
-from rotorjax.models import load_rotor, shipped_rotor
+from rotorjax.io import load_rotor, shipped_rotor
 
 from ..models.test_rotor_files import assert_identical
 

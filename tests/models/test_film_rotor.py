@@ -13,9 +13,10 @@ import pytest
 
 from rotorjax.analysis import bearing_equilibrium, hopf_points
 from rotorjax.cli import main
-from rotorjax.models import load_rotor, static_equilibrium
+from rotorjax.models import static_equilibrium
+from rotorjax.io import load_rotor
 from rotorjax.models._journal_bearing import short_bearing_coefficients, short_bearing_eccentricity
-from rotorjax.models._rotor_file import rotor_file_text
+from rotorjax.io import rotor_file_text
 from rotorjax.models._validate import InputError
 
 MU, LEN, DIA, CLR, SPEED = 0.02, 0.02, 0.05, 5e-5, 300.0

@@ -14,7 +14,7 @@ import pytest
 from rotorjax._errors import InputError
 from rotorjax.analysis._linear import damped_frequencies
 from rotorjax.models._parameters import ParameterPath, set_parameters, value_of, parts_of, with_values
-from rotorjax.models._rotor_file import file_parameters_and_scene, load_rotor, save_rotor
+from rotorjax.io import file_parameters_and_scene, load_rotor, save_rotor
 
 from .test_rotor_files import assert_identical
 

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from rotorjax._errors import InputError, PlausibilityWarning
-from rotorjax.models import Bearing, FlexibleRotor, RotorScene, check_speeds, load_rotor, shipped_rotor
+from rotorjax.models import Bearing, FlexibleRotor, RotorScene, check_speeds
+from rotorjax.io import load_rotor, shipped_rotor
 from rotorjax.models._plausibility import judge
 from rotorjax.presets import PRESETS
 from tests.test_rotor_file_errors import BALANCER, BASE, toml

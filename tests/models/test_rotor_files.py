@@ -8,11 +8,11 @@ import pytest
 from rotorjax.flexible import campbell, critical_speeds_1x, synchronous_critical_speeds, unbalance_response
 from rotorjax.models import (AutoBalancer, BalancerAt, ClearanceBearing, ConstantSpeed, CubicBearing, DiskDamping,
                              ExternalDamping, FlexibleRotor, Gravity, InternalDamping, Limiters, LimitersAt,
-                             NodeProbe, Race, RotorScene, Unbalance)
+                             NodeProbe, Race, RotorScene, Seal, Unbalance)
 from rotorjax.models._fe_elements import element_matrices
 from rotorjax.models._fe_rotor import cowper_shear_coefficient
 from rotorjax.models._frequency import frequency_response
-from rotorjax.models._rotor_file import load_rotor, rotor_file_text, save_rotor, shipped_rotor
+from rotorjax.io import load_rotor, rotor_file_text, save_rotor, shipped_rotor
 from rotorjax.presets import _ross_compare as ross
 from rotorjax.presets._rotor_file import preset_from_file
 
@@ -109,7 +109,9 @@ def every_component_scene(reduce=None):
         E=np.array([211e9, 211e9, 70e9, 211e9, 195e9]), G=np.array([81.2e9, 81.2e9, 26e9, 81.2e9, 75e9]),
         rho=np.array([7810.0, 7810.0, 2700.0, 7810.0, 7900.0]), nu=np.array([0.3, 0.3, 0.33, 0.3, 0.29]),
         disks=((2, 12.5, 0.07, 0.12), (4, 3.0, 0.01, 0.015)),
-        bearings=((0, 1e7, 9e6, 300.0, 350.0, 1e5, -2e5, 1.5, -2.5), (n, 2e7, 2e7, 500.0, 500.0)),
+        bearings=((0, 1e7, 9e6, 300.0, 350.0, 1e5, -2e5, 1.5, -2.5), (n, 2e7, 2e7, 500.0, 500.0),
+                  Seal(3, kxx=-4e4, kxy=[0.0, 1e5, 3e5], kyx=[0.0, -1e5, -3e5], cxx=[60.0, 55.0, 50.0], mxx=0.2,
+                       speeds=[0.0, 200.0, 400.0])),
         theory="rayleigh", fixed_dofs=((0, 2), (0, 3)))
     if reduce:
         rotor = rotor.reduce(reduce)
@@ -313,9 +315,10 @@ def test_save_refuses_what_a_file_cannot_hold(tmp_path):
         save_rotor(RotorScene(scene.rotor, 1.0, (Gravity(), Gravity())), tmp_path / "r.toml")
     with pytest.raises(InputError, match="one \\[external_damping\\]"):
         save_rotor(RotorScene(scene.rotor, 1.0, (ExternalDamping(1.0), ExternalDamping(2.0))), tmp_path / "r.toml")
-    with pytest.raises(InputError, match="2 probes are named 'disk'"):
+    # the writer checks what it writes as the reader checks a file (the probe table's own check)
+    with pytest.raises(InputError, match="save_rotor: probe\\[1\\].name = \"disk\": probe\\[0\\] has that name"):
         save_rotor(RotorScene(scene.rotor, 1.0, (NodeProbe(1), NodeProbe(2))), tmp_path / "r.toml")
-    with pytest.raises(InputError, match="names a probe by a word"):
+    with pytest.raises(InputError, match="probe\\[0\\].name = \"left disk\": must be a word"):
         save_rotor(RotorScene(scene.rotor, 1.0, (NodeProbe(1, "left disk"),)), tmp_path / "r.toml")
 
 

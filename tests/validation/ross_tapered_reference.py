@@ -60,7 +60,7 @@ def compute():
     out["ross_spline_at_table"] = {k: [float(getattr(b0, f"{k}_interpolated")(w)) for w in doc["bearing"][0]["speeds"]]
                                    for k in ("kxx", "cxx")}
     out["table"] = {k: doc["bearing"][0][k] for k in ("speeds", "kxx", "cxx")}
-    out["ross"] = _modes(rs, shaft, disks, bearings)
+    out["ross"] = lateral_modes(rs, shaft, disks, bearings, SPEEDS)
     from scipy.interpolate import CubicSpline
 
     exact = []
@@ -68,22 +68,25 @@ def compute():
         for k in ("kxx", "kyy", "cxx", "cyy"):
             setattr(b, f"{k}_interpolated", CubicSpline(spec["speeds"], spec[k]))
         exact.append(b)
-    out["ross_interpolating"] = _modes(rs, shaft, disks, exact)
+    out["ross_interpolating"] = lateral_modes(rs, shaft, disks, exact, SPEEDS)
     return out
 
 
-def _modes(rs, shaft, disks, bearings):
+def lateral_modes(rs, shaft, disks, bearings, speeds, count=8):
+    """ROSS's rotor of these elements: its `count` lowest lateral damped natural
+    frequencies and log decrements at each speed (axial and torsional modes dropped by
+    their shapes; `tests/models/ross_seal_reference.py` uses it too)."""
     rotor = rs.Rotor(shaft, disks, bearings)
     out = {"wd": [], "log_dec": []}
     n = rotor.ndof
     lateral = np.array([i % 6 in (0, 1, 3, 4) for i in range(n)])
-    for w in SPEEDS:
+    for w in speeds:
         modal = rotor.run_modal(speed=w, num_modes=2 * n, sparse=False)
         vec = np.asarray(modal.evectors)[:n, :len(modal.wd)]
         share = np.linalg.norm(vec[lateral], axis=0) / np.linalg.norm(vec, axis=0)
         keep = (share > 0.99) & (np.asarray(modal.wd) > 1.0)
         wd, ld = np.asarray(modal.wd)[keep], np.asarray(modal.log_dec)[keep]
-        order = np.argsort(wd)[:8]
+        order = np.argsort(wd)[:count]
         out["wd"].append(wd[order].tolist())
         out["log_dec"].append(ld[order].tolist())
     return out

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from rotorjax import flexible as fx
-from rotorjax.models import load_rotor, shipped_rotor
+from rotorjax.io import load_rotor, shipped_rotor
 from tests.conftest import ross_compute
 
 DATA = json.loads((pathlib.Path(__file__).parent / "data" / "ross_tapered.json").read_text())
