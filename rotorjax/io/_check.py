@@ -325,20 +325,13 @@ def complete_table(ctx, table, entries):
         table.complete(entries, _Where(ctx, table.name))
 
 
-#: the keys whose values `_plausibility.judge` checks, and as what (`RANGES`)
-PLAUSIBLE = {
-    ("material", "E"): "E", ("material", "G"): "G", ("material", "rho"): "rho",
-    ("shaft", "L"): "length", ("shaft", "od"): "diameter", ("shaft", "id"): "bore",
-    ("bearing", "length"): "length", ("bearing", "diameter"): "diameter",
-    ("limiters", "radius"): "radius",
-    ("auto_balancer", "radius"): "radius", ("auto_balancer", "r1"): "radius", ("auto_balancer", "r2"): "radius",
-}
-
-
 def _plausible_values(ctx, out):
-    """A plausibility warning for each implausible value (`PLAUSIBLE`), once per key and
-    value: `shaft[0].od = 60 m (and 5 more [[shaft]] entries): ...; did you mean mm?`."""
-    for (table, key), quantity in PLAUSIBLE.items():
+    """A plausibility warning for each implausible value of a key that names its quantity
+    (`Key.plausible`), once per key and value: `shaft[0].od = 60 m (and 5 more [[shaft]]
+    entries): ...; did you mean mm?`."""
+    judged = [(table, key, k.plausible) for table, spec in SCHEMA.items() for key, k in spec.keys.items()
+              if k.plausible]
+    for table, key, quantity in judged:
         seen = {}
         for i, entry in enumerate(out[table]):
             value = entry.get(key)

@@ -49,13 +49,13 @@ def _check_names(probes, where):
     for i, p in enumerate(probes):
         name, loc = p["name"], where.loc(i, "name")
         if not PROBE_NAME.fullmatch(name):
-            where.fail(f"{loc} = {json.dumps(name)}: must be a word (letters, digits and _, not starting with a "
+            where.fail(f"{loc} = {json.dumps(name, ensure_ascii=False)}: must be a word (letters, digits and _, not starting with a "
                        f"digit): it prefixes the probe's outputs ({name}_x, ...)", loc)
         if name in RESERVED_PROBE_NAMES:
-            where.fail(f"{loc} = {json.dumps(name)}: its outputs {name}_x, {name}_y would replace the scene's own "
+            where.fail(f"{loc} = {json.dumps(name, ensure_ascii=False)}: its outputs {name}_x, {name}_y would replace the scene's own "
                        f"(every node's x, y); choose another name", loc)
         if name in seen:
-            where.fail(f"{loc} = {json.dumps(name)}: probe[{seen[name]}] has that name already (their outputs "
+            where.fail(f"{loc} = {json.dumps(name, ensure_ascii=False)}: probe[{seen[name]}] has that name already (their outputs "
                        f"would overwrite each other's); give each probe its own name", loc)
         seen[name] = i
 

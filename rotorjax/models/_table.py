@@ -24,7 +24,8 @@ class Key:
     """One key of a table. `kind`: "number", "count" (an integer), "node", "index",
     "string", "numbers" (a list), "number_or_numbers" or "strings"; `sign` for
     numbers (and every entry of a list): "positive", "nonnegative" or "any";
-    `default` the value a left-out key takes (`NO_DEFAULT`: none)."""
+    `default` the value a left-out key takes (`NO_DEFAULT`: none); `plausible` the
+    quantity ("length", "radius", ...) whose plausible SI range flags a unit slip."""
 
     kind: str
     unit: str = ""
@@ -34,6 +35,7 @@ class Key:
     choices: tuple = ()
     domain: str = ""  # a preset domain when the sign does not say it (nu, inertia_factor)
     default: object = NO_DEFAULT
+    plausible: str = ""  # the quantity whose plausible range a value is judged by (`_plausibility.RANGES`)
 
 
 def node_key(what) -> Key:
