@@ -95,6 +95,9 @@ CASES = [
      r"unknown parameter 'bearing9\.kxx'"),
     (["hopf", "{rotors}/ross_compare.toml"], 2, r"`hopf` does not apply to .*ross_compare\.toml"),
     # the damping and probe tables: their values are --set keys, checked as the file's
+    (["modes", "{d}/seal.toml", "--set", "seal0.mxx=-1"], 2,
+     r"--set seal0.mxx=-1: must be >= 0 \(seal\[0\] at node 2: mass coefficient xx"),
+    (["modes", "{d}/seal.toml", "--set", "seal0.kxy=1"], 2, r"--set unknown parameter 'seal0.kxy'.*seal0.kxx"),
     (["modes", "{d}/damped.toml", "--set", "disk_damping0.translational=-1"], 2,
      r"--set disk_damping0\.translational=-1: must be >= 0 \(disk_damping\[0\] at node 4"),
     (["modes", "{d}/damped.toml", "--set", "external_damping.coefficient=-2"], 2,
@@ -518,6 +521,8 @@ def files(tmp_path_factory):
     (d / "damped.toml").write_text(ross + "\n[external_damping]\ncoefficient = 0.5\n\n[[disk_damping]]\nnode = 4\n"
                                    "translational = 10.0\n\n[[probe]]\nnode = 2\n")
     (d / "probe9.toml").write_text(ross + "\n[[probe]]\nnode = 9\n")
+    (d / "seal.toml").write_text(ross + "\n[[seal]]\nnode = 2\nspeeds = [0.0, 500.0]\nkxx = -1e5\n"
+                                 "kxy = [0.0, 3e5]\ncxx = 40.0\nmxx = 0.1\n")
     return d
 
 

@@ -31,10 +31,6 @@ from ..io import read_rotor_file
 from ..io._schema import SCHEMA
 from ..models._unbalance import Unbalance
 
-#: the tables whose values the linear 1x model holds (the rotor's, and the unbalances)
-FITTED_TABLES = ("material", "shaft", "disk", "bearing", "seal", "point_mass", "support", "unbalance")
-
-
 @dataclasses.dataclass(frozen=True)
 class Parameter:
     """One fitted parameter: the leaves it sets (`path`), how it is fitted (`log`, or
@@ -67,11 +63,13 @@ def _on_linear_model(path, scene):
 
 
 def _fittable(file):
+    """The names of the file's entries the linear 1x model holds (of every table: the
+    rotor's, a seal's, the unbalances)."""
     out = []
-    for table in FITTED_TABLES:
+    for table, spec in SCHEMA.items():
         for i, _ in file.raw.get(table, []):
-            for key, k in SCHEMA[table].keys.items():
-                name = f"{table}{i}.{key}"
+            for key, k in spec.keys.items():
+                name = f"{table}{i}.{key}" if spec.array else f"{table}.{key}"
                 if k.kind in ("number", "number_or_numbers"):
                     path = file.path(name)
                     if path is not None and not path.refusal and _on_linear_model(path, file.scene):

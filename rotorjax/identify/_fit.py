@@ -62,6 +62,7 @@ import numpy as np
 
 from ..analysis._balancing002 import balancing_response
 from ..models._balancing_machine import BalancingMachine
+from ..models._parameters import with_values
 from ._lm import levenberg_marquardt
 
 FITTABLE = ("k1", "k2", "c1", "c2", "m", "I")
@@ -106,10 +107,9 @@ class Identification:
 
 
 def _machine_with(base: BalancingMachine, names, logp):
-    vals = {k: getattr(base, k) for k in ("m", "I", "l", "k1", "k2", "c1", "c2")}
-    for i, k in enumerate(names):
-        vals[k] = jnp.exp(logp[i])
-    return BalancingMachine(**vals)
+    """`base` with the parameters `names` at `exp(logp)`, set through their paths (the
+    one parameter mechanism: `rotorjax.models._parameters.with_values`)."""
+    return with_values(base, [BalancingMachine.parameter_path(k) for k in names], jnp.exp(logp))
 
 
 class Residual(eqx.Module):

@@ -146,6 +146,8 @@ def _parameter_path(name, table, i, key, entry, spec, placed, rotor):
     if kind in ("count", "node", "index"):
         return _refused(name, "an integer that shapes the scene (a --set rebuilds it); it is not a value "
                               "that can be fitted")
+    if table == "rotor":   # `[rotor] speed`, also called `speed`
+        return ParameterPath(name, (Target(("speed", "constant")),))
     if table == "material":
         return _material_path(name, i, key, entry, spec, rotor)
     if table == "shaft":

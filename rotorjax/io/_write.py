@@ -91,6 +91,11 @@ def rotor_file_text(scene, name="rotor") -> str:
     for node, (m, it, ip) in zip(rotor.disk_nodes, np.asarray(rotor.disk_params)):
         lines += ["", "[[disk]]", f"node = {node}", f"m = {_f(m)}", f"Id = {_f(it)}", f"Ip = {_f(ip)}"]
     kinds = rotor.bearing_kinds
+    known = ["bearing"] + [table.builds.kind for table in TABLES if table.part == "bearing"]
+    if any(k not in known for k in kinds):
+        raise InputError(f"save_rotor: bearings[{next(i for i, k in enumerate(kinds) if k not in known)}] is of kind "
+                         f"{next(k for k in kinds if k not in known)!r}, which has no rotor-file table; rotor files "
+                         f"hold {', '.join(known)}")
     first = next((i for i, k in enumerate(kinds) if k != "bearing"), len(kinds))
     if "bearing" in kinds[first:]:
         raise InputError(f"save_rotor: bearings[{kinds.index('bearing', first)}] (a Bearing) follows bearings[{first}] "

@@ -38,6 +38,7 @@ import numpy as np
 
 from ._contract import AbstractLinearScene, LinearMatrices
 from ._frequency import dynamic_stiffness, frequency_response
+from ._parameters import ParameterPath, Target
 from ._speed import AbstractSpeedProfile, ConstantSpeed
 from ._validate import InputError, as_numpy, as_param, check_type, is_concrete
 
@@ -61,6 +62,20 @@ class BalancingMachine(eqx.Module):
         self.k2 = as_param("k2 (support 2 stiffness)", k2, sign="positive", shape=())
         self.c1 = as_param("c1 (support 1 damping)", c1, sign="nonnegative", shape=())
         self.c2 = as_param("c2 (support 2 damping)", c2, sign="nonnegative", shape=())
+
+    #: its parameters: the fields, each a leaf (`parameter_path`)
+    PARAMETERS = ("m", "I", "l", "k1", "k2", "c1", "c2")
+
+    @staticmethod
+    def parameter_path(name) -> ParameterPath:
+        """The `ParameterPath` of the parameter `name` (`k1`, `c2`, `m`, ...): its field,
+        set through `rotorjax.models._parameters.with_values` as a rotor file's are
+        (`eqx.tree_at`; every entry of the support matrices is affine in it but `m`, `I`,
+        `l`, which enter the mass matrix through `I / l^2`)."""
+        if name not in BalancingMachine.PARAMETERS:
+            raise InputError(f"{name!r} is not a parameter of the balancing machine; its parameters: "
+                             f"{', '.join(BalancingMachine.PARAMETERS)}")
+        return ParameterPath(name, (Target((name,)),), name in ("k1", "k2", "c1", "c2"))
 
     def matrices(self):
         """`(A, B, C)` of eq. (9)."""

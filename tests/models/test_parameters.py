@@ -14,7 +14,7 @@ import pytest
 from rotorjax._errors import InputError
 from rotorjax.analysis._linear import damped_frequencies
 from rotorjax.models._parameters import ParameterPath, set_parameters, value_of, parts_of, with_values
-from rotorjax.io import file_parameters_and_scene, load_rotor, save_rotor
+from rotorjax.io import file_parameters_and_scene, load_rotor, read_rotor_file, save_rotor
 
 from .test_rotor_files import assert_identical
 
@@ -116,3 +116,9 @@ def test_refused_paths_say_why(entries, name, words):
     assert words in p.refusal and not p.targets
     with pytest.raises(InputError, match=name):
         set_parameters(scene, [p], [1.0])
+
+
+def test_rotor_speed_is_the_speed():
+    """`rotor.speed` (the key as the file writes it) resolves as `speed` does."""
+    f = read_rotor_file(FILE)
+    assert f.path("rotor.speed").targets == f.path("speed").targets == f.entries["speed"].path.targets

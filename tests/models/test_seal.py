@@ -95,6 +95,13 @@ def test_seal_round_trips(scene, tmp_path):
         Bearing(0, kxx=1e7, cxx=300.0), Bearing(4, kxx=1e7, cxx=300.0),
         Seal(2, kxx=-5e4, kxy=[0.0, 2e5], kyx=[0.0, -2e5], cxx=40.0, speeds=[0.0, 600.0])), plausibility=False), 300.0)
     assert_identical(load_rotor(save_rotor(built, tmp_path / "built.toml")), built)
+    # a bearing of a kind no table holds is refused, not dropped
+    class Other(Bearing):
+        kind = "other"
+
+    with pytest.raises(InputError, match="bearings\\[0\\] is of kind 'other', which has no rotor-file table"):
+        save_rotor(RotorScene(FlexibleRotor([0.3] * 2, 0.04, bearings=(Other(1, kxx=1e5),), plausibility=False)),
+                   tmp_path / "other.toml")
     # a file lists its [[bearing]] entries before its [[seal]] entries
     with pytest.raises(InputError, match=r"bearings\[1\] \(a Bearing\) follows bearings\[0\] \(a seal\)"):
         save_rotor(RotorScene(FlexibleRotor([0.3] * 2, 0.04, bearings=(Seal(1, kxx=1e5), Bearing(0, kxx=1e7)),
