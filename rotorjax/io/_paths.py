@@ -52,7 +52,7 @@ class RotorFile:
     scene: RotorScene
     spec: dict = dataclasses.field(repr=False)
     raw: dict = dataclasses.field(repr=False)      # table -> [(index, the entry as the file gives it)]
-    placed: dict = dataclasses.field(repr=False)   # (table, index) -> the component's place in the scene
+    placed: dict = dataclasses.field(repr=False)   # (table, index) -> ("components", j) or ("bearing", row)
 
     def path(self, name):
         """The `ParameterPath` called `name` (`bearing0.kxy`, `material0.E`, `speed`),
@@ -95,7 +95,7 @@ def read_rotor_file(path, overrides=None) -> RotorFile:
     n_free = len(scene.rotor.free_dofs)
     r = spec["rotor"][0]
     out = {"speed": FileParameter(float(r["speed"]), "rad/s", "operating speed ([rotor] speed)", "any", False,
-                                  ParameterPath("speed", (Target(("speed", "constant")),)))}
+                                  _speed_path("speed"))}
     for table, t in SCHEMA.items():
         for index, entry in entries_of(ctx, doc, table):
             for key, value in entry.items():
@@ -123,6 +123,11 @@ def read_rotor_file(path, overrides=None) -> RotorFile:
     return RotorFile(label, r["name"], out, scene, spec, raw, placed)
 
 
+def _speed_path(name):
+    """`[rotor] speed`: the constant speed of the scene's speed profile."""
+    return ParameterPath(name, (Target(("speed", "constant")),))
+
+
 def _refused(name, why):
     return ParameterPath(name, refusal=why)
 
@@ -147,7 +152,7 @@ def _parameter_path(name, table, i, key, entry, spec, placed, rotor):
         return _refused(name, "an integer that shapes the scene (a --set rebuilds it); it is not a value "
                               "that can be fitted")
     if table == "rotor":   # `[rotor] speed`, also called `speed`
-        return ParameterPath(name, (Target(("speed", "constant")),))
+        return _speed_path(name)
     if table == "material":
         return _material_path(name, i, key, entry, spec, rotor)
     if table == "shaft":
