@@ -5,8 +5,8 @@ import json
 import math
 import pathlib
 
-from ..models._fe_rotor import (BEARING_COEFFICIENTS, BEARING_FOLLOWS, DOFS_PER_NODE, SUPPORT_FOLLOWS,
-                                check_speed_table, follow)
+from ..models._fe_rotor import (BEARING_COEFFICIENTS, DOFS_PER_NODE, SUPPORT_FOLLOWS, check_speed_table,
+                                complete_coefficients, follow)
 from ..models._fluid_film import SFD_FOLLOWS
 from ..models._materials import MATERIALS, shear_modulus
 from ..models._plausibility import IP_TOLERANCE, RANGES, gyration, judge, number
@@ -121,7 +121,6 @@ def _check_keys(ctx, table, index, entry, n_nodes):
 def _bearing(ctx, i, b):
     """A [[bearing]] entry checked and completed: a linear bearing (constant or with a
     `speeds` table) or a plain journal (its own keys only)."""
-    where = location("bearing", i)
     kind = b.setdefault("type", "linear")
     given = [k for k in BEARING_COEFFICIENTS if k in b]
     if kind in FILM_TYPES:
@@ -148,10 +147,7 @@ def _bearing(ctx, i, b):
                      location("bearing", i, extra[0]))
         if "kxx" not in b:
             ctx.fail(f"{location('bearing', i, 'kxx')} is missing (required: stiffness xx, N/m)")
-        for k in BEARING_COEFFICIENTS:
-            if k not in BEARING_FOLLOWS:
-                b.setdefault(k, 0.0)
-        b.update(follow(b, BEARING_FOLLOWS))
+        complete_coefficients(b)
     check_speed_table(b, _Where(ctx, "bearing"), i)
     return b
 

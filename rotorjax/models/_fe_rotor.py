@@ -61,6 +61,15 @@ def follow(values: dict, follows: dict) -> dict:
     return out
 
 
+def complete_coefficients(entry):
+    """A rotor-file entry of bearing coefficients with those it leaves out: 0, or the
+    one each follows (`BEARING_FOLLOWS`), in place."""
+    for k in BEARING_COEFFICIENTS:
+        if k not in BEARING_FOLLOWS:
+            entry.setdefault(k, 0.0)
+    entry.update(follow(entry, BEARING_FOLLOWS))
+
+
 def check_speed_table(entry, where, i):
     """A rotor-file entry of bearing coefficients (a `[[bearing]]`, a `[[seal]]`):
     `speeds` holds >= 2 strictly increasing speeds, and a coefficient given as a list

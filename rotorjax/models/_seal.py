@@ -12,7 +12,7 @@ as a `[[seal]]` entry (`TABLE`).
 
 import numpy as np
 
-from ._fe_rotor import BEARING_COEFFICIENTS, BEARING_FOLLOWS, Bearing, check_speed_table, follow
+from ._fe_rotor import BEARING_COEFFICIENTS, Bearing, check_speed_table, complete_coefficients
 from ._table import ComponentTable, Key, node_key, one_or_each
 
 
@@ -30,10 +30,7 @@ def _complete(entries, where):
     """Coefficients left out take their defaults (0, or the one they follow); lists need
     `speeds` and one value per speed."""
     for i, s in enumerate(entries):
-        for k in BEARING_COEFFICIENTS:
-            if k not in BEARING_FOLLOWS:
-                s.setdefault(k, 0.0)
-        s.update(follow(s, BEARING_FOLLOWS))
+        complete_coefficients(s)
         check_speed_table(s, where, i)
 
 
