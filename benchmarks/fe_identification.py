@@ -1,5 +1,5 @@
 """Identification of the 8 bearing coefficients of a finite-element rotor from
-200 measured 1x phasors: rotorjax's `identify_rotor` vs scipy.optimize.least_squares
+200 measured 1x phasors: rotorjax's `identify` vs scipy.optimize.least_squares
 with finite-difference Jacobians on the same problem, in the same run.
 
 The problem: the shipped rotor file `flexible_rig` (7 nodes, 28 free dofs, two
@@ -10,7 +10,7 @@ nodes 2 and 4 (complex); relative weights (sigma = |X| floored at 1e-3 of the
 largest, `_fe_identify._sigma`). A few seeded starts, each coefficient 2-5x off
 the truth (up or down at random).
 
-- rotorjax: the whole `identify_rotor(rotor_model(path, start), "flexible-runup",
+- rotorjax: the whole `identify(rotor_model(path, start), "flexible-runup",
   fit, fit_unbalance=(2, 4))` call (the rotor file read with the start as its
   overrides, the problem set up, the fit, covariance, 95 % intervals, the fitted
   rotor's critical speeds), with the default 32-start global search and with
@@ -24,11 +24,11 @@ the truth (up or down at random).
   unbalances started at their weighted linear least-squares values. Checked
   against rotorjax's `FEResidual` at the truth before timing. Local fits from the
   same starts, and (the global search's peer) scipy LM from each of the same 32
-  starts rotorjax's global stage uses (`_fe_identify.starts`) around the first
+  starts rotorjax's global stage uses (`_engine.starts`) around the first
   random start, the best kept.
 - rotorjax fit only (the same work as scipy's fits): `_fe_identify.problem` built once
   per random start outside the timing (its `rotor_model` as above), then
-  `_fe_identify.lm_batch(r, th0, center)` timed alone, `th0 = _fe_identify.starts(center,
+  `_engine.lm_batch(r, th0, center)` timed alone, `th0 = _engine.starts(center,
   params, n, 10.0)` with n = 1 (a local fit: scipy LM/TRF's peer) and n = 32 (scipy LM
   from the same 32 starts' peer); compiled first, then the median of repeats per start
   and the median over the starts. The whole call's time is also split into stages
@@ -62,7 +62,7 @@ from _common import machine, timed, timed_first, write_results  # noqa: E402
 FIT_UNBALANCE = (2, 4)
 DATASET = "flexible-runup"
 CONVERGED_REL = 0.05
-WHOLE_CALL = ("whole identify_rotor call = rotor file read + problem set-up + fit + covariance/intervals + "
+WHOLE_CALL = ("whole identify call = rotor file read + problem set-up + fit + covariance/intervals + "
               "critical speeds with intervals")
 SEED = 2024
 TOL = 1e-10
@@ -178,7 +178,8 @@ def main():
 
     import rotorjax
     from rotorjax.identify import _fe_identify as fi
-    from rotorjax.identify import identify_rotor, read_phasors, rotor_model
+    from rotorjax.identify import _engine as eng
+    from rotorjax.identify import identify, read_phasors, rotor_model
     from rotorjax.identify._lm import _res_jac
     from rotorjax.identify._make_fe_data import TRUTH, UNBALANCES
     from rotorjax.io import shipped_rotor
@@ -209,8 +210,8 @@ def main():
     if parity["phasor_max_rel_diff"] > 1e-9:
         raise SystemExit("the numpy model does not reproduce rotorjax's phasors")
 
-    # --- rotorjax: the whole identify_rotor call ---
-    # stage timers: identify_rotor calls these through _fe_identify's globals; each wrapper
+    # --- rotorjax: the whole identify call ---
+    # stage timers: identify calls these through _fe_identify's globals; each wrapper
     # waits for its results so its time is its own
     stage = {}
 
@@ -222,21 +223,23 @@ def main():
             return r
         return wrapped
 
-    originals = {n: getattr(fi, n) for n in ("problem", "lm_batch", "_critical_speeds")}
-    stage_names = {"problem": "problem_setup_s", "lm_batch": "fit_lm_batch_s", "_critical_speeds": "critical_speeds_s"}
+    # (module, name, stage): the LM runs in the engine, one lane (one start) or vmapped over the starts
+    patched = ((fi, "problem", "problem_setup_s"), (eng, "lm_batch", "fit_lm_batch_s"),
+               (eng, "levenberg_marquardt", "fit_lm_batch_s"), (fi, "_critical_speeds", "critical_speeds_s"))
+    originals = {(m, n): getattr(m, n) for m, n, _ in patched}
 
     def rj_call(start, n_starts):
         stage.clear()
         t0 = time.perf_counter()
         model = rotor_model(path, start)
         stage["rotor_model_s"] = time.perf_counter() - t0
-        for n, f in originals.items():
-            setattr(fi, n, timer(stage_names[n], f))
+        for m, n, name in patched:
+            setattr(m, n, timer(name, originals[m, n]))
         try:
-            return identify_rotor(model, DATASET, fit, fit_unbalance=FIT_UNBALANCE, n_starts=n_starts)
+            return identify(model, DATASET, fit, fit_unbalance=FIT_UNBALANCE, n_starts=n_starts)
         finally:
-            for n, f in originals.items():
-                setattr(fi, n, f)
+            for (m, n), f in originals.items():
+                setattr(m, n, f)
 
     def rj_run(n_starts):
         t0 = time.perf_counter()
@@ -279,14 +282,14 @@ def main():
         _, _, r0, c0 = fi.problem(model0, DATASET, fit, FIT_UNBALANCE)
         t_problem = time.perf_counter() - t0
         t0 = time.perf_counter()
-        fi.lm_batch(r0, jnp.asarray(fi.starts(c0, model0.parameters(fit), 32, 10.0, 0)), jnp.asarray(c0))
+        eng.lm_batch(r0, jnp.asarray(eng.starts(c0, model0.parameters(fit), 32, 10.0, 0)), jnp.asarray(c0))
         t_global = time.perf_counter() - t0
         t0 = time.perf_counter()
-        identify_rotor(model0, DATASET, fit, fit_unbalance=FIT_UNBALANCE, critical_speeds=False)
+        identify(model0, DATASET, fit, fit_unbalance=FIT_UNBALANCE, critical_speeds=False)
         t_nocrit = time.perf_counter() - t0
         rj["breakdown_32_starts"] = {
             "rotor_model_s": rj["rotor_model_s"], "problem_setup_s": t_problem, "global_lm_batch_s": t_global,
-            "identify_rotor_prebuilt_model_no_critical_speeds_s": t_nocrit,
+            "identify_prebuilt_model_no_critical_speeds_s": t_nocrit,
             "note": "problem setup: phasor model + receptances at the start (one LU per speed, compiled once)"}
         print("rotorjax breakdown:", json.dumps(rj["breakdown_32_starts"]), flush=True)
 
@@ -300,9 +303,9 @@ def main():
     for n in ((1,) if args.smoke else (1, 32)):
         runs, first = [], None
         for params_s, r_s, center_s in built:
-            th0 = fi.starts(center_s, params_s, n, 10.0)
+            th0 = eng.starts(center_s, params_s, n, 10.0)
             t, t_first, (ths, costs, done, it) = timed_first(
-                lambda: fi.lm_batch(r_s, jnp.asarray(th0), jnp.asarray(center_s)), repeats_fit)
+                lambda: eng.lm_batch(r_s, jnp.asarray(th0), jnp.asarray(center_s)), repeats_fit)
             first = t_first if first is None else first
             costs = np.asarray(costs)
             best = int(np.argmin(np.where(np.isfinite(costs), costs, np.inf)))
@@ -313,8 +316,8 @@ def main():
         fo[f"n_starts_{n}"] = {"s": float(np.median([r["s"] for r in runs])), "first_call_s": first,
                                "runs": runs}
         print(f"rotorjax fit only, {n} start(s):", json.dumps(fo[f"n_starts_{n}"]), flush=True)
-    fo["note"] = ("_fe_identify.lm_batch alone on a problem built per start outside the timing; th0 = "
-                  "_fe_identify.starts(center, params, n, 10.0); first_call_s: start 0's first call (compiled "
+    fo["note"] = ("_engine.lm_batch alone on a problem built per start outside the timing; th0 = "
+                  "_engine.starts(center, params, n, 10.0); first_call_s: start 0's first call (compiled "
                   "already by the whole-call runs when the shapes match); s: median over the starts of the "
                   f"median of {repeats_fit} repeat(s)")
 
@@ -333,7 +336,7 @@ def main():
         params = rotor_model(path).parameters(fit)
         runs = []
         for s in starts[:1]:     # one start set (each costs ~10-20 s)
-            th0 = fi.starts(np.log([s[k] for k in fit]), params, 32, 10.0, 0)
+            th0 = eng.starts(np.log([s[k] for k in fit]), params, 32, 10.0, 0)
             t0 = time.perf_counter()
             est, cost, nfev, best = scipy_multistart(nm, th0)
             runs.append({"s": time.perf_counter() - t0, "max_rel_error": err(est),

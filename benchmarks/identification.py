@@ -79,7 +79,8 @@ def main():
     sigma = 0.01 * np.abs(Xs).max()
     rng = np.random.default_rng(0)
     X = Xs + sigma * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
-    t_rj, res = timed(lambda: idf.identify(base, w, X, planes, unbalances=U, sigma=sigma), repeats=reps(5))
+    scene = idf.BalancingScene(base, planes, U)     # the start, the planes, the known unbalances
+    t_rj, res = timed(lambda: idf.identify(scene, (w, X), sigma=sigma), repeats=reps(5))
     est_rj = np.array([res.estimates[k] for k in names])
     t_sp, (est_sp, nfev) = timed(lambda: scipy_fit(w, X, planes, U, P, start, sigma), repeats=reps(3))
     r_ad = idf.residual_fn(base, names, w, planes, X, sigma, U)
@@ -102,7 +103,7 @@ def main():
 
     def track_and_fit():
         speeds, Xr = idf.order_track(cols["time"], x, tacho=cols["tacho"])
-        return speeds, Xr, idf.identify(base, speeds, Xr, planes, unbalances=None)
+        return speeds, Xr, idf.identify(scene, (speeds, Xr), fit_unbalance=True)
 
     t_rj2, (speeds, Xr, res2) = timed(track_and_fit, repeats=reps(3))
     t_track, _ = timed(lambda: idf.order_track(cols["time"], x, tacho=cols["tacho"]), repeats=reps(3))

@@ -22,7 +22,7 @@ Each data set is order-tracked (one phasor per revolution) and fitted four ways
 - `runup_noref`: the run-up model (transient-aware), phase reference (weighted
   angle fit) taken as exact;
 - `new`: the run-up model with the phase reference fitted jointly (its prior from
-  the tacho fit), HAC covariance: `identify(..., tracking=order_track(...,
+  the tacho fit), HAC covariance: `identify(scene, order_track(...,
   full=True))`.
 
 Per parameter and method: the coverage of the 95 % intervals with its binomial
@@ -68,9 +68,9 @@ def fit(d, name, start, planes, idf):
     unweighted = kw.pop("unweighted", False)
     tr = idf.order_track(d["time"], np.stack([d["x1"], d["x2"]], axis=1), tacho=d["tacho"], full=True,
                          weighted=not unweighted)
-    if kw.pop("tracking", False):
-        kw["tracking"] = tr
-    return idf.identify(start, tr.speeds, tr.X, planes, fit=NAMES, **kw)
+    data = tr if kw.pop("tracking", False) else (tr.speeds, tr.X)
+    scene = idf.BalancingScene(start, planes, np.zeros(len(planes), dtype=complex))
+    return idf.identify(scene, data, NAMES, fit_unbalance=True, **kw)
 
 
 def fit_all(d, start, planes, idf):
@@ -161,7 +161,7 @@ def main():
                      "methods": {"old": "steady model, classical covariance, unweighted angle fit (as before)",
                                  "steady_hac": "steady model, Newey-West (HAC) covariance, unweighted angle fit",
                                  "runup_noref": "run-up model, phase reference taken as exact, HAC",
-                                 "new": "run-up model, phase reference fitted jointly, HAC (identify(..., "
+                                 "new": "run-up model, phase reference fitted jointly, HAC (identify(scene, track, "
                                         "tracking=order_track(..., full=True)))"}},
            "binomial_band_95": list(band), "results": results,
            "times": {"clean_simulations_s": t_clean, "monte_carlo_loop_s": t_loop, "per_method": fit_times}}

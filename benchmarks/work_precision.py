@@ -226,7 +226,7 @@ def fe_identification(results):
             f"{sp['lm_32_starts']['s'] / fit['n_starts_32']['s']:.0f}x from 32 (residual and Jacobian "
             f"{d['res_jac']['numpy_fd_s'] / d['res_jac']['rotorjax_s']:.0f}x), both ending within "
             f"{worst:.1e} (relative) of the true coefficients, the limit the data's noise sets. The whole "
-            f"`identify_rotor` call (rotor file, set-up, fit, intervals, critical speeds with intervals) takes "
+            f"`identify` call (rotor file, set-up, fit, intervals, critical speeds with intervals) takes "
             f"{rj['n_starts_1']['s']:.2f} s from one start, {rj['n_starts_32']['s']:.2f} s from 32.")
 
 

@@ -89,7 +89,9 @@ claims["n_revolutions"] = int(speeds.size)
 start = bm.build_machine(dict(p, k1=1.5e5, k2=3.75e5, c1=100.0, c2=266.0))
 speeds_u, X_u = idf.order_track(cols["time"], np.stack([cols["x1"], cols["x2"]], axis=1), tacho=cols["tacho"],
                                 weighted=False)
-old = idf.identify(start, speeds_u, X_u, planes, fit=NAMES, unbalances=None)
+# the scene: the start, the planes, and unbalances to be fitted (`fit_unbalance=True`)
+scene = idf.BalancingScene(start, planes, np.zeros(len(planes), dtype=complex))
+old = idf.identify(scene, (speeds_u, X_u), NAMES, fit_unbalance=True)
 claims["old"] = report(old, "steady model, classical covariance (as before):")
 
 # %% [markdown]
@@ -121,7 +123,7 @@ print(f"noise in the file: {np.std(cols['x1'] - x_clean[:, 0]):.3g} m rms "
 
 
 def steady_fit_pct(w, Xw):
-    return errors_pct(idf.identify(start, w, Xw, planes, fit=NAMES, unbalances=None))
+    return errors_pct(idf.identify(scene, (w, Xw), NAMES, fit_unbalance=True))
 
 
 model_error = steady_fit_pct(*idf.order_track(t, x_clean, pulses=exact))
@@ -152,7 +154,7 @@ print("(c) residuals of the steady fit to the shipped data:")
 for ch, v in old.residual_structure.items():
     print(f"  {ch}: lag-1 autocorrelation {v['rho1']:+.3f}, runs test z {v['runs_z']:+.1f}, "
           f"effective points {v['n_eff']:.0f} of {v['n']}")
-old_hac = idf.identify(start, speeds_u, X_u, planes, fit=NAMES, unbalances=None, covariance="hac")
+old_hac = idf.identify(scene, (speeds_u, X_u), NAMES, fit_unbalance=True, covariance="hac")
 hac_ratio = {k: old_hac.std[k] / old.std[k] for k in NAMES}
 print("  HAC / classical standard deviation: " + ", ".join(f"{k} {hac_ratio[k]:.2f}" for k in NAMES))
 print("  the old errors in classical sd: " + ", ".join(f"{k} {claims['old']['error_in_sd'][k]:+.1f}"
@@ -178,7 +180,7 @@ claims["diagnosis"] = {
 #
 # ## The fix: the run-up model, with the phase reference fitted jointly
 #
-# `identify(..., tracking=track)` fits the phasors the run-up produces: the
+# `identify(scene, track)` (an `OrderTrack`) fits the phasors the run-up produces: the
 # machine's time response along the tacho's speed profile (exact for the linear
 # machine: modal exponential integrator), order-tracked with the data's own block
 # operator; each phasor weighted by its noise (`track.sigma`, larger at high
@@ -190,7 +192,7 @@ claims["diagnosis"] = {
 # `tests/identify/test_coverage.py`).
 
 # %%
-new = idf.identify(start, speeds, X, planes, fit=NAMES, unbalances=None, tracking=track)
+new = idf.identify(scene, track, NAMES, fit_unbalance=True)
 claims["new"] = report(new, f"run-up model, phase reference fitted jointly, {new.covariance_method} covariance:")
 # a constant error of the angle turns both unbalances alike, so the fit cannot tell it from their
 # angles: compare the angle error and its fitted correction up to a constant
@@ -268,7 +270,7 @@ with open(os.path.join(OUT, "identification_claims.json"), "w") as f:
 #
 # 1. **Identify** the 8 bearing coefficients (`kxx, kyy, cxx, cyy` of both bearings)
 #    and the unbalances at nodes 2 and 4 from the run-up, starting from the nominal
-#    file (`identify_rotor`: a global Levenberg-Marquardt search over 32 starts, the
+#    file (`identify`: a global Levenberg-Marquardt search over 32 starts, the
 #    unbalances projected out as the linear least-squares part, delta-method intervals).
 
 # %%
@@ -278,13 +280,13 @@ from rotorjax.flexible import critical_speeds_1x
 rig_path = str(rotorjax.io.shipped_rotor("flexible_rig"))
 FE_NAMES = tuple(fe.TRUTH)
 runup_data = idf.read_phasors("flexible-runup")
-fe_fit = idf.identify_rotor(idf.rotor_model(rig_path), runup_data, FE_NAMES, fit_unbalance=[2, 4])
+fe_fit = idf.identify(idf.rotor_model(rig_path), runup_data, FE_NAMES, fit_unbalance=[2, 4])
 nominal = {q.name: q.start for q in idf.rotor_model(rig_path).parameters(FE_NAMES)}
 flex = {"truth": dict(fe.TRUTH), "nominal": nominal, "estimates": fe_fit.estimates,
         "intervals": fe_fit.intervals, "error_pct": {}, "covers": {}, "warnings": list(fe_fit.warnings),
-        "n_starts": fe_fit.n_starts, "residual_rms": fe_fit.residual_rms}
+        "n_starts": fe_fit.n_starts, "residual_rms": fe_fit.rms_residual}
 print(f"{len(FE_NAMES)} bearing coefficients and 2 unbalances fitted to {runup_data.n} phasors "
-      f"({fe_fit.n_starts} starts, residual rms {fe_fit.residual_rms:.3g} m)")
+      f"({fe_fit.n_starts} starts, residual rms {fe_fit.rms_residual:.3g} m)")
 for k in FE_NAMES:
     lo, hi = fe_fit.intervals[k]
     flex["error_pct"][k] = 100 * (fe_fit.estimates[k] / fe.TRUTH[k] - 1)
@@ -292,9 +294,9 @@ for k in FE_NAMES:
     print(f"  {k:13s} {fe_fit.estimates[k]:.6g}  95% [{lo:.6g}, {hi:.6g}]  (true {fe.TRUTH[k]:.6g}, nominal "
           f"{nominal[k]:.6g}: error {flex['error_pct'][k]:+.3f} %, {'covered' if flex['covers'][k] else 'MISSED'})")
 U_true = {node: mag * np.exp(1j * ph) for node, mag, ph in fe.UNBALANCES}
-U_fit = {u["node"]: u["magnitude"] * np.exp(1j * u["phase"]) for u in fe_fit.unbalances}
+U_fit = {u["node"]: u["magnitude"] * np.exp(1j * u["phase"]) for u in fe_fit.unbalance_table}
 flex["unbalances"] = []
-for u in fe_fit.unbalances:
+for u in fe_fit.unbalance_table:
     n, ut = u["node"], U_true[u["node"]]
     rel = float(abs(U_fit[n] - ut) / abs(ut))
     flex["unbalances"].append({"node": n, "magnitude": u["magnitude"], "phase": u["phase"],
@@ -335,7 +337,7 @@ identified = rotorjax.io.load_rotor(rig_path, overrides=fe_fit.estimates).rotor
 trials_data = idf.read_phasors("flexible-trials")
 flex["balancing"] = {}
 for method in ("ls", "minmax"):
-    bal = idf.balance_rotor(trials_data, planes=[2, 4], method=method, influence="trials", rotor=identified)
+    bal = idf.balance(trials_data, planes=[2, 4], method=method, influence="trials", scene=identified)
     out = {"corrections": [], "predicted_before_max": bal.before_max, "predicted_after_max": bal.after_max,
            "warnings": list(bal.warnings)}
     print(f"{method}: balancing speeds {', '.join(f'{s:g}' for s in bal.balancing_speeds)} rad/s")

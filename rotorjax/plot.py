@@ -617,7 +617,7 @@ def plot_identification(path=None, speeds=None, data=None, fit=None, lo=None, hi
 
 
 def plot_fe_identification(path=None, result=None, title="", unit="m", *, fig=None):
-    """An `FEIdentification` on a Bode plot per channel (run, node, direction):
+    """A rotor file's `Identification` on a Bode plot per channel (run, node, direction):
     measured phasors (dots) against the fitted model (lines), amplitude and phase,
     and below the scaled residuals `(model - measured) / sigma` (real and
     imaginary parts) against speed (frequency for receptances): three panels on
@@ -1069,7 +1069,7 @@ def plot_level1(q, log_dec, path=None, q0=None, title="", *, ax=None):
 
 
 def plot_fe_balance(path=None, result=None, title="", *, ax=None):
-    """A flexible rotor's balancing (`rotorjax.identify._fe_balance.FEBalancing`): the
+    """A balancing over several speeds (`rotorjax.identify.Balancing`): the
     1x vibration magnitude per sensor against speed, measured before (solid) and
     predicted after the corrections (dashed), with the corrections in the title. On
     `ax` or a new figure; `path` is ignored (the file-writing version's). Returns

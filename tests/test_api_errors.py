@@ -132,6 +132,19 @@ def balancing(**kw):
     return idf.simulate_balancing(**dict(args, **kw))
 
 
+def ident(**kw):
+    """`identify` on the balancing machine, from five phasors (the checks come first)."""
+    scene = idf.BalancingScene(idf.BalancingMachine(**MACHINE), [0.2, 0.8], [1e-3, 1e-3j])
+    args = dict(scene=scene, data=(np.linspace(50.0, 250.0, 5), np.ones((5, 2), dtype=complex)), params=("k1",))
+    return idf.identify(**dict(args, **kw))
+
+
+def ident_rotor(**kw):
+    """`identify` on the shipped flexible rig's rotor file (the checks come first)."""
+    args = dict(scene=str(rj.io.shipped_rotor("flexible_rig")), data="flexible-runup", params=("bearing0.kxx",))
+    return idf.identify(**dict(args, **kw))
+
+
 def orbit(**kw):
     """jeffcott()'s rest as a periodic reference, unbatched."""
     s = jeffcott()
@@ -280,6 +293,20 @@ CASES = [
     (balancing, dict(unbalance=[1e-3]), r"unbalance must have shape \(2,\), got shape \(1,\)"),
     (P(idf.scalar_influence_matrix, 1.0), dict(planes_a=(0.5, 0.5)),
      r"planes_a \(plane distances A, C\): the two planes coincide"),
+    (ident, dict(scene=1.0), r"scene must be a BalancingScene, a rotor file or a RotorModel; got float"),
+    (ident, dict(params=("k9",)), r"params must name some of k1, k2, c1, c2, m, I; got k9"),
+    (ident, dict(data=[1.0]), r"data: the balancing machine is identified from \(speeds, X\), an OrderTrack"),
+    (ident, dict(data=(np.ones(5), np.ones((4, 2)))), r"data: \(speeds, X\) with speeds 1-D and X of shape"),
+    (ident, dict(covariance="robust"), r"covariance must be one of auto, classical, sandwich, hac, got 'robust'"),
+    (ident, dict(reference="maybe"), r"reference must be 'joint' or 'none', got 'maybe'"),
+    (ident, dict(sigma=-1.0), r"sigma must be finite and > 0"),
+    (ident, dict(n_starts=0), r"n_starts must be at least 1, got 0"),
+    (ident, dict(weights="uniform"), r"weights: does not apply to the balancing machine; its options"),
+    (ident, dict(block=2), r"block: applies to a run-up signal file only"),
+    (ident, dict(fit_unbalance=(2,)), r"fit_unbalance \(2,\): the balancing machine fits the unbalances of its"),
+    (ident_rotor, dict(fit_unbalance=True), r"fit_unbalance: name the nodes of the unbalances to fit"),
+    (ident_rotor, dict(reference="joint"), r"reference: does not apply to a rotor file"),
+    (ident_rotor, dict(weights="square"), r"--weights square: expected one of relative, uniform"),
     # solve
     (simulate, dict(t_span=(1.0, 0.0)), r"t_span must be increasing \(t1 > t0\), got \(1\.0, 0\.0\)"),
     (simulate, dict(t_span=(0.0, NAN)), r"t_span\[1\] must be finite, got nan"),

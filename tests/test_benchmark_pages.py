@@ -217,7 +217,7 @@ def test_readme_floquet_map_numbers_are_the_json():
 def test_readme_fe_identification_row_is_the_json():
     """The README's FE-identification rows quote `fe_identification.json`: the fit
     alone from 1 and 32 starts against scipy's LM (one start, and from the same 32
-    starts), the ratios, and the whole `identify_rotor` call."""
+    starts), the ratios, and the whole `identify` call."""
     fe = json.loads((BENCH / "results" / "fe_identification.json").read_text())
     readme = " ".join((BENCH.parent / "README.md").read_text().split())
     fit, sp, ratio = fe["rotorjax_fit_only"], fe["scipy"], fe["time_ratios_scipy_over_rotorjax"]

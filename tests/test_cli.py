@@ -193,6 +193,11 @@ def test_balance_and_identify_on_the_shipped_data(tmp_path, capsys):
     assert abs(got[0][0] - 20) < 0.3 and abs(got[0][1] - 210) < 1.5
     assert abs(got[1][0] - 30) < 0.3 and abs(got[1][1] - 20) < 1.5
     assert out["iso_grade_reached"] <= 1.0 and len(out["corrections"][0]["holes"]) == 2
+    # one engine: min-max and the model's influence coefficients for the machine too (its preset the model)
+    assert main(["balance", "--method", "minmax", "--influence", "both", "--json"]) == 0
+    both = json.loads(capsys.readouterr().out)
+    assert both["method"] == "minmax" and both["warnings"] == []
+    assert [round(c["mass_g"], 2) for c in both["corrections"]] == [round(c["mass_g"], 2) for c in out["corrections"]]
     assert main(["identify", "balancing-machine", "--set", "k1=1.5e5", "--set", "c1=100", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     for k, true in (("k1", 2e5), ("k2", 3e5), ("c1", 150.0), ("c2", 200.0)):

@@ -186,7 +186,7 @@ def fitted(request):
     Xn = Xs + s * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
     start = bm.build_machine(dict(P, k1=1.5e5, k2=2.5e5, c1=100.0, c2=300.0))
     known = U if request.param == "known unbalances" else None
-    res = idf.identify(start, SPEEDS, Xn, PLANES, unbalances=known)
+    res = idf.identify(idf.BalancingScene(start, PLANES, U), (SPEEDS, Xn), fit_unbalance=known is None)
     assert res.converged
     return res, start, known
 

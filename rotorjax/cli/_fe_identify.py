@@ -39,7 +39,7 @@ def default_fit(model):
 
 
 def cmd_fe_identify(args) -> int:
-    from rotorjax.identify._fe_identify import identify_rotor
+    from rotorjax.identify import identify
     from rotorjax.identify._fe_params import rotor_model
     from rotorjax.plot import plot_fe_identification
     from ._common import save_figure
@@ -60,9 +60,8 @@ def cmd_fe_identify(args) -> int:
     else:
         fit_unbalance = nodes("--fit-unbalance", args.fit_unbalance)
     prepare_out(args.out)
-    res = identify_rotor(model, data, fit, fit_unbalance=fit_unbalance, weights=args.weights,
-                         covariance=args.covariance, n_starts=args.starts, spread=args.spread,
-                         method=args.method)
+    res = identify(model, data, fit, fit_unbalance=fit_unbalance, weights=args.weights,
+                   covariance=args.covariance, n_starts=args.starts, spread=args.spread, method=args.method)
     out = {"rotor": preset.name, "data": res.data.path, "fit": list(res.names),
            "fit_unbalance": fit_unbalance, "start": {k: model.parameters([k])[0].start for k in res.names},
            **res.as_dict()}
@@ -81,12 +80,12 @@ def cmd_fe_identify(args) -> int:
         for k in res.names:
             lo, hi = res.intervals[k]
             print(f"  {k} = {res.estimates[k]:.6g}   95% [{lo:.6g}, {hi:.6g}]")
-        for u in res.unbalances:
+        for u in res.unbalance_table:
             print(f"  unbalance at node {u['node']}: {u['magnitude']:.4g} kg m at {u['phase']:.4f} rad   "
                   f"95% [{u['magnitude_ci95'][0]:.4g}, {u['magnitude_ci95'][1]:.4g}] kg m")
         for c in res.critical_speeds:
             print(f"  critical speed {c['speed']:.4f} rad/s   95% [{c['ci95'][0]:.4f}, {c['ci95'][1]:.4f}]")
-        print(f"  residual rms {res.residual_rms:.3g}")
+        print(f"  residual rms {res.rms_residual:.3g}")
         for w in res.warnings:
             print(f"  warning: {w}")
         print(f"  wrote {stem}.png and .json")

@@ -308,14 +308,16 @@ def build_parser():
     bal = sub.add_parser("balance", help="correction weights from runs with trial weights (balancing machine, "
                                          "or any rotor file: several planes and speeds)",
                          formatter_class=_Formatter,
-                         description="Influence-coefficient balancing.\n\nWithout ROTOR: model 002's balancing "
-                                     "machine at one speed from a measurement file (time, tacho, x1, x2, ..., run, "
-                                     "trial_plane, trial_unbalance, trial_angle), --runs.\n\nWith ROTOR (a rotor "
-                                     "file): corrections in --planes (nodes) over all speeds and sensors of a phasor "
-                                     "file (--data: speed, node, direction, real, imag, run, trial_node, "
-                                     "trial_magnitude, trial_phase), by weighted least squares or min-max, with "
-                                     "influence coefficients from the trial runs, the model, or both (the model "
-                                     "checked against the trials); ISO 21940-11 and -12 explained."
+                         description="Influence-coefficient balancing, one engine for every scene: corrections in "
+                                     "--planes over all speeds and sensors of the runs, by weighted least squares or "
+                                     "min-max, with influence coefficients from the trial runs, the model, or both "
+                                     "(the model checked against the trials); ISO 21940-11 and -12 explained; "
+                                     "a correction as a mass at --radius, split onto --holes.\n\nWithout ROTOR: "
+                                     "model 002's balancing machine from a measurement file (time, tacho, x1, x2, "
+                                     "..., run, trial_plane, trial_unbalance, trial_angle), --runs; its model is the "
+                                     "balancing_machine preset.\n\nWith ROTOR (a rotor file): a phasor file (--data: "
+                                     "speed, node, direction, real, imag, run, trial_node, trial_magnitude, "
+                                     "trial_phase); planes are nodes."
                                      "\n\nExit codes: 0 success, 2 bad input, 3 numerical failure.")
     bal.add_argument("preset", metavar="ROTOR", nargs="?", default=None,
                      help="a rotor file ROTOR.toml (a shipped one by name, e.g. flexible_rig.toml); omit for the "
@@ -331,22 +333,24 @@ def build_parser():
     bal.add_argument("--planes", default=None, help="comma-separated correction planes: plane numbers (balancing "
                                                     "machine) or nodes (ROTOR); default: every plane or node with "
                                                     "a trial run")
-    bal.add_argument("--speeds", default=None, help="ROTOR: comma-separated speeds (rad/s) of the data to balance "
-                                                    "over (default: every speed of the trial runs)")
+    bal.add_argument("--speeds", default=None, help="comma-separated speeds (rad/s) of the data to balance over "
+                                                    "(default: every speed of the baseline run)")
     bal.add_argument("--method", default="ls", choices=("ls", "minmax"),
-                     help="ROTOR: weighted least squares, or min-max (the largest residual vibration, exactly, as "
-                          "a second-order cone program)")
+                     help="weighted least squares, or min-max (the largest residual vibration, exactly, as a "
+                          "second-order cone program)")
     bal.add_argument("--influence", default=None, choices=("trials", "model", "both"),
-                     help="ROTOR: influence coefficients from the trial runs, the model, or both (the model checked "
+                     help="influence coefficients from the trial runs, the model, or both (the model checked "
                           "against the trials) (default: trials)")
-    bal.add_argument("--model", action="store_true", help="ROTOR: the same as --influence model")
+    bal.add_argument("--model", action="store_true", help="the same as --influence model")
     bal.add_argument("--service-speed", type=positive, default=None,
-                     help="ROTOR: the service speed for ISO 21940, rad/s (default: the largest speed of the data)")
-    bal.add_argument("--grade", type=positive, default=2.5, help="ROTOR: the ISO 21940-11 grade G (mm/s) to meet")
-    bal.add_argument("--radius", type=positive, default=0.01, help="balancing machine: correction radius, m")
+                     help="the service speed for ISO 21940, rad/s (default: the largest speed of the data)")
+    bal.add_argument("--grade", type=positive, default=2.5, help="the ISO 21940-11 grade G (mm/s) to meet")
+    bal.add_argument("--radius", type=positive, default=None,
+                     help="present each correction as a mass at this radius, m (default: 0.01 for the balancing "
+                          "machine; none for ROTOR: unbalances in kg m)")
     bal.add_argument("--holes", type=int, default=None, metavar="N",
-                     help="balancing machine: split each correction onto the two nearest of N equally spaced "
-                          "holes (N >= 2)")
+                     help="split each correction onto the two nearest of N equally spaced holes (N >= 2; with "
+                          "--radius)")
     bal.add_argument("--rotor-mass", type=positive, default=None,
                      help="rotor mass for the ISO grade, kg (default: 10 for the balancing machine, the model's "
                           "for ROTOR)")

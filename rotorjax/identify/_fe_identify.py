@@ -35,14 +35,13 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from scipy.stats import chi2
 
-from .._errors import InputError, NumericalError
+from .._errors import InputError
 from ._fe_model import phasor_model, receptances
 from ..models._parameters import SceneParts
-from ._fe_params import RotorModel, apply, rotor_model
-from ._fit import optax_fit, theta_covariance
-from ._lm import AbstractJacobianResidual, lm_batch
+from ._engine import Identification, Optimum, Search, apply, report, search
+from ._fe_params import RotorModel, rotor_model
+from ._lm import AbstractJacobianResidual
 from ._phasor_file import PhasorData, read_phasors
 
 WEIGHTS = ("relative", "uniform")
@@ -50,6 +49,8 @@ WEIGHTS = ("relative", "uniform")
 RELATIVE_FLOOR = 1e-3
 #: bound of the search around the start, in theta units (log-parameters: a factor e^7 ~ 1100)
 BOUND = 7.0
+#: the largest step per coordinate (theta units)
+MAX_STEP = 2.0
 
 
 class FEResidual(AbstractJacobianResidual):
@@ -158,55 +159,6 @@ class FEResidual(AbstractJacobianResidual):
         return self._scaled(self.predict(theta_u[:p], u if k else None))
 
 
-def starts(center, params, n_starts, spread, seed=0):
-    """`n_starts` starting points: `center` first, then a Latin hypercube over
-    `[-log(spread), log(spread)]` per log-parameter (`[-spread, spread]` scaled
-    units for signed ones, `[-pi, pi]` for phases) around it."""
-    rng = np.random.default_rng(seed)
-    p = len(params)
-    n = max(int(n_starts) - 1, 0)
-    u = (np.stack([rng.permutation(n) for _ in range(p)], axis=1) + rng.random((n, p))) / max(n, 1)
-    half = np.array([np.log(spread) if q.log else (np.pi / q.scale if q.name.endswith(".phase") else spread)
-                     for q in params])
-    return np.concatenate([center[None, :], center[None, :] + (2 * u - 1) * half[None, :]])
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class FEIdentification:
-    """The result of `identify_rotor`: estimates with 95 % intervals, standard
-    deviations and correlations, the fitted unbalances, the fitted rotor's critical
-    speeds with intervals, the data against the fit, warnings."""
-
-    names: tuple
-    estimates: dict
-    intervals: dict
-    std: dict
-    correlation: np.ndarray
-    unbalances: list            # [{"node", "magnitude", "phase", "magnitude_ci95", "phase_ci95"}]
-    critical_speeds: list       # [{"speed", "ci95", "mode"}]
-    residual_rms: float
-    converged: bool
-    iterations: int
-    warnings: list
-    minima: list                # other minima the data do not tell apart: [{"cost", "estimates"}]
-    cost: float
-    n_starts: int
-    data: PhasorData = dataclasses.field(repr=False)
-    fitted: np.ndarray = dataclasses.field(repr=False)      # the model's phasors of the rows
-    sigma: np.ndarray = dataclasses.field(repr=False)
-    theta: np.ndarray = dataclasses.field(repr=False)       # the fitted rotor parameters (theta units)
-    covariance: np.ndarray = dataclasses.field(repr=False)  # of (theta, Re u, Im u)
-    residual: FEResidual = dataclasses.field(repr=False)
-
-    def as_dict(self):
-        return {"estimates": self.estimates, "ci95": self.intervals, "residual_rms": self.residual_rms,
-                "warnings": list(self.warnings), "std": self.std,
-                "correlation": {"names": list(self.names), "matrix": np.round(self.correlation, 6).tolist()},
-                "unbalances": self.unbalances, "critical_speeds": self.critical_speeds,
-                "converged": self.converged, "iterations": self.iterations, "n_starts": self.n_starts,
-                "minima": self.minima, "cost": self.cost, "n_rows": int(self.data.n)}
-
-
 def _sigma(data, weights):
     if data.sigma is not None:
         return np.asarray(data.sigma, dtype=float)
@@ -214,10 +166,6 @@ def _sigma(data, weights):
         return np.ones(data.n)
     mag = np.abs(data.X)
     return np.maximum(mag, RELATIVE_FLOOR * max(float(mag.max()), 1e-300))
-
-
-def _values(params, theta):
-    return {p.name: float(p.from_theta(theta[k])) for k, p in enumerate(params)}
 
 
 def problem(rotor, data, fit, fit_unbalance=(), overrides=None, weights="relative", coupling=True):
@@ -301,11 +249,11 @@ def _critical_speeds(r, theta, cov, lo, hi):
 
 def identify_rotor(rotor, data, fit, *, fit_unbalance=(), overrides=None, weights="relative",
                    covariance="classical", n_starts=32, spread=10.0, method="lm", max_iter=200, seed=0,
-                   critical_speeds=True) -> FEIdentification:
+                   critical_speeds=True) -> Identification:
     """Fit the rotor-file parameters `fit` (names as `--set` keys: `bearing0.kxx`, ...)
-    and the unbalances at the nodes `fit_unbalance` to measured phasors.
+    and the unbalances at the nodes `fit_unbalance` to measured phasors (see
+    `identify`).
 
-    **Arguments:**
     - `rotor`: a rotor file (its values, with `overrides`, are the start) or a `RotorModel`.
     - `data`: a `PhasorData` or a phasor file (unbalance phasors, trial runs, or receptances).
     - `weights`: `"relative"` (sigma = |X|, floored at 1e-3 of the largest: every
@@ -317,8 +265,8 @@ def identify_rotor(rotor, data, fit, *, fit_unbalance=(), overrides=None, weight
       stage: the gradient-descent option, for comparison; slower).
     - `critical_speeds`: report the fitted rotor's forward critical speeds in the data's speed range.
 
-    **Returns:** an `FEIdentification`. **Raises:** `InputError` naming the option,
-    file and row; `NumericalError` when no start gives a finite fit.
+    **Raises:** `InputError` naming the option, file and row; `NumericalError` when
+    no start gives a finite fit.
     """
     if covariance not in ("classical", "sandwich"):
         raise InputError(f"--covariance {covariance}: expected classical or sandwich")
@@ -334,85 +282,20 @@ def identify_rotor(rotor, data, fit, *, fit_unbalance=(), overrides=None, weight
     if model.nonlinear:
         warnings.append(f"the 1x model is the linear rotor: the file's {', '.join(sorted(set(model.nonlinear)))} "
                         "component(s) are left out")
-    p = len(params)
-    minima, n_used = [], 1
-    ths = costs = None
-    if p and method == "optax":
-        # gradient descent (Adam) from the given start: the comparison option, no global stage
-        theta, info = optax_fit(r, center, steps=max_iter * 20)
-        theta, info["converged"] = np.asarray(theta), True
-    elif p:
-        th0 = starts(center, params, n_starts, spread, seed)
-        ths, costs, done, it = lm_batch(r, jnp.asarray(th0), jnp.asarray(center), max_iter=max_iter, bound=BOUND)
-        ths, costs = np.asarray(ths), np.asarray(costs)
-        ok = np.isfinite(costs)
-        if not ok.any():
-            raise NumericalError(f"identify: no start gives a finite fit of {', '.join(q.name for q in params)}")
-        best = int(np.argmin(np.where(ok, costs, np.inf)))
-        n_used = int(ok.sum())
-        theta = ths[best]
-        info = {"iterations": it, "converged": bool(np.asarray(done)[best])}
-    else:
-        theta, info = np.zeros(0), {"iterations": 0, "converged": True}
-    k = len(r.fit_nodes)
+    how = Search(n_starts=int(n_starts), spread=spread, seed=seed, max_iter=max_iter, method=method, bound=BOUND,
+                 max_step=MAX_STEP)
+    theta, info, lanes = search(r, center, params, how)
     u, res, J, fitted = (np.asarray(a) for a in _at_optimum(r, jnp.asarray(theta)))
-    full = np.concatenate([theta, u.real, u.imag])
-    if not np.all(np.isfinite(res)) or not np.all(np.isfinite(J)):
-        raise NumericalError("identify: the fitted model gives non-finite phasors or gradients")
-    cost = float(res @ res)
-    cov = theta_covariance(J, res, covariance, n_points=data.n)
-    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    est, ints, std = {}, {}, {}
-    for i, q in enumerate(params):
-        v = float(q.from_theta(theta[i]))
-        est[q.name] = v
-        if q.log:
-            std[q.name] = v * float(sd[i])
-            ints[q.name] = [v * float(np.exp(-1.96 * sd[i])), v * float(np.exp(1.96 * sd[i]))]
-            rel = float(sd[i])
-        else:
-            s = float(sd[i]) * q.scale
-            std[q.name], ints[q.name] = s, [v - 1.96 * s, v + 1.96 * s]
-            rel = s / max(abs(v), 1e-300)
-        if rel > 0.3:
-            warnings.append(f"{q.name} is poorly determined by the data (relative sd {rel:.2f}): its 95 % "
-                            "interval is wide; the measurements barely depend on it")
-    unb = []
-    for j, node in enumerate(r.fit_nodes):
-        ur, ui = p + j, p + k + j
-        c = cov[np.ix_([ur, ui], [ur, ui])]
-        mag = abs(u[j])
-        gm = np.array([u[j].real, u[j].imag]) / max(mag, 1e-300)
-        gp = np.array([-u[j].imag, u[j].real]) / max(mag**2, 1e-300)
-        sm, sp = float(np.sqrt(max(gm @ c @ gm, 0))), float(np.sqrt(max(gp @ c @ gp, 0)))
-        unb.append({"node": node, "magnitude": float(mag), "phase": float(np.angle(u[j])),
-                    "magnitude_ci95": [float(mag - 1.96 * sm), float(mag + 1.96 * sm)],
-                    "phase_ci95": [float(np.angle(u[j]) - 1.96 * sp), float(np.angle(u[j]) + 1.96 * sp)]})
-    names_all = [q.name for q in params] + [f"unbalance@{n}.re" for n in r.fit_nodes] + \
-        [f"unbalance@{n}.im" for n in r.fit_nodes]
-    warnings += _identifiability(J, names_all)
-    dof = max(res.size - full.size, 1)
-    if ths is not None:
-        minima = _other_minima(params, ths, costs, theta, cost, sd[:p], chi2.ppf(0.95, p) * cost / dof)
-        if minima:
-            alt = minima[0]["estimates"]
-            warnings.append(f"{len(minima)} other minim{'um' if len(minima) == 1 else 'a'} fit the data comparably "
-                            f"(within the 95 % chi-square margin of the best): e.g. "
-                            + ", ".join(f"{n} = {alt[n]:.4g} (best {est[n]:.4g})" for n in list(alt)[:4])
-                            + "; the data do not tell them apart")
-    if not info["converged"]:
-        warnings.append("the fit did not converge: the estimates are the last iterate")
-    corr = cov[:p, :p] / np.maximum(np.outer(sd[:p], sd[:p]), 1e-300)
-    speeds = data.speed if data.kind != "frf" else data.frequency
-    crit = []
-    if critical_speeds and data.kind != "frf" and p:
-        crit = _critical_speeds(r, theta, cov, float(np.min(speeds)), float(np.max(speeds)))
-    return FEIdentification(
-        names=tuple(q.name for q in params), estimates=est, intervals=ints, std=std, correlation=corr,
-        unbalances=unb, critical_speeds=crit,
-        residual_rms=float(np.sqrt(np.mean(np.abs(fitted - data.X) ** 2))), converged=bool(info["converged"]),
-        iterations=int(info["iterations"]), warnings=warnings, minima=minima, cost=cost, n_starts=n_used,
-        data=data, fitted=fitted, sigma=np.asarray(r.sigma), theta=theta, covariance=cov, residual=r)
+    nodes = r.fit_nodes
+    names = tuple(q.name for q in params) + tuple(f"unbalance@{n}.{part}" for part in ("re", "im") for n in nodes)
+    out = report(params, Optimum(theta, u, res, J, names, data.n), info, lanes, covariance=covariance,
+                 sites=tuple(("node", n) for n in nodes), model="receptance" if data.kind == "frf" else "steady",
+                 warnings=warnings, rms_residual=float(np.sqrt(np.mean(np.abs(fitted - data.X) ** 2))),
+                 data=data, fitted=fitted, sigma=np.asarray(r.sigma), residual=r)
+    if critical_speeds and data.kind != "frf" and params:
+        crit = _critical_speeds(r, theta, out.covariance, float(np.min(data.speed)), float(np.max(data.speed)))
+        out = dataclasses.replace(out, critical_speeds=crit)
+    return out
 
 
 @eqx.filter_jit
@@ -427,46 +310,7 @@ def _at_optimum(r, theta):
     return u, r.full(full), jax.jacfwd(r.full)(full), r.predict(theta)
 
 
-def _identifiability(J, names):
-    """Warnings on the Jacobian (columns in theta units): rank, and parameters it barely sees."""
-    out = []
-    norms = np.linalg.norm(J, axis=0)
-    top = max(float(norms.max()), 1e-300) if norms.size else 1.0
-    blind = [n for n, v in zip(names, norms) if v < 1e-8 * top]
-    for n in blind:
-        out.append(f"the data cannot see {n}: the measurements do not change with it (e.g. a bearing at a node "
-                   "of the excited modes, or a direction not measured)")
-    if J.shape[1] > 1:
-        U, s, Vt = np.linalg.svd(J / np.maximum(norms, 1e-300), full_matrices=False)
-        if s[-1] < 1e-8 * s[0]:
-            v = Vt[-1]
-            involved = [names[i] for i in np.argsort(-np.abs(v)) if abs(v[i]) > 0.2]
-            out.append(f"the Jacobian is rank deficient (condition {s[0] / max(s[-1], 1e-300):.1e}): "
-                       f"{', '.join(involved)} cannot be told apart by these data")
-    return out
-
-
-def _other_minima(params, ths, costs, theta, cost, sd, margin):
-    """Distinct converged minima of the global stage within `margin` of the best cost."""
-    out = []
-    order = np.argsort(np.where(np.isfinite(costs), costs, np.inf))
-    seen = [theta]
-    for i in order:
-        if not np.isfinite(costs[i]) or costs[i] > cost + margin:
-            break
-        d = np.abs(ths[i] - theta)
-        if np.all(d <= np.maximum(3 * sd, 0.02)):
-            continue
-        if any(np.all(np.abs(ths[i] - s) <= np.maximum(3 * sd, 0.02)) for s in seen[1:]):
-            continue
-        seen.append(ths[i])
-        out.append({"cost": float(costs[i]), "estimates": _values(params, ths[i])})
-        if len(out) == 3:
-            break
-    return out
-
-
-def estimates_jacobian(result: FEIdentification):
+def estimates_jacobian(result: Identification):
     """`d estimate / d (Re X, Im X)`, shape `(n_params, 2 n_rows)`: how the estimates
     move with the measured phasors, by the implicit function theorem on the
     optimality condition `grad_theta |r(theta, X)|^2 = 0` (exact for the fit the

@@ -21,39 +21,14 @@ fitted coefficient by coefficient.
 
 import dataclasses
 
-import jax.numpy as jnp
-import numpy as np
 
 from .._errors import InputError
 from ..models._fe_rotor import BEARING_COEFFICIENTS
-from ..models._parameters import ParameterPath, SceneParts, parts_of, value_of, with_values
+from ..models._parameters import SceneParts, parts_of, value_of
 from ..io import read_rotor_file
 from ..io._schema import SCHEMA
 from ..models._unbalance import Unbalance
-
-@dataclasses.dataclass(frozen=True)
-class Parameter:
-    """One fitted parameter: the leaves it sets (`path`), how it is fitted (`log`, or
-    linearly with `scale`) and its start."""
-
-    name: str
-    path: ParameterPath
-    log: bool
-    # values, not structure: a compiled fit serves every start (`apply` takes the scales as an array)
-    scale: float = dataclasses.field(compare=False)
-    start: float = dataclasses.field(compare=False)
-
-    @property
-    def unbalance(self) -> bool:
-        """Whether it sets an unbalance (not the rotor's matrices)."""
-        return self.path.targets[0].leaf[0] == "components"
-
-    def to_theta(self, value):
-        return np.log(value) if self.log else value / self.scale
-
-    def from_theta(self, theta, scale=None):
-        return jnp.exp(theta) if self.log else theta * (self.scale if scale is None else scale)
-
+from ._engine import Parameter
 
 def _on_linear_model(path, scene):
     """Whether `path` sets only what the linear 1x model holds: the rotor, or an unbalance."""
@@ -147,11 +122,3 @@ def rotor_model(path, overrides=None) -> RotorModel:
     scene = file.scene
     other = tuple(type(c).__name__ for c in scene.components if not isinstance(c, Unbalance))
     return RotorModel(file.label, file, parts_of(scene), file.entries, other)
-
-
-def apply(params, parts, theta, scales):
-    """`parts` (`SceneParts`) with the parameters set from `theta` (pure JAX:
-    differentiable and vmappable); `scales` the signed parameters' scales (an array:
-    values, not structure)."""
-    values = [p.from_theta(theta[k], scales[k]) for k, p in enumerate(params)]
-    return with_values(parts, [p.path for p in params], values)

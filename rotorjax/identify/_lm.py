@@ -98,16 +98,17 @@ def lm_batch(r, theta0, center, max_iter=200, tol=1e-12, bound=7.0, max_step=2.0
     return state[0], state[3], state[5], it
 
 
-def levenberg_marquardt(r, theta0, max_iter=100, tol=1e-12, lam0=1e-3):
-    """Minimise `|r(theta)|^2` from `theta0` (one lane of `lm_batch`, steps and
-    iterates unlimited); returns `(theta, J, info)`: the Jacobian at `theta`, and
-    `info` with the iterations, the cost and its history (after each accepted
+def levenberg_marquardt(r, theta0, max_iter=100, tol=1e-12, lam0=1e-3, bound=np.inf,
+                        max_step=np.inf):
+    """Minimise `|r(theta)|^2` from `theta0` (one lane of `lm_batch`; steps and
+    iterates unlimited unless `max_step` and `bound` around `theta0` say); returns
+    `(theta, J, info)`: the Jacobian at `theta`, and `info` with the iterations, the cost and its history (after each accepted
     step), and whether it converged: a step lowered the cost by less than `tol`, or,
     where no damping lowers it any more (rounding), the Gauss-Newton step would not
     lower it measurably either (a test independent of the parameters' scales)."""
     theta0 = jnp.asarray(theta0, dtype=jnp.float64)
     costs = []
-    state, it = _run(r, theta0[None, :], theta0, max_iter, tol, jnp.inf, jnp.inf, lam0, costs)
+    state, it = _run(r, theta0[None, :], theta0, max_iter, tol, bound, max_step, lam0, costs)
     theta, res, J, cost = (a[0] for a in state[:4])
     cost = float(cost)
     converged = bool(state[6][0])

@@ -127,7 +127,7 @@ def test_identification_intervals_cover_the_truth():
     for seed in range(100):
         rng = np.random.default_rng(seed)
         Xn = Xs + s * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
-        res = idf.identify(start, w, Xn, PLANES, unbalances=U)
+        res = idf.identify(idf.BalancingScene(start, PLANES, U), (w, Xn))
         assert res.converged
         for k in covered:
             lo, hi = res.intervals[k]
@@ -152,7 +152,7 @@ def test_unidentifiable_parameter_is_flagged():
     Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
     rng = np.random.default_rng(0)
     Xn = Xs + 0.01 * np.abs(Xs).max() * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape))
-    res = idf.identify(MACHINE, w, Xn, PLANES, fit=("k1", "c1"), unbalances=U)
+    res = idf.identify(idf.BalancingScene(MACHINE, PLANES, U), (w, Xn), ("k1", "c1"))
     assert any("k1" in m or "rank" in m for m in res.warnings)
 
 
@@ -163,6 +163,33 @@ def test_shipped_dataset_round_trip():
     K = idf.influence_from_trials(X0, np.stack([r["X"] for r in runs[1:]]), np.array([r["trial"][1] for r in runs[1:]]))
     D = idf.unbalance_from_vibration(K, X0)
     np.testing.assert_allclose(D, U, rtol=0.02)   # 1 % sensor noise in the file
+
+
+def test_machine_runs_go_through_the_one_engine():
+    """Model 002's runs balanced by the engine every scene uses (`balance`): the
+    corrections equal eq. 23's `-K^-1 X0` from the same runs (least squares and
+    min-max alike: two sensors, two planes); the influence matrix from the model
+    (the preset's machine) agrees with the trials' within the file's 1 % noise; the
+    residual unbalance is the corrections' uncertainty from the baseline's noise."""
+    data = idf.balancing_runs(idf.BALANCING_RUNS)
+    K = idf.influence_from_trials(data.X0, data.X_trials, data.trial_unbalances)
+    W = -np.linalg.solve(K, data.X0)
+    scene = idf.BalancingScene(MACHINE, PLANES, U)
+    ls = idf.balance(data, radius=0.01, holes=12)
+    mm = idf.balance(data, method="minmax")
+    both = idf.balance(data, influence="both", scene=scene)
+    model = idf.balance(data, influence="model", scene=scene)
+    np.testing.assert_allclose(ls.A, K, rtol=1e-12)
+    np.testing.assert_allclose(ls.W, W, rtol=1e-10)
+    np.testing.assert_allclose(mm.W, W, rtol=1e-6)
+    assert both.warnings == () and np.max(both.influence_difference) < 0.03
+    np.testing.assert_allclose(model.W, -U, rtol=0.02)        # the model's influence, the measured vibration
+    assert ls.plane_key == "plane" and ls.sensor_names == ("x1", "x2") and ls.rotor_mass is None
+    assert 0 < ls.noise_gmm and abs(ls.residual_gmm - ls.noise_gmm) < 1e-9 * ls.noise_gmm
+    assert both.rotor_mass == MACHINE.m and both.grade_reached is not None
+    c = ls.correction_table()
+    assert [len(x["holes"]) for x in c] == [2, 2]
+    np.testing.assert_allclose([x["mass_g"] for x in c], np.abs(W) / 0.01 * 1e3, rtol=1e-10)
 
 
 def _write_csv(path, cols):

@@ -10,7 +10,7 @@ import pytest
 
 from rotorjax import identify as idf
 from rotorjax.analysis import balancing_response
-from rotorjax.identify import _fit
+from rotorjax.identify import _covariance, _runup_model
 from rotorjax.identify import _make_data as md
 from rotorjax.presets import balancing_machine as bm
 
@@ -19,6 +19,8 @@ MACHINE, PLANES, U = bm.build_machine(P), bm.planes(P), bm.unbalances(P)
 NAMES = ("k1", "k2", "c1", "c2")
 TRUTH = np.array([P[k] for k in NAMES])
 START = bm.build_machine(dict(P, k1=1.5e5, k2=3.75e5, c1=100.0, c2=266.0))
+#: the start with its unbalances fitted (the scene's are not used)
+FITTED = idf.BalancingScene(START, PLANES, np.zeros(len(PLANES), dtype=complex))
 CHEAP = dict(duration=10.0, fs=1000.0, w0=20.0, w1=400.0)
 ALPHA = (CHEAP["w1"] - CHEAP["w0"]) / CHEAP["duration"]
 N_MC = 40
@@ -53,8 +55,8 @@ def monte_carlo():
         d = md.runup_dataset(seed, **CHEAP)
         x = np.stack([d["x1"], d["x2"]], axis=1)
         tr = idf.order_track(d["time"], x, tacho=d["tacho"], full=True)
-        old = idf.identify(START, tr.speeds, tr.X, PLANES, fit=NAMES)
-        new = idf.identify(START, tr.speeds, tr.X, PLANES, fit=NAMES, tracking=tr)
+        old = idf.identify(FITTED, (tr.speeds, tr.X), NAMES, fit_unbalance=True)
+        new = idf.identify(FITTED, tr, NAMES, fit_unbalance=True)
         assert new.converged and new.model == "runup" and new.covariance_method == "hac"
         for key, r in (("old", old), ("new", new)):
             out[key].append([[r.estimates[k], *r.intervals[k], r.std[k]] for k in NAMES])
@@ -106,10 +108,10 @@ def test_runup_model_equals_the_time_simulation():
     exact angle: to 1e-7 of the peak."""
     d = md.runup_dataset(0, **CHEAP)
     tr = idf.order_track(d["time"], clean(d), pulses=exact_pulses(d), full=True)
-    data = _fit.RunupData.from_tracking(tr)
-    Xm = np.asarray(_fit.runup_phasors(MACHINE, PLANES, U, data))[:tr.speeds.size]
+    data = _runup_model.RunupData.from_tracking(tr)
+    Xm = np.asarray(_runup_model.runup_phasors(MACHINE, PLANES, U, data))[:tr.speeds.size]
     assert np.max(np.abs(Xm - tr.X)) < 1e-7 * np.max(np.abs(tr.X))
-    assert np.all(np.asarray(_fit.runup_phasors(MACHINE, PLANES, U, data))[tr.speeds.size:] == 0)
+    assert np.all(np.asarray(_runup_model.runup_phasors(MACHINE, PLANES, U, data))[tr.speeds.size:] == 0)
 
 
 def test_runup_model_derivatives_match_finite_differences():
@@ -117,12 +119,12 @@ def test_runup_model_derivatives_match_finite_differences():
     in a damping, a stiffness and an unbalance."""
     d = md.runup_dataset(1, **CHEAP)
     tr = idf.order_track(d["time"], clean(d), tacho=d["tacho"], full=True)
-    data = _fit.RunupData.from_tracking(tr)
+    data = _runup_model.RunupData.from_tracking(tr)
 
     @jax.jit
     def f(v):
         m = bm.build_machine(dict(P, c1=v[0], k2=v[1]))
-        return _fit.runup_phasors(m, PLANES, U * jnp.array([v[2], 1.0]), data)
+        return _runup_model.runup_phasors(m, PLANES, U * jnp.array([v[2], 1.0]), data)
 
     v0 = jnp.array([150.0, 3e5, 1.0])
     for i, h in enumerate((1e-3, 1.0, 1e-6)):
@@ -146,7 +148,7 @@ def test_hac_equals_classical_on_independent_residuals_and_exceeds_it_on_ar1():
     n = 20000
     J = _regression(n)
     white = rng.normal(size=4 * n)
-    sd = {m: np.sqrt(np.diag(_fit.theta_covariance(J, white, m, n_points=n))) for m in ("classical", "sandwich",
+    sd = {m: np.sqrt(np.diag(_covariance.theta_covariance(J, white, m, n_points=n))) for m in ("classical", "sandwich",
                                                                                            "hac")}
     np.testing.assert_allclose(sd["sandwich"], sd["classical"], rtol=0.05)
     np.testing.assert_allclose(sd["hac"], sd["classical"], rtol=0.05)
@@ -156,8 +158,8 @@ def test_hac_equals_classical_on_independent_residuals_and_exceeds_it_on_ar1():
     for i in range(1, n):
         e[i] = 0.8 * e[i - 1] + 0.6 * rng.normal(size=4)
     ar1 = np.concatenate([e[:, :2].ravel(), e[:, 2:].ravel()])
-    sd_c = np.sqrt(np.diag(_fit.theta_covariance(J, ar1, "classical", n_points=n)))
-    sd_h = np.sqrt(np.diag(_fit.theta_covariance(J, ar1, "hac", n_points=n, lags=30)))
+    sd_c = np.sqrt(np.diag(_covariance.theta_covariance(J, ar1, "classical", n_points=n)))
+    sd_h = np.sqrt(np.diag(_covariance.theta_covariance(J, ar1, "hac", n_points=n, lags=30)))
     # the long-run variance of AR(1) is (1 + rho) / (1 - rho) = 9 times the variance: sd x 3
     assert np.all(sd_h > 2.0 * sd_c) and np.all(sd_h < 3.3 * sd_c), sd_h / sd_c
 
@@ -174,7 +176,7 @@ def test_structure_warning(rho, warns):
     for i in range(1, 300):
         e[i] = rho * e[i - 1] + np.sqrt(1 - rho**2) * e[i]
     Xn = Xs + s * (e[:, :2] + 1j * e[:, 2:]) / np.sqrt(2)
-    res = idf.identify(START, w, Xn, PLANES, fit=NAMES, unbalances=U)
+    res = idf.identify(idf.BalancingScene(START, PLANES, U), (w, Xn), NAMES)
     found = [m for m in res.warnings if "structure" in m]
     assert bool(found) == warns, res.warnings
     if warns:

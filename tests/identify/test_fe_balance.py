@@ -1,4 +1,4 @@
-"""Balancing flexible FE rotors from 1x phasors (rotorjax.identify._fe_balance)."""
+"""Balancing flexible FE rotors from 1x phasors (the one engine, rotorjax.identify._balance)."""
 
 import json
 
@@ -8,8 +8,9 @@ import pytest
 import rotorjax  # noqa: F401  (x64)
 from rotorjax._errors import InputError
 from rotorjax.flexible import FlexibleRotor, unbalance_response_many
-from rotorjax.identify._fe_balance import (balance_rotor, influence_from_phasor_runs, least_squares_balance,
-                                           minmax_balance, model_influence, total_mass)
+from rotorjax.identify import (balance, influence_from_phasor_runs, least_squares_balance, minmax_balance,
+                               model_influence)
+from rotorjax.identify._iso import total_mass
 from rotorjax.identify._phasor_file import make_phasors
 
 SPEEDS = np.array([60.0, 96.0, 200.0, 400.0])   # below, near, between and above the first two criticals
@@ -77,7 +78,7 @@ def test_influence_from_runs_matches_model(clean):
 
 @pytest.mark.parametrize("method", ["ls", "minmax"])
 def test_two_planes_cancel_the_unbalances(clean, method):
-    res = balance_rotor(clean, [2, 4], method=method, rotor=ROTOR)
+    res = balance(clean, [2, 4], method=method, scene=ROTOR)
     np.testing.assert_allclose(res.W, true_W(), rtol=0.03, atol=0.03 * np.max(np.abs(true_W())))
     assert res.after_max < 1e-6 * res.before_max
     # the predicted residual is what the machine does with the corrections added
@@ -91,7 +92,7 @@ def test_predicted_residual_equals_simulation_with_a_third_unbalance():
     ub = UNBALANCES + [(3, 1e-3, 4.0)]     # not at a plane: cannot be cancelled exactly
     data = trial_data(ub)
     for method in ("ls", "minmax"):
-        res = balance_rotor(data, [2, 4], method=method)
+        res = balance(data, [2, 4], method=method)
         sim = np.array([x for *_, x in respond(ub + list(res.corrections))])
         np.testing.assert_allclose(res.predicted, sim, rtol=0, atol=1e-9 * np.max(np.abs(res.X0)))
         assert res.after_max < res.before_max
@@ -134,8 +135,8 @@ def test_weighted_balancing():
     w = np.ones(X0.size)
     w[:4] = 100.0   # the lowest speed matters most
     for method in ("ls", "minmax"):
-        plain = balance_rotor(data, [2, 4], method=method)
-        weighted = balance_rotor(data, [2, 4], method=method, weights=w)
+        plain = balance(data, [2, 4], method=method)
+        weighted = balance(data, [2, 4], method=method, weights=w)
         assert np.max(np.abs(weighted.predicted[:4])) < np.max(np.abs(plain.predicted[:4]))
     W, t = minmax_balance(A, X0, w)
     assert t == pytest.approx(np.max(w * np.abs(X0 + A @ W)), rel=1e-12)
@@ -147,7 +148,7 @@ def test_noise_one_percent(method, tol):
     within a few % of the before. Least squares also finds the unbalances to a few %;
     min-max follows the noise of the worst point (1 % of the resonance peak), so its
     corrections move more while leaving as little vibration."""
-    res = balance_rotor(trial_data(noise=0.01, seed=3), [2, 4], method=method)
+    res = balance(trial_data(noise=0.01, seed=3), [2, 4], method=method)
     np.testing.assert_allclose(res.W, true_W(), rtol=0, atol=tol * np.max(np.abs(true_W())))
     after = np.array([x for *_, x in respond(UNBALANCES + list(res.corrections))])
     assert np.max(np.abs(after)) < 0.04 * res.before_max
@@ -155,21 +156,21 @@ def test_noise_one_percent(method, tol):
 
 
 def test_model_influence_alone_and_both(clean):
-    res = balance_rotor(clean, [2, 4], influence="model", rotor=ROTOR)
+    res = balance(clean, [2, 4], influence="model", scene=ROTOR)
     np.testing.assert_allclose(res.W, true_W(), rtol=1e-6)
     base_only = trial_data(trials={})
-    res2 = balance_rotor(base_only, [2, 4], influence="model", rotor=ROTOR, method="minmax")
+    res2 = balance(base_only, [2, 4], influence="model", scene=ROTOR, method="minmax")
     np.testing.assert_allclose(res2.W, true_W(), rtol=1e-5)
-    both = balance_rotor(clean, [2, 4], influence="both", rotor=ROTOR)
+    both = balance(clean, [2, 4], influence="both", scene=ROTOR)
     assert not both.warnings and np.max(both.influence_difference) < 1e-6
-    wrong = balance_rotor(clean, [2, 4], influence="both", rotor=make_rotor(3.0))
+    wrong = balance(clean, [2, 4], influence="both", scene=make_rotor(3.0))
     assert wrong.warnings and "differ from the trial runs'" in wrong.warnings[0]
     assert np.max(wrong.influence_difference) > 0.2
     np.testing.assert_allclose(wrong.W, true_W(), rtol=1e-6)   # the trials' coefficients are used
 
 
 def test_iso_report_and_json(clean):
-    res = balance_rotor(trial_data(noise=0.01, seed=5), [2, 4], rotor=ROTOR, service_speed=400.0)
+    res = balance(trial_data(noise=0.01, seed=5), [2, 4], scene=ROTOR, service_speed=400.0)
     m = total_mass(ROTOR)
     shaft = 7810.0 * np.pi / 4 * 0.05**2 * 1.5
     assert m == pytest.approx(shaft + 2 * 32.59, rel=1e-12)
@@ -190,17 +191,17 @@ def test_iso_report_and_json(clean):
     assert set(d["residual"]["per_point"][0]) == {"speed", "node", "direction", "before", "after"}
     assert d["iso"]["n_criticals"] == 2 and d["iso"]["planes_needed_n_plus_2"] == 4
     # no rotor: no mass, no criticals, a sentence says so
-    bare = balance_rotor(clean, [2, 4])
+    bare = balance(clean, [2, 4])
     assert bare.rotor_mass is None and bare.criticals is None and bare.grade_reached is None
     assert any("No rotor model" in t for t in bare.explanation)
-    given = balance_rotor(clean, [2, 4], rotor_mass=80.0, grade=6.3)
+    given = balance(clean, [2, 4], rotor_mass=80.0, grade=6.3)
     assert given.permissible_gmm == pytest.approx(1000 * 6.3 * 80.0 / 400.0)
 
 
 def test_plot(tmp_path, clean):
     from rotorjax.plot import plot_fe_balance
 
-    res = balance_rotor(trial_data(UNBALANCES + [(3, 1e-3, 4.0)]), [2, 4])
+    res = balance(trial_data(UNBALANCES + [(3, 1e-3, 4.0)]), [2, 4])
     from rotorjax.cli._common import save_figure
 
     fig = plot_fe_balance(result=res, title="test")
@@ -216,30 +217,30 @@ def _dup_trial():
 
 
 BAD = [
-    ("plane not a node", lambda: balance_rotor(trial_data(), [2, 9], rotor=ROTOR),
+    ("plane not a node", lambda: balance(trial_data(), [2, 9], scene=ROTOR),
      "planes: node 9 is not a node of the rotor (nodes 0..6)"),
-    ("no baseline", lambda: balance_rotor(trial_data(trials={0: (2, 1e-3, 0.0), **TRIALS}), [2, 4]),
+    ("no baseline", lambda: balance(trial_data(trials={0: (2, 1e-3, 0.0), **TRIALS}), [2, 4]),
      "trials.csv: no baseline run"),
-    ("plane without trial", lambda: balance_rotor(trial_data(), [2, 3]), "plane 3 has no trial run"),
-    ("duplicate trial", lambda: balance_rotor(_dup_trial(), [2, 4]), "plane 2 has 2 trial runs (1, 3)"),
-    ("missing measurement", lambda: balance_rotor(trial_data(drop=(2, 200.0, 4, "y")), [2, 4]),
+    ("plane without trial", lambda: balance(trial_data(), [2, 3]), "plane 3 has no trial run"),
+    ("duplicate trial", lambda: balance(_dup_trial(), [2, 4]), "plane 2 has 2 trial runs (1, 3)"),
+    ("missing measurement", lambda: balance(trial_data(drop=(2, 200.0, 4, "y")), [2, 4]),
      "run 2 (trial weight at node 4) has no measurement at speed 200 rad/s, node 4, direction y"),
-    ("underdetermined", lambda: balance_rotor(trial_data(speeds=np.array([96.0]), trials={
+    ("underdetermined", lambda: balance(trial_data(speeds=np.array([96.0]), trials={
         1: (2, 1e-3, 0.0), 2: (4, 1e-3, 0.0), 3: (3, 1e-3, 0.0), 4: (1, 1e-3, 0.0), 5: (5, 1e-3, 0.0)}),
         [1, 2, 3, 4, 5]), "4 measurement(s) at the chosen speeds cannot determine 5 plane corrections"),
-    ("weights not positive", lambda: balance_rotor(trial_data(), [2, 4], weights=[1.0] * 15 + [0.0]),
+    ("weights not positive", lambda: balance(trial_data(), [2, 4], weights=[1.0] * 15 + [0.0]),
      "weights must be finite and > 0; weight 15"),
     ("weights wrong length", lambda: least_squares_balance(np.ones((3, 2)), np.ones(3), [1.0, 2.0]),
      "weights must be one number per measurement (3)"),
-    ("unknown speed", lambda: balance_rotor(trial_data(), [2, 4], speeds=[96.0, 150.0]),
+    ("unknown speed", lambda: balance(trial_data(), [2, 4], speeds=[96.0, 150.0]),
      "speeds: 150 rad/s is not a speed of the baseline run of trials.csv"),
-    ("model without rotor", lambda: balance_rotor(trial_data(), [2, 4], influence="model"),
-     "influence='model' needs the rotor model"),
-    ("bad method", lambda: balance_rotor(trial_data(), [2, 4], method="l2"), "method must be one of"),
-    ("bad influence", lambda: balance_rotor(trial_data(), [2, 4], influence="x"), "influence must be one of"),
-    ("repeated plane", lambda: balance_rotor(trial_data(), [2, 2]), "planes: node 2 is given twice"),
-    ("negative grade", lambda: balance_rotor(trial_data(), [2, 4], grade=-1.0), "grade"),
-    ("frf data", lambda: balance_rotor(make_phasors([0.0], [2], ["x"], [1e-7 + 0j], frequency=[50.0],
+    ("model without rotor", lambda: balance(trial_data(), [2, 4], influence="model"),
+     "influence='model' needs the scene's model"),
+    ("bad method", lambda: balance(trial_data(), [2, 4], method="l2"), "method must be one of"),
+    ("bad influence", lambda: balance(trial_data(), [2, 4], influence="x"), "influence must be one of"),
+    ("repeated plane", lambda: balance(trial_data(), [2, 2]), "planes: node 2 is given twice"),
+    ("negative grade", lambda: balance(trial_data(), [2, 4], grade=-1.0), "grade"),
+    ("frf data", lambda: balance(make_phasors([0.0], [2], ["x"], [1e-7 + 0j], frequency=[50.0],
                                                     input_node=[2], input_direction=["x"], path="impact.csv"),
                                        [2]), "impact.csv: an impact-test (FRF) file"),
     ("ls underdetermined", lambda: least_squares_balance(np.ones((1, 2)), np.ones(1)),

@@ -92,7 +92,15 @@ def test_balance_rotor_file_cancels_the_true_unbalances(method, tmp_path):
 def test_balance_default_planes_are_the_trial_nodes(tmp_path):
     rc, text = _run(["balance", RIG, "--json", "--out", str(tmp_path)])
     assert rc == 0
-    assert [c["node"] for c in json.loads(text)["corrections"]] == [2, 4]
+    plain = json.loads(text)["corrections"]
+    assert [c["node"] for c in plain] == [2, 4]
+    # the balancing machine's presentation on a rotor file too: a mass at a radius, split onto holes
+    rc, text = _run(["balance", RIG, "--radius", "0.05", "--holes", "8", "--out", str(tmp_path)])
+    assert rc == 0
+    for c in plain:
+        grams = c["magnitude"] / 0.05 * 1e3
+        assert f"node {c['node']}: add {grams:.3f} g at {c['angle_deg']:.1f} deg (radius 0.05 m" in text, text
+    assert text.count("in the hole at") == 4
 
 
 def test_balance_influence_both_warns_until_the_model_is_the_machine(tmp_path):

@@ -12,7 +12,7 @@ import pytest
 
 from rotorjax import flexible as fx
 from rotorjax._errors import InputError
-from rotorjax.identify import identify_rotor, make_phasors, rotor_model
+from rotorjax.identify import identify, make_phasors, rotor_model
 from rotorjax.identify import _make_fe_data as rig
 from rotorjax.io import load_rotor, read_rotor_file, save_rotor
 from rotorjax.models import Bearing, FlexibleRotor, RotorScene, Seal
@@ -130,7 +130,7 @@ def test_seal_cross_coupled_stiffness_identified(tmp_path):
     data = make_phasors(np.repeat(speeds, len(rig.SENSORS)), np.tile([s[0] for s in rig.SENSORS], n),
                         np.tile([s[1] for s in rig.SENSORS], n), X.ravel())
     model = rotor_model(path, {"seal0.kxy": 2.5e5 * 1.3})
-    res = identify_rotor(model, data, ["seal0.kxy"], fit_unbalance=(2, 4), n_starts=1, critical_speeds=False)
+    res = identify(model, data, ["seal0.kxy"], fit_unbalance=(2, 4), n_starts=1, critical_speeds=False)
     assert abs(res.estimates["seal0.kxy"] / 2.5e5 - 1) < 1e-6, res.estimates
 
 
