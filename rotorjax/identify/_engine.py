@@ -349,7 +349,7 @@ def report(params, opt: Optimum, info, lanes, *, covariance, sites, model, warni
     minima = []
     if lanes is not None and p:
         dof = max(res.size - n_main, 1)
-        minima = other_minima(params, lanes[0], lanes[1], opt.theta, cost, sd[:p],
+        minima = other_minima(params, lanes[0][:, :p], lanes[1], opt.theta[:p], cost, sd[:p],
                               chi2.ppf(0.95, p) * cost / dof)
         if minima:
             alt = minima[0]["estimates"]

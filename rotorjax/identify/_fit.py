@@ -190,7 +190,9 @@ def identify_machine(scene: BalancingScene, data, fit=("k1", "k2", "c1", "c2"), 
     theta, info, lanes = search(r, theta0, params, Search(int(n_starts), spread, seed, max_iter))
     if lanes is not None:
         # the best start again as one lane: its Jacobian and convergence test
+        used = info["n_used"]
         theta, info, _ = search(r, theta, params, Search(max_iter=max_iter))
+        info["n_used"] = used
     model = "steady"
     if tracking is not None:
         # the run-up model, started from the steady fit (a few per cent off at most)
@@ -198,7 +200,7 @@ def identify_machine(scene: BalancingScene, data, fit=("k1", "k2", "c1", "c2"), 
         theta, info2, lanes = search(r, np.concatenate([theta, np.zeros(r.n_reference)]), params,
                                      Search(max_iter=max_iter))
         info = {**info2, "iterations": info["iterations"] + info2["iterations"],
-                "history": info["history"] + info2["history"]}
+                "history": info["history"] + info2["history"], "n_used": info.get("n_used", 1)}
         model = "runup"
     res, J = np.asarray(_residuals(r, jnp.asarray(theta))), np.asarray(info["J"])
     J_prior, phase = None, None

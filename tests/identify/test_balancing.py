@@ -146,6 +146,40 @@ def test_identification_gradient_matches_finite_differences():
         assert g[i] == pytest.approx(fd, rel=1e-6)
 
 
+def test_one_identify_for_every_scene():
+    """`identify` is one entry with one result type: the machine from (speeds, X)
+    and a rotor file from its phasors give an `Identification` alike (its JSON keys
+    those of both former results); the machine's global stage (vmapped LM over a
+    Latin hypercube) finds the local fit's optimum; the unbalances fitted on the
+    machine come back with their planes and intervals."""
+    from rotorjax.io import shipped_rotor
+
+    w = np.linspace(30.0, 400.0, 40)
+    Xs = np.asarray(jax.vmap(lambda ww: balancing_response(MACHINE, ww, PLANES, U))(w))
+    rng = np.random.default_rng(2)
+    Xn = Xs + 0.01 * np.abs(Xs).max() * (rng.normal(size=Xs.shape) + 1j * rng.normal(size=Xs.shape)) / np.sqrt(2)
+    start = idf.BalancingScene(bm.build_machine(dict(P, k1=1.5e5, k2=2.5e5, c1=100.0, c2=300.0)), PLANES, U)
+    local = idf.identify(start, (w, Xn), fit_unbalance=True)
+    multi = idf.identify(start, (w, Xn), fit_unbalance=True, n_starts=6, spread=3.0)
+    assert type(local) is idf.Identification and local.converged and multi.converged
+    for k in ("k1", "k2", "c1", "c2"):
+        assert multi.estimates[k] == pytest.approx(local.estimates[k], rel=1e-6)
+    assert multi.n_starts == 6 and local.n_starts == 1
+    table = local.unbalance_table
+    assert [t["plane"] for t in table] == [float(a) for a in PLANES]
+    for t, u in zip(table, U):
+        assert t["magnitude_ci95"][0] <= t["magnitude"] <= t["magnitude_ci95"][1]
+        assert abs(t["magnitude"] / abs(u) - 1) < 0.05
+    rotor = idf.identify(str(shipped_rotor("flexible_rig")), "flexible-runup", ["bearing0.kxx"],
+                         fit_unbalance=(2, 4), n_starts=1, critical_speeds=False)
+    assert type(rotor) is idf.Identification
+    keys = set(local.as_dict())
+    assert keys == set(rotor.as_dict()) | {"residual_structure"}
+    assert {"estimates", "intervals_95", "ci95", "rms_residual", "residual_rms", "unbalances", "correlation",
+            "critical_speeds", "minima", "n_starts", "covariance_method"} <= keys
+    assert [t["node"] for t in rotor.unbalance_table] == [2, 4]
+
+
 def test_unidentifiable_parameter_is_flagged():
     """Above the resonances the response is mass-controlled: stiffness is invisible."""
     w = np.linspace(5000.0, 6000.0, 30)
