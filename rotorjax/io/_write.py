@@ -11,6 +11,7 @@ from ..models._fe_reduction import ReducedRotor
 from ..models._fe_rotor import BEARING_COEFFICIENTS, DOFS_PER_NODE
 from ..models._materials import poisson_ratio
 from ..models._registry import TABLES
+from ..models._table import floats, one_or_each
 from ..models._rotor_scene import RotorScene
 from ..models._speed import ConstantSpeed
 from ..models._validate import is_concrete
@@ -35,15 +36,6 @@ def _s(text: str) -> str:
         else:
             out.append(ch)
     return '"' + "".join(out) + '"'
-
-
-def _floats(a) -> str:
-    return "[" + ", ".join(_f(x) for x in np.ravel(np.asarray(a))) + "]"
-
-
-def _one_or_each(a) -> str:
-    a = np.ravel(np.asarray(a))
-    return _f(a[0]) if np.all(a == a[0]) else _floats(a)
 
 
 def rotor_file_text(scene, name="rotor") -> str:
@@ -86,8 +78,8 @@ def rotor_file_text(scene, name="rotor") -> str:
                 lines.append(f"nu = {_f(nu)}")
     lengths, d_out, d_in = (np.asarray(a) for a in (rotor.lengths, rotor.d_out, rotor.d_in))
     for i in range(n_el):
-        lines += ["", "[[shaft]]", f"L = {_f(lengths[i])}", f"od = {_one_or_each(d_out[i])}",
-                  f"id = {_one_or_each(d_in[i])}", f"material = {_s(names[per_el[i]])}"]
+        lines += ["", "[[shaft]]", f"L = {_f(lengths[i])}", f"od = {_toml_value(one_or_each(d_out[i]))}",
+                  f"id = {_toml_value(one_or_each(d_in[i]))}", f"material = {_s(names[per_el[i]])}"]
     for node, (m, it, ip) in zip(rotor.disk_nodes, np.asarray(rotor.disk_params)):
         lines += ["", "[[disk]]", f"node = {node}", f"m = {_f(m)}", f"Id = {_f(it)}", f"Ip = {_f(ip)}"]
     kinds = rotor.bearing_kinds
@@ -113,12 +105,12 @@ def rotor_file_text(scene, name="rotor") -> str:
         if table is None:
             values = np.concatenate([np.asarray(rotor.bearing_params[i]), np.asarray(rotor.bearing_mass[i])])
         else:
-            lines.append(f"speeds = {_floats(table[0])}")
+            lines.append(f"speeds = {_toml_value(floats(table[0]))}")
             values = np.asarray(table[1])
         coef = dict(zip(BEARING_COEFFICIENTS, values))
         for k in BEARING_COEFFICIENTS:
             if k in ("kxx", "kyy", "cxx", "cyy") or np.any(np.asarray(coef[k]) != 0):
-                lines.append(f"{k} = {_one_or_each(coef[k])}")
+                lines.append(f"{k} = {_toml_value(one_or_each(coef[k]))}")
     for node, (mx, my) in zip(rotor.point_mass_nodes, np.asarray(rotor.point_mass_params)):
         lines += ["", "[[point_mass]]", f"node = {node}"]
         lines += [f"m = {_f(mx)}"] if mx == my else [f"mx = {_f(mx)}", f"my = {_f(my)}"]
@@ -175,7 +167,7 @@ def _toml_value(v) -> str:
     if isinstance(v, (int, np.integer)):
         return str(int(v))
     if isinstance(v, list):
-        return _floats(v) if all(not isinstance(x, str) for x in v) else "[" + ", ".join(_s(x) for x in v) + "]"
+        return "[" + ", ".join(_s(x) if isinstance(x, str) else _f(x) for x in v) + "]"
     return _f(v)
 
 
