@@ -132,7 +132,8 @@ def cmd_balance(args) -> int:
           f"-> {r['after_rms']:.3g} m")
     worst = int(np.argmax(np.abs(res.predicted)))
     n, d = res.sensors[worst]
-    print(f"  largest predicted residual at {res.speeds[worst]:.4g} rad/s, node {n} {d}")
+    sensor = f"sensor {res.sensor_names[n]}" if res.sensor_names else f"node {n} {d}"
+    print(f"  largest predicted residual at {res.speeds[worst]:.4g} rad/s, {sensor}")
     for line in res.explanation:
         print(f"  {line}")
     for w in res.warnings:
