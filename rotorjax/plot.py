@@ -1151,3 +1151,35 @@ def plot_bench(report, path=None, *, fig=None):
     fig.suptitle(f"rotorjax bench: {m['device']}, {m['cpu_count']} CPU cores, {m['platform'][:48]}, jax "
                  f"{m['jax']}, {m['date']}", fontsize=8)
     return _finish(fig, layout=layout)
+
+
+def plot_uncertainty(path=None, result=None, title="", *, fig=None):
+    """Outputs as distributions (`rotorjax.uncertainty.Propagation`): per output, the
+    Monte Carlo histogram (as a density) with the first-order normal density
+    `N(f(mu), g^T Sigma g)` over it and the 5 / 95 % sample quantiles marked. On `fig`
+    (empty) or a new figure; `path` is ignored. Returns the `Figure`."""
+    if result is None:
+        raise TypeError("plot_uncertainty: missing the argument 'result'")
+    n = len(result.outputs)
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, layout = _on_figure(fig, (4.2 * cols, 3.2 * rows), path, "plot_uncertainty")
+    axes = []
+    Y = np.asarray(result.samples)[np.asarray(result.finite)]
+    for j, name in enumerate(result.outputs):
+        ax = fig.add_subplot(rows, cols, j + 1)
+        y = Y[:, j]
+        ax.hist(y, bins=min(60, max(10, y.size // 50)), density=True, alpha=0.5, color="C0", label="Monte Carlo")
+        m, s = float(result.fosm_mean[j]), float(result.fosm_std[j])
+        if s > 0:
+            x = np.linspace(min(y.min(), m - 4 * s), max(y.max(), m + 4 * s), 300)
+            ax.plot(x, np.exp(-0.5 * ((x - m) / s) ** 2) / (s * np.sqrt(2 * np.pi)), "C3-", lw=1.2,
+                    label="first order")
+        for q in (0.05, 0.95):
+            ax.axvline(float(result.quantiles[q][j]), color="k", ls=":", lw=0.8)
+        ax.set_xlabel(name)
+        ax.set_ylabel("density")
+        axes.append(ax)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return _finish(fig, axes, layout=layout)

@@ -25,6 +25,7 @@ RANK = {
     "io": 1.5,  # rotor files: read into scenes, written from them (each part's table declared in models/)
     "solve": 2, "sweep": 2, "_distributed": 2,
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
+    "uncertainty": 3.2,  # distributions of a scene's quantities (analysis, io, sweep)
     "plot": 3.5,
     "presets": 4,
     "bench": 4.5,  # the headline comparisons (`rotorjax bench`): presets against their peers

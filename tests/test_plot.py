@@ -538,6 +538,10 @@ STATIC = _ns(axis="y", positions=Z, element_ends=np.stack([Z[:-1], Z[1:]], 1), d
 FE_BALANCE = _ns(speeds=np.array([100.0, 200.0]), X0=np.array([1e-5, 2e-5]), predicted=np.array([1e-7, 2e-7]),
                  sensors=[(2, "x"), (2, "x")], corrections=[(3, 1e-3, 0.5)], method="ls")
 
+PROPAGATION = _ns(outputs=("a", "b"), samples=np.random.default_rng(0).normal(size=(400, 2)),
+                  finite=np.ones(400, bool), fosm_mean=np.zeros(2), fosm_std=np.ones(2),
+                  quantiles={0.05: np.full(2, -1.64), 0.95: np.full(2, 1.64)})
+
 #: every public drawing function of rotorjax.plot with arguments, and whether it draws on `ax=` or `fig=`
 CALLS = {
     "plot_simulation": ("fig", lambda **kw: rplot.plot_simulation(RUN, title="run", **kw)),
@@ -572,6 +576,7 @@ CALLS = {
                                                          q0=3e7, **kw)),
     "plot_fe_balance": ("ax", lambda **kw: rplot.plot_fe_balance(result=FE_BALANCE, title="t", **kw)),
     "plot_bench": ("fig", lambda **kw: rplot.plot_bench(_bench_report(), **kw)),
+    "plot_uncertainty": ("fig", lambda **kw: rplot.plot_uncertainty(result=PROPAGATION, title="t", **kw)),
     "work_precision_curve": ("ax", lambda ax: rplot.work_precision_curve(ax, [(1e-3, 1e-2, "1e-6")], "m", "o-")),
 }
 

@@ -143,6 +143,19 @@ def _modes(rotor, speed, n_modes):
                  whirl_value=_whirl_value(x, y))
 
 
+def damped_eigenvalues(rotor, speed, n_modes=None):
+    """The eigenvalues of the damped modes at `speed` (one of each conjugate pair, the
+    upper half-plane), sorted by frequency, from the eigenvalues only: differentiable
+    with respect to the rotor's parameters and the speed (unlike `modes`, whose
+    eigenvectors JAX does not differentiate). Log decrements are
+    `-2 pi Re lambda / Im lambda`."""
+    n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="damped_eigenvalues", capability="linear_system")
+    _check_speed("speed", speed)
+    lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
+    order = jnp.argsort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
+    return lam[order] if n_modes is None else lam[order[:n_modes]]
+
+
 def damped_frequencies(rotor, speed, n_modes=None):
     """Damped natural frequencies (rad/s) at `speed`, sorted, from the eigenvalues
     only: differentiable with respect to the rotor's parameters and the speed."""

@@ -72,6 +72,8 @@ COMMAND_NEEDS = {
     "level1": ("a finite-element rotor", _fe),
     "balance": ("measurements to work from: a rotor file or the balancing machine", _measured),
     "identify": ("measurements to work from: a rotor file or the balancing machine", _measured),
+    "uncertainty": ("a rotor file (parameters addressed by their rotor-file names)",
+                    lambda s, p: "rotor_file" in s.extras),
 }
 
 

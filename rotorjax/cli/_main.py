@@ -8,6 +8,7 @@ import sys
 from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
+from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
 from ._common import (InputError, NumericalError, at_least, collect_warnings, finite, mode_count, nonnegative,
                       positive, tolerance)
@@ -388,6 +389,24 @@ def build_parser():
         (("--method",), dict(default="lm", choices=("lm", "optax"), help="rotor file: Levenberg-Marquardt, or "
                                                                           "optax's Adam (gradient descent)")),
     ], kinds="balancing-machine, rotor files")
+    _command(sub, "uncertainty", "a rotor file's critical speeds and log decrements as distributions of its "
+             "parameters' scatter (vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
+        (("--dist",), dict(action="append", default=None, metavar="KEY=DIST(A,B)",
+                           help="a parameter's distribution, by its rotor-file name: normal(MEAN,SD), "
+                                "lognormal(MEAN,SD) (the quantity's own mean and sd) or uniform(LO,HI); repeatable")),
+        (("--samples",), dict(type=int, default=10_000, help="Monte Carlo samples (>= 2)")),
+        _range(required=False, help="the range of the forward 1x critical speeds followed, rad/s (default 0 to 1.5 "
+                                    "x the operating speed)"),
+        (("--speed",), dict(type=nonnegative, default=None, help="the speed of the log decrements, rad/s (default: "
+                                                                 "the file's [rotor] speed)")),
+        (("--modes",), dict(type=int, default=3, help="log decrements of this many modes (by frequency; 0: none)")),
+        (("--seed",), dict(type=int, default=0, help="the random seed")),
+    ], kinds="rotor files", description="A rotor file's forward 1x critical speeds (in --range) and the log "
+       "decrements of its first --modes modes (at --speed) as distributions of its parameters' scatter "
+       "(--dist KEY=normal(MEAN,SD) | lognormal(MEAN,SD) | uniform(LO,HI), parameters by their rotor-file "
+       "names): Monte Carlo means, standard deviations and 5/50/95 % quantiles, the first-order (FOSM) mean and "
+       "standard deviation from autodiff gradients, each parameter's share of the variance, and the probability "
+       "that a mode is unstable (log dec < 0) with its 95 % interval; a histogram per output.")
     ph = sub.add_parser("phasors", help="1x phasors of raw vibration signals, written as a phasor file",
                         formatter_class=_Formatter,
                         description="1x phasors from a raw measurement file (time, tacho, x1, x2, ..., run, "

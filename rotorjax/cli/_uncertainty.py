@@ -1,0 +1,80 @@
+"""`uncertainty ROTOR.toml --dist KEY=normal(MEAN,SD) ...`: a rotor file's critical
+speeds and log decrements as distributions (vmapped Monte Carlo and first-order
+moments), with the probability that a mode is unstable."""
+
+import json
+import os
+
+import numpy as np
+
+from ._common import InputError, NumericalError, is_rotor_file, out_stem, prepare_out, preset_and_params, write_json
+
+
+def _inputs(texts):
+    from rotorjax.uncertainty import parse_distribution
+
+    if not texts:
+        raise InputError("--dist: give at least one parameter's distribution, e.g. --dist "
+                         "'bearing0.kxx=lognormal(1e6,1e5)'")
+    out = {}
+    for text in texts:
+        key, dist = parse_distribution(text)
+        if key in out:
+            raise InputError(f"--dist {text}: {key} is given twice")
+        out[key] = dist
+    return out
+
+
+def cmd_uncertainty(args) -> int:
+    from rotorjax.plot import plot_uncertainty
+    from rotorjax.uncertainty import propagate, rotor_quantities
+    from ._common import save_figure
+
+    preset, params = preset_and_params(args, "uncertainty")
+    if not is_rotor_file(preset):
+        raise InputError(f"uncertainty {preset.name}: give a rotor file (its parameters are addressed by their "
+                         "rotor-file names)")
+    inputs = _inputs(args.dist)
+    if args.samples < 2:
+        raise InputError(f"--samples {args.samples}: at least 2")
+    if args.modes < 0:
+        raise InputError(f"--modes {args.modes}: at least 0")
+    prepare_out(args.out)
+    overrides = {k: v for k, v in params.items() if v != preset.defaults.get(k)}
+    lo, hi = args.range if args.range is not None else (None, None)
+    q = rotor_quantities(preset.name, inputs, lo=lo, hi=hi, speed=args.speed, n_modes=args.modes,
+                         overrides=overrides)
+    res = propagate(q.fn, inputs, samples=args.samples, seed=args.seed, names=q.outputs)
+    unstable = {}
+    for name in q.outputs:
+        if name.startswith("log_dec_"):
+            p, (a, b) = res.probability(name, below=0.0)
+            unstable[name] = {"p": p, "ci95": [a, b]}
+    out = {"preset": preset.name, "speed": q.speed, "parameters": {k: float(v) for k, v in zip(q.names, q.nominal)},
+           "nominal_critical_speeds": [w for w, _ in q.critical], **res.as_dict(),
+           "probability_unstable": unstable}
+    stem = out_stem(args.out, preset, "uncertainty_")
+    title = f"{os.path.basename(preset.name)}: {res.n} samples of {len(inputs)} parameter(s)"
+    save_figure(plot_uncertainty(result=res, title=title), stem + ".png")
+    out["files"] = {"plot": stem + ".png", "json": stem + ".json"}
+    if res.n < args.samples:
+        out["warnings"] = [f"{args.samples - res.n} of {args.samples} samples gave non-finite outputs (a critical "
+                           "speed's fixed point did not converge there) and are left out of the statistics"]
+    write_json(stem + ".json", out)
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: {res.n} samples of {', '.join(f'{k} ~ {d.text()}' for k, d in inputs.items())}")
+        for j, name in enumerate(q.outputs):
+            lo5, hi95 = float(res.quantiles[0.05][j]), float(res.quantiles[0.95][j])
+            print(f"  {name}: mean {res.mean[j]:.6g} (+- {res.sem[j]:.2g}), sd {res.std[j]:.4g}, 5-95 % "
+                  f"[{lo5:.6g}, {hi95:.6g}]; first order {res.fosm_mean[j]:.6g} +- {res.fosm_std[j]:.4g}; most "
+                  f"from {q.names[int(np.argmax(res.shares[j]))]}")
+        for name, u in unstable.items():
+            print(f"  P({name} < 0) = {u['p']:.4g}, 95 % [{u['ci95'][0]:.3g}, {u['ci95'][1]:.3g}]")
+        for w in out.get("warnings", []):
+            print(f"  warning: {w}")
+        print(f"  wrote {stem}.png and .json")
+    if res.n < 2:
+        raise NumericalError("uncertainty: fewer than 2 samples gave finite outputs")
+    return 0

@@ -1,0 +1,152 @@
+"""Uncertainty propagation for any function of a scene's parameters written in JAX:
+vmapped Monte Carlo (through `rotorjax.sweep`, the one batched evaluation), the
+first-order second-moment method from autodiff gradients, the probability of a
+margin's violation with its confidence interval, and each parameter's share of an
+output's variance.
+
+- Monte Carlo: `n` samples from the distributions (`_distributions`: a Gaussian
+  copula), the outputs evaluated in vmapped chunks; mean, standard deviation
+  (with the mean's standard error `sd / sqrt(n)`) and quantiles of each output.
+  Samples whose outputs are not finite (a solver that did not converge there) are
+  counted and left out of the statistics, and named in the result.
+- First order (FOSM): `mean ~ f(mu)`, `var ~ g^T Sigma g` with `g = df/dp` at the
+  parameters' means (`jax.jacfwd`) and `Sigma_ij = rho_ij sd_i sd_j` (`rho` the
+  copula's correlation, exact for normal parameters); the share of parameter `i`
+  is `g_i^2 sd_i^2 / sum_j g_j^2 sd_j^2` (uncorrelated reading).
+- Violation probability: the fraction `k / n` of samples where an output crosses a
+  limit, with its 95 % Wilson interval.
+"""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._errors import InputError, NumericalError
+from ..sweep import sweep
+from ._distributions import correlation_factor
+
+#: the quantiles reported
+QUANTILES = (0.05, 0.5, 0.95)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Propagation:
+    """Outputs as distributions (see the module).
+
+    - `inputs`: `{name: distribution}`; `outputs`: the output names;
+    - `samples` `(n, n_outputs)` and `input_samples` `(n, n_inputs)` (the drawn
+      values), `finite` `(n,)`: the samples whose outputs are all finite;
+    - Monte Carlo: `mean`, `std`, `sem` (standard error of the mean), `quantiles`
+      `{q: (n_outputs,)}`;
+    - first order: `fosm_mean`, `fosm_std`, `gradient` `(n_outputs, n_inputs)`,
+      `shares` `(n_outputs, n_inputs)`.
+    """
+
+    inputs: dict
+    outputs: tuple
+    samples: np.ndarray
+    input_samples: np.ndarray
+    finite: np.ndarray
+    mean: np.ndarray
+    std: np.ndarray
+    sem: np.ndarray
+    quantiles: dict
+    fosm_mean: np.ndarray
+    fosm_std: np.ndarray
+    gradient: np.ndarray
+    shares: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return int(self.finite.sum())
+
+    def probability(self, output, below=None, above=None):
+        """`(p, (lo, hi))`: the fraction of the samples where `output` is below `below`
+        (or above `above`), with its 95 % Wilson interval."""
+        if (below is None) == (above is None):
+            raise InputError("probability: give one of below= or above=")
+        if output not in self.outputs:
+            raise InputError(f"probability: {output!r} is not an output; outputs: {', '.join(self.outputs)}")
+        x = self.samples[self.finite, self.outputs.index(output)]
+        k = int(np.sum(x < below) if below is not None else np.sum(x > above))
+        return wilson(k, x.size)
+
+    def as_dict(self) -> dict:
+        out = {}
+        for j, name in enumerate(self.outputs):
+            out[name] = {"mean": float(self.mean[j]), "std": float(self.std[j]), "sem": float(self.sem[j]),
+                         "quantiles": {str(q): float(v[j]) for q, v in self.quantiles.items()},
+                         "first_order": {"mean": float(self.fosm_mean[j]), "std": float(self.fosm_std[j])},
+                         "shares": {k: float(self.shares[j, i]) for i, k in enumerate(self.inputs)}}
+        return {"inputs": {k: d.text() for k, d in self.inputs.items()}, "samples": int(self.samples.shape[0]),
+                "finite_samples": self.n, "outputs": out}
+
+
+def wilson(k, n, z=1.959963984540054):
+    """`(k / n, (lo, hi))` with the Wilson score interval (95 % by default)."""
+    if n < 1:
+        return float("nan"), (float("nan"), float("nan"))
+    p = k / n
+    d = 1 + z**2 / n
+    c = (p + z**2 / (2 * n)) / d
+    h = z * np.sqrt(p * (1 - p) / n + z**2 / (4 * n**2)) / d
+    return float(p), (0.0 if k == 0 else float(max(c - h, 0.0)), 1.0 if k == n else float(min(c + h, 1.0)))
+
+
+def draw(inputs, n, correlation=None, seed=0):
+    """`(n, n_inputs)` samples of the distributions `inputs` (`{name: dist}`), through
+    the copula with `correlation` (see `_distributions.correlation_factor`)."""
+    names = list(inputs)
+    L = correlation_factor(names, correlation)
+    z = np.random.default_rng(seed).standard_normal((n, len(names))) @ L.T
+    return np.stack([np.asarray(inputs[k].from_normal(jnp.asarray(z[:, i]))) for i, k in enumerate(names)], axis=1)
+
+
+def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1024, names=None) -> Propagation:
+    """Outputs of `fn` as distributions (see the module).
+
+    **Arguments:**
+    - `fn`: `fn(values) -> outputs`, `values` a `(n_inputs,)` array in the order of
+      `inputs`, `outputs` a `(n_outputs,)` array; pure JAX (vmapped and
+      differentiated).
+    - `inputs`: `{name: Normal | LogNormal | Uniform}`.
+    - `samples` (>= 2), `correlation` (None, a matrix, or `{(a, b): rho}`), `seed`,
+      `chunk_size` (samples per vmapped call).
+    - `names`: the outputs' names (default `y0, y1, ...`).
+
+    **Returns:** a `Propagation`. **Raises:** `InputError` for bad input;
+    `NumericalError` when no sample gives finite outputs.
+    """
+    if not inputs:
+        raise InputError("inputs: give at least one parameter's distribution")
+    if not isinstance(samples, (int, np.integer)) or samples < 2:
+        raise InputError(f"samples must be an integer >= 2, got {samples!r}")
+    keys = list(inputs)
+    X = draw(inputs, int(samples), correlation, seed)
+    res = sweep(lambda p: jnp.atleast_1d(fn(jnp.stack([p[f"p{i}"] for i in range(len(keys))]))),
+                {f"p{i}": X[:, i] for i in range(len(keys))}, mode="zip", chunk_size=chunk_size, progress=False)
+    Y = np.asarray(res.values).reshape(X.shape[0], -1)
+    names = tuple(names) if names is not None else tuple(f"y{j}" for j in range(Y.shape[1]))
+    if len(names) != Y.shape[1]:
+        raise InputError(f"names: {len(names)} names for {Y.shape[1]} outputs")
+    finite = np.all(np.isfinite(Y), axis=1)
+    if finite.sum() < 2:
+        raise NumericalError(f"propagate: {int(finite.sum())} of {X.shape[0]} samples give finite outputs")
+    Yf = Y[finite]
+    mean, std = Yf.mean(axis=0), Yf.std(axis=0, ddof=1)
+    mu = np.array([inputs[k].mean for k in keys], dtype=float)
+    sd = np.array([inputs[k].std for k in keys], dtype=float)
+    L = correlation_factor(keys, correlation)
+    cov = (L @ L.T) * np.outer(sd, sd)
+    f0 = np.asarray(jnp.atleast_1d(fn(jnp.asarray(mu))))
+    g = np.asarray(jax.jacfwd(lambda v: jnp.atleast_1d(fn(v)))(jnp.asarray(mu))).reshape(f0.size, len(keys))
+    var = np.einsum("oi,ij,oj->o", g, cov, g)
+    contrib = (g * sd[None, :]) ** 2
+    shares = contrib / np.maximum(contrib.sum(axis=1, keepdims=True), 1e-300)
+    return Propagation(inputs=dict(inputs), outputs=names, samples=Y, input_samples=X, finite=finite, mean=mean,
+                       std=std, sem=std / np.sqrt(Yf.shape[0]),
+                       quantiles={q: np.quantile(Yf, q, axis=0) for q in QUANTILES}, fosm_mean=f0,
+                       fosm_std=np.sqrt(np.maximum(var, 0.0)), gradient=g, shares=shares)
+
