@@ -87,6 +87,7 @@ from ._linear import campbell_critical_speeds as campbell_critical_speeds
 from ._linear import critical_speed as critical_speed
 from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
+from ._linear import damped_eigenvalues as damped_eigenvalues
 from ._linear import least_stable_whirl as least_stable_whirl
 from ._linear import modes as modes
 from ._linear import state_matrix as state_matrix

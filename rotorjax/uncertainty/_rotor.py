@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError, NumericalError
-from ..analysis._linear import critical_speed, critical_speeds_1x, damped_eigenvalues
+from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues
 from ..io import read_rotor_file
 from ..models._parameters import parts_of, value_of, with_values
 
