@@ -18,7 +18,7 @@ BENCH = HERE.parent / "benchmarks"
 SCRIPTS = ("auto07p", "balance_grid", "continuation", "fe_identification", "flexible", "gpu_batch",
            "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters", "peers_001",
            "periodic_jaxcont", "ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup",
-           "step_cost", "stiff_defaults", "sweep_throughput")
+           "step_cost", "stiff_defaults", "sweep_throughput", "uncertainty")
 #: modules that are not benchmarks: shared helpers, and the results page (tests/test_benchmark_pages.py)
 HELPERS = {"_common", "work_precision"}
 
