@@ -97,7 +97,7 @@ def main():
     from rotorjax.io import read_rotor_file, shipped_rotor
     from rotorjax.uncertainty import LogNormal, propagate, rotor_quantities
 
-    n_rj, n_peer, repeats = (16, 4, 0) if args.smoke else (4096, 256, 2)
+    n_rj, n_peer, repeats = (16, 4, 0) if args.smoke else (1024, 128, 1)
     file = read_rotor_file(str(shipped_rotor("ross_compare")), SETS)
     names = [f"bearing{b}.{c}" for b in (0, 1) for c in COEFS]
     nominal = [float(file.entries[n].value) if n in file.entries else SETS[n] for n in names]
