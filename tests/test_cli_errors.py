@@ -371,6 +371,8 @@ CASES = [
      r"--range 500 100: the critical speeds' range needs 0 <= LO < HI"),
     (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--modes", "-1"], 2, r"--modes -1: at least 0"),
     (["uncertainty", "elliptic-abb", "--dist", "k=normal(1,0.1)"], 2, r"`uncertainty` does not apply to"),
+    (["uncertainty", "tapered_two_material.toml", "--dist", "disk0.m=lognormal(10,1)"], 2,
+     r"--range: .*tapered_two_material\.toml has no operating speed \(\[rotor\] speed\)"),
     # --- balance on a rotor file ---
     (["balance", *FR, "--runs", "balancing-runs"], 2, r"--runs applies to the balancing machine \(no ROTOR\)"),
     (["balance", *FR, "--holes", "4"], 2, r"--holes 4: a split onto holes needs the correction radius \(--radius M\)"),

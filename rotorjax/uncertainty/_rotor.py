@@ -73,6 +73,9 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
             raise InputError(f"{option} {name}={dist.text()}: {name} is a positive quantity and this distribution "
                              "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
     speed = float(file.entries["speed"].value) if speed is None else float(speed)
+    if hi is None and not speed > 0:
+        raise InputError(f"--range: {file.label} has no operating speed ([rotor] speed) to take the critical "
+                         "speeds' range from; give --range LO HI (rad/s), or --speed")
     lo = 0.0 if lo is None else float(lo)
     hi = 1.5 * speed if hi is None else float(hi)
     if not 0 <= lo < hi:
