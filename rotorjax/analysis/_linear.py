@@ -247,19 +247,36 @@ def _crossing_residual(speed, k, rotor, n_modes):
 
 def critical_speed(rotor, k, guess, iters=6):
     """The speed where the `k`-th damped natural frequency (sorted, all whirl
-    directions) equals the speed: the fixed point `Omega = omega_k(Omega)`, which
-    converges fast because gyroscopic effects make `|d omega_k / d Omega|` small (the
-    residual `omega_k(Omega) - Omega` is returned to check it). Pure JAX, vmappable
-    over designs; differentiate with the implicit function theorem on
-    `omega_k(Omega) - Omega = 0`."""
+    directions) equals the speed: the root of `g(Omega) = omega_k(Omega) - Omega`
+    from `guess`, and the residual `g` there (to check it).
+
+    `iters` evaluations of `g` (eigenvalues only): a fixed-point step, then secant
+    steps (superlinear; a fixed-point step where the secant's slope is unusable).
+    Then one Newton step on the rotor as given, its slope `g'` by a difference of the
+    iterate's neighbour (all iterations without derivatives): the result's
+    derivative with respect to the rotor's parameters is the implicit function
+    theorem's `-(dg/dp) / g'`. Pure JAX, vmappable over designs."""
     n = _check_rotor(rotor, "critical_speed")
     k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
-    iters = as_count("iters", iters, minimum=1)
+    iters = as_count("iters", iters, minimum=2)
     _check_speed("guess", guess)
-    w = jnp.float64(guess)
-    for _ in range(iters):  # unrolled: a few iterations, no while loop around LAPACK calls
-        w = damped_frequencies(rotor, w, k + 1)[k]
-    return w, damped_frequencies(rotor, w, k + 1)[k] - w
+    frozen = jax.tree_util.tree_map(lambda x: jax.lax.stop_gradient(x) if eqx.is_array(x) else x, rotor)
+
+    def g(r, w):
+        return damped_frequencies(r, w, k + 1)[k] - w
+
+    w0 = jnp.float64(guess)
+    g0 = g(frozen, w0)
+    w1 = w0 + g0
+    for _ in range(iters - 2):  # unrolled: a few steps, no while loop around LAPACK calls
+        g1 = g(frozen, w1)
+        slope = (g1 - g0) / jnp.where(w1 == w0, 1.0, w1 - w0)
+        usable = (w1 != w0) & (slope < -0.05) & jnp.isfinite(slope)   # g' = d omega / d Omega - 1 < 0
+        w0, g0, w1 = w1, g1, w1 - g1 / jnp.where(usable, slope, -1.0)
+    h = 1e-6 * jnp.maximum(jnp.abs(w1), 1.0)
+    g1 = g(rotor, w1)
+    slope = (g(frozen, w1 + h) - jax.lax.stop_gradient(g1)) / h
+    return w1 - g1 / slope, g1
 
 
 def _asymmetry(a):
