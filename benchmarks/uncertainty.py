@@ -1,5 +1,6 @@
 """Monte Carlo of a rotor file's critical speeds and log decrements under bearing
-scatter: `rotorjax.uncertainty` against a numpy/scipy loop doing the same work.
+scatter: `rotorjax.uncertainty` against a numpy/scipy loop doing the same work, and
+against ROSS (its `ST_Rotor` and a plain loop of its analyses) on the same samples.
 
 The case (issue 34): `ross_compare.toml` (ROSS's example rotor) with its bearings
 given damping (`cxx = cyy = 500 N s/m`) and 8 random bearing coefficients (kxx,
@@ -15,9 +16,27 @@ below 1000 rad/s and the log decrements of the first three modes at 500 rad/s.
   them in numpy (they enter affinely: one unit matrix per coefficient), then per
   sample the same fixed points with `scipy.linalg.eigvals` on the first-order
   matrix. Its outputs equal rotorjax's to 1e-8 (checked on the first samples).
+- ROSS (`_ross_st_rotor.run_ross_mc`, in ROSS's own interpreter: `--ross-python`,
+  else `$ROTORJAX_ROSS_PYTHON`, else this one when it has `ross`; skipped with a
+  note when there is none, or with `--no-ross`): the first `--ross-samples` (16) of
+  the input samples rotorjax drew (`input_samples`, identical values), two ways:
+  (a) `ross.stochastic.ST_Rotor.run_campbell` over 101 speeds 0..1000 rad/s, the
+  forward 1x crossings interpolated linearly between them, the log decrements at
+  500 rad/s read off the scan; (b) per sample `Rotor.run_critical_speed` (ROSS's
+  Newton, rtol 0.005) + `run_modal(500)`. Each path timed once, everything
+  included (building the rotors, the analyses, reading the results off) except
+  ROSS's import and its first `run_modal` (numba compiling its mode-shape code,
+  5-8 s: `ross.warmup_s`, excluded); BLAS pinned to 1 thread in ROSS's process.
+  Recorded per path: seconds per sample and their ratio to rotorjax's (rotorjax's
+  per sample from its 1024-sample vmapped run), the parity per output (largest
+  relative difference to rotorjax's outputs for the same inputs), and the Monte
+  Carlo statistics (mean, std of each output over the samples all three
+  answered) of ROSS's samples next to rotorjax's over the same samples: the
+  inputs being identical, they agree to the parity (a std's relative difference
+  up to the parity times mean/std). `--smoke`: 2 samples, a 21-speed scan.
 
-Both timed after a first call (rotorjax's compiles); per-sample times and their
-ratio. ROSS's `ST_Rotor` is not run here yet (issue 34).
+rotorjax and the peer timed after a first call (rotorjax's compiles); per-sample
+times and their ratio.
 """
 
 import argparse
@@ -29,11 +48,95 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import machine, timed_first, write_results  # noqa: E402
+from _common import CpuWatch, machine, timed_first, write_results  # noqa: E402
 
 COEFS = ("kxx", "kyy", "cxx", "cyy")
 SETS = {"bearing0.cxx": 500.0, "bearing0.cyy": 500.0, "bearing1.cxx": 500.0, "bearing1.cyy": 500.0}
 HI, SPEED, N_MODES, SCATTER = 1000.0, 500.0, 3, 0.1
+ROSS_SPEEDS, ROSS_SPEEDS_SMOKE = 101, 21  # path (a)'s scan: this many speeds 0..HI
+
+
+def _stats(Y, outputs):
+    """`{"mean": {output: value}, "std": {...}}` over the rows of `Y` (std with ddof=1,
+    as `propagate`'s); None for fewer than 2 rows."""
+    Y = np.asarray(Y, dtype=float)
+    if Y.shape[0] < 2:
+        return {"mean": None, "std": None}
+    return {"mean": dict(zip(outputs, Y.mean(axis=0).tolist())),
+            "std": dict(zip(outputs, Y.std(axis=0, ddof=1).tolist()))}
+
+
+def ross_comparison(args, res, q, per_rj):
+    """ROSS on the first `args.ross_samples` of rotorjax's input samples (see the
+    module) -> the `ross` part of the results, or None (with a printed note) when no
+    ROSS interpreter is found or `--no-ross`."""
+    from _ross_st_rotor import run_ross_mc
+
+    from rotorjax.bench import ross_python
+
+    if args.no_ross:
+        print("ROSS not run (--no-ross)")
+        return None
+    python = ross_python(args.ross_python)
+    if not python:
+        print("ROSS not available: pass --ross-python or set $ROTORJAX_ROSS_PYTHON (ROSS runs in its own "
+              "interpreter); ROSS not run")
+        return None
+    n = max(1, min(int(args.ross_samples), res.input_samples.shape[0]))
+    X, Y = np.asarray(res.input_samples[:n], dtype=float), np.asarray(res.samples[:n], dtype=float)
+    n_speeds = ROSS_SPEEDS_SMOKE if args.smoke else ROSS_SPEEDS
+    n_crit = len(q.critical)
+    watch = CpuWatch()
+    try:
+        r = run_ross_mc(python, X, np.linspace(0.0, HI, n_speeds), log_dec_speed=SPEED, hi=HI,
+                        n_log_dec=N_MODES, blas_threads=1, timeout=300 if args.smoke else 3600)
+    except RuntimeError as e:
+        raise SystemExit(f"ROSS failed: {e}") from None
+    outputs = list(q.outputs)
+    out = {"version": r["version"], "python": python, "samples": n, "blas_threads": 1,
+           "scan_speeds_a": int(r["n_speeds"]), "scan_range_a": [0.0, HI], "frequencies_a": r["frequencies"],
+           "num_modes_b": r["num_modes"], "rtol_b": r["rtol"], "warmup_s": r["warmup_s"],
+           "cpu_while_ross_ran": watch.report()}
+    Z = {}
+    for path in ("a", "b"):
+        p = r.get(path) or {"error": "not run"}
+        if "error" in p:
+            raise SystemExit(f"ROSS path ({path}) failed: {p['error']}")
+        Z[path] = z = np.full_like(Y, np.nan)
+        count_mismatch = 0
+        for i in range(n):
+            cs, ld = p["critical_speeds"][i], p["log_dec"][i][:N_MODES]
+            if len(cs) == n_crit:
+                z[i, :n_crit] = cs
+            else:
+                count_mismatch += 1
+            z[i, n_crit:n_crit + len(ld)] = ld
+        rel = np.abs(z / Y - 1)
+        parity = {o: (float(np.nanmax(rel[:, j])) if np.any(np.isfinite(rel[:, j])) else None)
+                  for j, o in enumerate(outputs)}
+        finite = [v for v in parity.values() if v is not None]
+        out[path] = {"seconds": p["seconds"], "per_sample_s": p["per_sample_s"],
+                     "ratio_over_rotorjax": p["per_sample_s"] / per_rj,
+                     "parity_max_rel": parity, "parity_max_rel_all": max(finite) if finite else None,
+                     "samples_compared": int(np.sum(np.all(np.isfinite(rel), axis=1))),
+                     "critical_speed_count_mismatches": count_mismatch}
+        if path == "b":
+            out[path]["mixed_crossings_resolved_by_orbits"] = sum(len(m) for m in p.get("mixed", []))
+    # the statistics over the samples all three answered (finite outputs)
+    common = np.all(np.isfinite(Y), axis=1) & np.all(np.isfinite(Z["a"]), axis=1) & np.all(np.isfinite(Z["b"]), axis=1)
+    stats = {"samples": int(common.sum()), "rotorjax": _stats(Y[common], outputs)}
+    for path in ("a", "b"):
+        stats[f"ross_{path}"] = st = _stats(Z[path][common], outputs)
+        ref = stats["rotorjax"]
+        if st["mean"] and ref["mean"]:
+            stats[f"ross_{path}_rel_diff"] = {
+                k: {o: abs(st[k][o] / ref[k][o] - 1) for o in outputs} for k in ("mean", "std")}
+    out["mc_stats"] = stats
+    out["ross_a_per_sample_s"] = out["a"]["per_sample_s"]
+    out["ross_b_per_sample_s"] = out["b"]["per_sample_s"]
+    out["ratio_ross_a_over_rotorjax"] = out["a"]["ratio_over_rotorjax"]
+    out["ratio_ross_b_over_rotorjax"] = out["b"]["ratio_over_rotorjax"]
+    return out
 
 
 class NumpyPeer:
@@ -91,7 +194,14 @@ class NumpyPeer:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--smoke", action="store_true", help="tiny sizes, nothing written")
+    ap.add_argument("--ross-samples", type=int, default=None,
+                    help="how many of rotorjax's input samples ROSS runs (default 16; --smoke: 2)")
+    ap.add_argument("--ross-python", default=None,
+                    help="ROSS's interpreter (default $ROTORJAX_ROSS_PYTHON, else this one when it has ross)")
+    ap.add_argument("--no-ross", action="store_true", help="do not run ROSS")
     args = ap.parse_args()
+    if args.ross_samples is None:
+        args.ross_samples = 2 if args.smoke else 16
     import jax
 
     from rotorjax.io import read_rotor_file, shipped_rotor
@@ -102,6 +212,7 @@ def main():
     names = [f"bearing{b}.{c}" for b in (0, 1) for c in COEFS]
     nominal = [float(file.entries[n].value) if n in file.entries else SETS[n] for n in names]
     inputs = {n: LogNormal(v, SCATTER * v) for n, v in zip(names, nominal)}
+    watch = CpuWatch()
     t0 = time.perf_counter()
     q = rotor_quantities(file, inputs, hi=HI, speed=SPEED, n_modes=N_MODES)
     setup = time.perf_counter() - t0
@@ -113,6 +224,8 @@ def main():
         raise SystemExit(f"the peer does not reproduce rotorjax's outputs (max relative difference {parity:.1e})")
     t_peer, _, _ = timed_first(lambda: [peer(X[i]) for i in range(n_peer)], 0 if args.smoke else 1)
     per_rj, per_peer = t_rj / n_rj, t_peer / n_peer
+    cpu = watch.report()
+    ross = ross_comparison(args, res, q, per_rj)
     out = {"benchmark": "Monte Carlo of ross_compare.toml's critical speeds and log decrements, 8 bearing "
                         "coefficients lognormal (10 %)",
            "machine": machine(), "jax": jax.__version__, "outputs": list(q.outputs),
@@ -122,8 +235,17 @@ def main():
            "ratio_peer_over_rotorjax": per_peer / per_rj, "parity_max_rel": parity,
            "mean": dict(zip(q.outputs, res.mean.tolist())), "std": dict(zip(q.outputs, res.std.tolist())),
            "first_order_std": dict(zip(q.outputs, res.fosm_std.tolist())),
+           "finite_samples": int(np.sum(res.finite)), "cpu_while_rotorjax_and_peer_ran": cpu, "ross": ross,
            "note": "peer: numpy affine bearing matrices + scipy.linalg.eigvals per fixed-point iteration, in a "
-                   "Python loop; ROSS ST_Rotor not run yet"}
+                   "Python loop. ROSS (its own interpreter, BLAS pinned to 1 thread: OPENBLAS/OMP/MKL_NUM_THREADS=1) "
+                   "on the first `ross.samples` of rotorjax's input samples (the same values): (a) "
+                   "ST_Rotor.run_campbell over `ross.scan_speeds_a` speeds 0..1000 rad/s, 1x crossings "
+                   "interpolated linearly; (b) a loop of Rotor.run_critical_speed + run_modal; each timed once "
+                   "with everything included but ROSS's import and its first run_modal (numba compiling, "
+                   "`ross.warmup_s`, excluded); ratios: ROSS's seconds per sample over rotorjax's (from its "
+                   "1024-sample run); parity: largest relative difference to rotorjax's outputs for the same "
+                   "inputs; mc_stats: mean, std over those samples from each (a std's relative difference can "
+                   "reach the parity times mean/std); cpu_while_*: other processes' load (CpuWatch) during each part"}
     print(json.dumps({k: v for k, v in out.items() if k not in ("machine",)}, indent=1))
     if args.smoke:
         print("smoke run: nothing written")

@@ -26,6 +26,7 @@ RANK = {
     "solve": 2, "sweep": 2, "_distributed": 2,
     "analysis": 3, "identify": 3, "flexible": 3, "contact": 3,
     "uncertainty": 3.2,  # distributions of a scene's quantities (analysis, io, sweep)
+    "design": 3.2,  # a scene's parameters chosen against its margins (analysis, io)
     "plot": 3.5,
     "presets": 4,
     "bench": 4.5,  # the headline comparisons (`rotorjax bench`): presets against their peers

@@ -79,6 +79,13 @@ from ._summary import simulation_summary as simulation_summary
 from ._peaks import Peak as Peak
 from ._peaks import refine_maxima as refine_maxima
 from ._peaks import refined_grid as refined_grid
+from ._margins import amplification_factor as amplification_factor
+from ._margins import log_dec_floor as log_dec_floor
+from ._margins import mode_cut as mode_cut
+from ._margins import onset_speed as onset_speed
+from ._margins import required_separation_margin as required_separation_margin
+from ._margins import separation_slack as separation_slack
+from ._margins import soft_min as soft_min
 from ._linear import Modes as Modes
 from ._linear import campbell as campbell
 from ._linear import CampbellCriticalSpeed as CampbellCriticalSpeed

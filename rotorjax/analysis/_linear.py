@@ -9,7 +9,7 @@ import numpy as np
 
 from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
                                check_span, is_concrete)
-from ._roots import bisect_batched, sign_changes
+from ._roots import bisect_batched, secant_root, sign_changes
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._contract import AbstractShaftModel, require
 from ..models._frequency import frequency_response
@@ -95,6 +95,24 @@ def _whirl_value(x, y):
     return jnp.where(any_fwd & ~any_bwd, 0.0, jnp.where(any_bwd & ~any_fwd, 1.0, 0.5))
 
 
+@jax.custom_jvp
+def eigenvalues(a):
+    """The eigenvalues of the real square matrix `a` (`jnp.linalg.eigvals`), with
+    their derivative from the left and right eigenvectors, `d lambda_i = u_i^H dA v_i /
+    (u_i^H v_i)` (first order, simple eigenvalues): JAX's own rule inverts the
+    complex eigenvector matrix, 20-50x slower on CPU for the matrices of a rotor
+    (PERFORMANCE.md). The rule is linear in `dA`, so reverse mode transposes it."""
+    return jnp.linalg.eigvals(a)
+
+
+@eigenvalues.defjvp
+def _eigenvalues_jvp(primals, tangents):
+    (a,), (da,) = primals, tangents
+    lam, u, v = jax.lax.linalg.eig(a, compute_left_eigenvectors=True, compute_right_eigenvectors=True)
+    u = jnp.conj(u)
+    return lam, jnp.einsum("ji,jk,ki->i", u, da.astype(lam.dtype), v) / jnp.einsum("ji,ji->i", u, v)
+
+
 def state_matrix(rotor, speed):
     """First-order matrix of the linear system's `M q'' + (C + G) q' + K q = 0` at
     `speed` (rad/s): its `linear_matrices(speed)` (a `RotorScene`'s components'
@@ -151,7 +169,7 @@ def damped_eigenvalues(rotor, speed, n_modes=None):
     `-2 pi Re lambda / Im lambda`."""
     n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="damped_eigenvalues", capability="linear_system")
     _check_speed("speed", speed)
-    lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
+    lam = eigenvalues(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
     order = jnp.argsort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
     return lam[order] if n_modes is None else lam[order[:n_modes]]
 
@@ -161,7 +179,7 @@ def damped_frequencies(rotor, speed, n_modes=None):
     only: differentiable with respect to the rotor's parameters and the speed."""
     n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="damped_frequencies", capability="linear_system")
     _check_speed("speed", speed)
-    lam = jnp.linalg.eigvals(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
+    lam = eigenvalues(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
     f = jnp.sort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
     return f if n_modes is None else f[:n_modes]
 
@@ -247,36 +265,16 @@ def _crossing_residual(speed, k, rotor, n_modes):
 
 def critical_speed(rotor, k, guess, iters=6):
     """The speed where the `k`-th damped natural frequency (sorted, all whirl
-    directions) equals the speed: the root of `g(Omega) = omega_k(Omega) - Omega`
-    from `guess`, and the residual `g` there (to check it).
-
-    `iters` evaluations of `g` (eigenvalues only): a fixed-point step, then secant
-    steps (superlinear; a fixed-point step where the secant's slope is unusable).
-    Then one Newton step on the rotor as given, its slope `g'` by a difference of the
-    iterate's neighbour (all iterations without derivatives): the result's
-    derivative with respect to the rotor's parameters is the implicit function
-    theorem's `-(dg/dp) / g'`. Pure JAX, vmappable over designs."""
-    n = _check_rotor(rotor, "critical_speed")
+    directions) equals the speed, near `guess`: the root of `g(Omega) = omega_k(Omega)
+    - Omega` by `secant_root` (`iters` evaluations of `g`, eigenvalues only; the
+    first step a fixed-point step, `g' = d omega / d Omega - 1 ~ -1`), and the
+    residual there (to check it). Pure JAX, vmappable over designs; its derivative
+    with respect to the rotor's parameters is the implicit function theorem's."""
+    n = _check_rotor(rotor, "critical_speed", "linear_system")
     k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
     iters = as_count("iters", iters, minimum=2)
     _check_speed("guess", guess)
-    frozen = jax.tree_util.tree_map(lambda x: jax.lax.stop_gradient(x) if eqx.is_array(x) else x, rotor)
-
-    def g(r, w):
-        return damped_frequencies(r, w, k + 1)[k] - w
-
-    w0 = jnp.float64(guess)
-    g0 = g(frozen, w0)
-    w1 = w0 + g0
-    for _ in range(iters - 2):  # unrolled: a few steps, no while loop around LAPACK calls
-        g1 = g(frozen, w1)
-        slope = (g1 - g0) / jnp.where(w1 == w0, 1.0, w1 - w0)
-        usable = (w1 != w0) & (slope < -0.05) & jnp.isfinite(slope)   # g' = d omega / d Omega - 1 < 0
-        w0, g0, w1 = w1, g1, w1 - g1 / jnp.where(usable, slope, -1.0)
-    h = 1e-6 * jnp.maximum(jnp.abs(w1), 1.0)
-    g1 = g(rotor, w1)
-    slope = (g(frozen, w1 + h) - jax.lax.stop_gradient(g1)) / h
-    return w1 - g1 / slope, g1
+    return secant_root(lambda r, w: damped_frequencies(r, w, k + 1)[k] - w, rotor, guess, iters, slope0=-1.0)
 
 
 def _asymmetry(a):

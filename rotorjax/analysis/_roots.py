@@ -20,6 +20,8 @@ parameter the same way:
 
 A root `x*` of `g(x, p) = 0` moves with a parameter `p` as
 `dx*/dp = -(dg/dp) / (dg/dx)` (`root_gradient`, both derivatives by autodiff).
+From a known root, `secant_root` follows it to other parameters (pure JAX, vmappable),
+with that derivative.
 """
 
 import dataclasses
@@ -159,6 +161,42 @@ def root_gradient(g2: Callable, x, p):
     p = jax.tree_util.tree_map(lambda v: jnp.asarray(v, dtype=jnp.float64), p)
     gx, gp = jax.grad(g2, argnums=(0, 1))(x, p)
     return jax.tree_util.tree_map(lambda d: -d / gx, gp)
+
+
+def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None):
+    """The root near `guess` of `g(params, x)` (a scalar function, pure JAX), followed
+    as `params` (a pytree) change, and the residual there: `(x*, g(params, x_n))`.
+
+    `iters` evaluations of `g` on `params` without derivatives: a Newton step with
+    the slope `slope0` (or a forward difference at `guess`, one more evaluation),
+    then secant steps (superlinear), each keeping the last usable slope where the
+    secant's is not (zero width, not finite). Then one Newton step on `params` as
+    given, its slope a forward difference at the last iterate: `x*`'s derivative is
+    the implicit function theorem's `-(dg/dp) / (dg/dx)`, with no derivatives
+    through the iterations (unrolled: a few steps, no while loop around LAPACK
+    calls, vmappable over designs). A slope of the wrong sign or a root that has
+    gone leaves the residual large: the caller checks it."""
+    frozen = jax.tree_util.tree_map(lambda v: jax.lax.stop_gradient(v) if isinstance(v, jax.Array) else v, params)
+
+    def step_size(x):
+        return 1e-6 * jnp.maximum(jnp.abs(x), 1.0)
+
+    x0 = jnp.float64(guess)
+    g0 = g(frozen, x0)
+    if slope0 is None:
+        slope = (g(frozen, x0 + step_size(x0)) - g0) / step_size(x0)
+    else:
+        slope = jnp.float64(slope0)
+    x1 = x0 - g0 / jnp.where(slope == 0, 1.0, slope)
+    for _ in range(iters - 2):
+        g1 = g(frozen, x1)
+        secant = (g1 - g0) / jnp.where(x1 == x0, 1.0, x1 - x0)
+        slope = jnp.where((x1 != x0) & jnp.isfinite(secant) & (secant != 0), secant, slope)
+        x0, g0, x1 = x1, g1, x1 - g1 / jnp.where(slope == 0, 1.0, slope)
+    h = step_size(x1)
+    g1 = g(params, x1)
+    slope = (g(frozen, x1 + h) - jax.lax.stop_gradient(g1)) / h
+    return x1 - g1 / slope, g1
 
 
 def bisect_batched(g: Callable, a, b, ga, index, *, xtol: float = 1e-10, rtol: float = 0.0, args=()) -> np.ndarray:

@@ -6,7 +6,6 @@ balancing speeds), from the rotor model's critical speeds.
 
 import numpy as np
 
-from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._validate import as_numpy
 
 
@@ -33,17 +32,9 @@ def grade_reached(residual_gmm, mass, omega):
 
 
 def total_mass(rotor):
-    """Total mass of a `FlexibleRotor` (a `ReducedRotor`: its full rotor), kg: the shaft
-    elements' (the consistent mass matrix's rigid translation, `sum rho A L`) plus the
-    disks and point masses (pedestals are not the rotor's)."""
-    full = rotor.full_rotor
-    M, _, _ = full.shaft_matrices()
-    e = np.zeros(full.n_dofs)
-    e[0:DOFS_PER_NODE * full.n_nodes:DOFS_PER_NODE] = 1.0
-    shaft = float(e @ np.asarray(M) @ e)
-    disks = float(np.sum(np.asarray(full.disk_params)[:, 0])) if len(full.disk_nodes) else 0.0
-    points = float(np.sum(np.asarray(full.point_mass_params)[:, 0])) if len(full.point_mass_nodes) else 0.0
-    return shaft + disks + points
+    """Total mass of a `FlexibleRotor` (a `ReducedRotor`: its full rotor), kg
+    (`FlexibleRotor.mass`: shaft, disks and point masses; pedestals are not the rotor's)."""
+    return float(rotor.full_rotor.mass())
 
 
 def equivalent_unbalance(A, X):

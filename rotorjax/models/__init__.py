@@ -42,6 +42,7 @@ from ._cantilever_scene import cantilever_scene as cantilever_scene
 from ._cantilever_scene import energy_residual as energy_residual
 from ._contract import AbstractScene as AbstractScene
 from ._contract import LinearMatrices as LinearMatrices
+from ._contract import SpinMatrices as SpinMatrices
 from ._contract import MissingCapability as MissingCapability
 from ._contract import provides as provides
 from ._contract import require as require

@@ -119,6 +119,21 @@ class AbstractLinearSystem(eqx.Module):
         return self.linear_matrices(0.0).M.shape[0]
 
 
+class SpinMatrices(AbstractLinearSystem):
+    """A linear system given by its matrices, the speed entering through the
+    gyroscopic matrix alone: `(M, C, speed G1, K)`. A rotor whose bearings do not
+    depend on speed, assembled once (`FlexibleRotor.reduced_matrices`) for analyses
+    that evaluate it at many speeds (a critical speed's iterations)."""
+
+    M: jax.Array
+    C: jax.Array
+    G1: jax.Array
+    K: jax.Array
+
+    def linear_matrices(self, speed) -> LinearMatrices:
+        return LinearMatrices(M=self.M, C=self.C, G=speed * self.G1, K=self.K)
+
+
 class AbstractShaftModel(AbstractLinearSystem):
     """A finite-element shaft layout: `n_nodes` nodes of four dofs `(x, y, sx, sy)`
     (then the supports' pedestals), the free dofs, and the coordinates the linear

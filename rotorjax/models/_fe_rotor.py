@@ -470,6 +470,19 @@ class FlexibleRotor(AbstractShaftModel):
             e = e.at[px].set(ux).at[py].set(uy)
         return e
 
+    def mass(self):
+        """Total mass (kg): the shaft elements' (the consistent mass matrix's rigid
+        translation, `sum rho A L`) plus the disks' and point masses' (pedestals are
+        not the rotor's). Traceable in the rotor's parameters."""
+        M, _, _ = self.shaft_matrices()
+        e = jnp.zeros(M.shape[0]).at[0:DOFS_PER_NODE * self.n_nodes:DOFS_PER_NODE].set(1.0)
+        out = e @ M @ e
+        if self.disk_nodes:
+            out = out + jnp.sum(self.disk_params[:, 0])
+        if self.point_mass_nodes:
+            out = out + jnp.sum(self.point_mass_params[:, 0])
+        return out
+
     def bearing_coefficients(self, speed=0.0):
         """`(n_bearings, 12)`: each bearing's kxx, kyy, kxy, kyx, cxx, cyy, cxy, cyx,
         mxx, myy, mxy, myx at `speed` (rad/s; tables through `spline`)."""

@@ -23,6 +23,7 @@ import numpy as np
 from .._errors import InputError, NumericalError
 from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues
 from ..io import read_rotor_file
+from ..models import SpinMatrices
 from ..models._parameters import parts_of, value_of, with_values
 
 #: a fixed point whose residual exceeds this (relative to the speed) has not converged
@@ -95,6 +96,8 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
 
     def fn(values):
         r = with_values(parts, paths, values).rotor
+        if not r.speed_dependent:   # assembled once for every speed the critical speeds' iterations visit
+            r = SpinMatrices(*r.reduced_matrices(0.0))
         out = []
         for W, k in crit:
             w, res = critical_speed(r, k, W)

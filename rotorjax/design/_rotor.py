@@ -1,0 +1,313 @@
+"""A rotor file's design problem: its parameters (by their rotor-file names, the
+`--set` keys, as identification and uncertainty address them) within bounds, one of
+its quantities as the objective, limits on others as constraints, solved by the one
+mechanism (`minimize`).
+
+The quantities (each a smooth function of the parameters, pure JAX):
+
+| name | what | sense |
+|---|---|---|
+| `min-log-dec` | a lower bound on the least log decrement over `speed_range` (`log_dec_floor`) of the modes whose damped frequency is below `max_frequency` (default: a cut between the nominal rotor's `n_modes`-th mode and the next one clear of it, `mode_cut`, a near pair counted whole): a design may move a mode out of that band | max |
+| `separation-margin` | the least API 684 slack (percent: margin had less margin required) of the forward 1x critical speeds in `critical_range` from `operating` (`separation_slack`) | max |
+| `response` | the largest unbalance-response amplitude (m) at the probes over `speed_range` (a soft maximum on `n_grid` speeds; the file's `[[unbalance]]`) | min |
+| `onset` | the stability threshold in `speed_range` where the rotor turns unstable (`onset_speed`) | max |
+| `mass` | the rotor's mass, kg | min |
+
+Critical speeds and the onset are followed from the file's own values (the nominal
+rotor's, by `secant_root`): a design where one is lost (no longer converges) is a
+non-finite point, which the search steps back from.
+"""
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._errors import InputError, NumericalError
+from ..analysis import (amplification_factor, critical_speed, critical_speeds_1x, damped_eigenvalues, linear_margin,
+                        log_dec_floor, mode_cut, onset_speed, scene_unbalance_response, separation_slack, soft_min, stability_thresholds)
+from ..io import read_rotor_file
+from ..models import Unbalance
+from ..models._fe_rotor import DOFS_PER_NODE
+from ..models._parameters import parts_of, scene_from, value_of, with_values
+from ._optimize import latin_starts, minimize
+
+#: the quantities, and whether a design wants them large (+1) or small (-1)
+SENSES = {"min-log-dec": 1, "separation-margin": 1, "response": -1, "onset": 1, "mass": -1}
+#: their units, for the messages and reports
+UNITS = {"min-log-dec": "", "separation-margin": "%", "response": "m", "onset": "rad/s", "mass": "kg"}
+#: a followed root whose residual exceeds this (relative) is lost
+ROOT_TOLERANCE = 1e-8
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class RotorProblem:
+    """A rotor file's design problem (see the module): `fn(x) -> (f, c)` scaled for
+    `minimize`, `quantities(x) -> {name: value}` unscaled, the parameters' `names`,
+    bounds `lo`, `hi`, `nominal` values and `log` scaling, the `objective` and its
+    `sense`, the `constraints` `[(name, op, limit)]`, the followed `critical` speeds
+    `[(speed, mode)]` and `onset` guess, and the settings."""
+
+    file: object
+    names: tuple
+    paths: tuple
+    lo: np.ndarray
+    hi: np.ndarray
+    nominal: np.ndarray
+    log: np.ndarray
+    objective: str
+    sense: int
+    constraints: tuple
+    quantities: object
+    fn: object
+    scales: dict
+    settings: dict
+
+
+def parse_constraint(text, option="--constraint"):
+    """`NAME>=VALUE` or `NAME<=VALUE` -> `(name, op, value)`."""
+    for op in (">=", "<="):
+        if op in text:
+            name, _, value = text.partition(op)
+            name = name.strip()
+            try:
+                limit = float(value)
+            except ValueError:
+                raise InputError(f"{option} {text!r}: {value.strip()!r} is not a number") from None
+            if name not in SENSES:
+                raise InputError(f"{option} {text!r}: unknown quantity {name!r}; known: {', '.join(SENSES)}")
+            if not np.isfinite(limit):
+                raise InputError(f"{option} {text!r}: the limit must be finite")
+            return name, op, limit
+    raise InputError(f"{option} {text!r}: give NAME>=VALUE or NAME<=VALUE, e.g. 'min-log-dec>=0.1'")
+
+
+def _bounds(file, vary, option):
+    names, paths, lo, hi, nominal, log = [], [], [], [], [], []
+    for name, (a, b) in vary.items():
+        path = file.path(name)
+        if path is None:
+            raise InputError(f"{option} {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` "
+                             "lists its keys")
+        if path.refusal:
+            raise InputError(f"{option} {name}: {path.refusal}")
+        if not (np.isfinite(a) and np.isfinite(b) and a < b):
+            raise InputError(f"{option} {name}={a:g}:{b:g}: the bounds need LO < HI")
+        domain = file.entries[name].domain if name in file.entries else (">=0" if file.signed(name) else ">0")
+        if (domain == ">0" and a <= 0) or (domain == ">=0" and a < 0):
+            raise InputError(f"{option} {name}={a:g}:{b:g}: {name} must be {domain}, so LO too")
+        names.append(name)
+        paths.append(path)
+        lo.append(float(a))
+        hi.append(float(b))
+        log.append(a > 0 and b / a >= 10)
+    parts = parts_of(file.scene)
+    nominal = [float(value_of(parts, p)) for p in paths]
+    return tuple(names), tuple(paths), np.array(lo), np.array(hi), np.array(nominal), np.array(log)
+
+
+def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n_modes=3, operating=None,
+                  critical_range=None, probes=None, n_grid=None, overrides=None, sense=None, max_frequency=None,
+                  option="--vary") -> RotorProblem:
+    """The design problem of the rotor file `rotor` (a path or a `RotorFile`).
+
+    - `vary`: `{name: (lo, hi)}` (rotor-file names; a positive quantity's bounds above
+      0; a range of a decade or more is searched in its logarithm);
+    - `objective`: a quantity's name (see the module); `sense`: +1 (maximise) or -1
+      (default the quantity's own); `constraints`: `[(name, ">=" | "<=", limit)]`;
+    - `speed_range` `(lo, hi)` rad/s: of the log decrements, the response and the
+      onset (default 0 to 1.5 x the file's speed); `n_modes`; `operating` `(lo, hi)`
+      rad/s, the operating range of the separation margins; `critical_range`: the
+      critical speeds checked against it (default 0 to twice its top);
+    - `probes`: the response's nodes (default every node); `n_grid`: speeds of the
+      log-dec floor (33) and the response (400); `max_frequency` (rad/s): the log
+      decrements counted are the modes' below it (default: a cut above the nominal
+      rotor's `n_modes`-th mode, `mode_cut`);
+    - `overrides`: `--set` values; `option`: the option the names came with.
+    """
+    file = read_rotor_file(rotor, overrides) if isinstance(rotor, str) else rotor
+    if not vary:
+        raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} bearing0.kxx=1e5:1e7")
+    names, paths, lo, hi, nominal, log = _bounds(file, vary, option)
+    wanted = [objective] + [c[0] for c in constraints]
+    for name in wanted:
+        if name not in SENSES:
+            raise InputError(f"--objective {name}: unknown; known: {', '.join(SENSES)}")
+    sense = SENSES[objective] if sense is None else int(sense)
+    speed = float(file.entries["speed"].value)
+    ranged = bool({"min-log-dec", "response", "onset"} & set(wanted))
+    if speed_range is None and ranged:
+        if not speed > 0:
+            raise InputError(f"--range: {file.label} has no operating speed ([rotor] speed); give --range LO HI")
+        speed_range = (0.0, 1.5 * speed)
+    s_lo, s_hi = (0.0, 1.0) if speed_range is None else (float(v) for v in speed_range)
+    if not 0 <= s_lo < s_hi:
+        raise InputError(f"--range {s_lo:g} {s_hi:g}: needs 0 <= LO < HI (rad/s)")
+    parts = parts_of(file.scene)
+    rotor0 = file.scene    # the file's linear(ised) rotor
+    n_dof = file.scene.n_coordinates
+    if not 1 <= int(n_modes) <= n_dof:
+        raise InputError(f"--modes {n_modes}: between 1 and {file.label}'s {n_dof} free dofs")
+    settings = {"range": [s_lo, s_hi] if ranged else None, "modes": int(n_modes)}
+    crit, onset0, probe_nodes = (), None, None
+    if "separation-margin" in wanted:
+        if operating is None:
+            raise InputError("--operating: separation-margin needs the operating range, --operating LO HI (rad/s)")
+        op_lo, op_hi = (float(v) for v in operating)
+        if not 0 < op_lo <= op_hi:
+            raise InputError(f"--operating {op_lo:g} {op_hi:g}: needs 0 < LO <= HI (rad/s)")
+        c_lo, c_hi = (0.0, 2.0 * op_hi) if critical_range is None else (float(v) for v in critical_range)
+        crit = tuple((float(W), int(k)) for W, k in critical_speeds_1x(rotor0, c_lo, c_hi, n_modes=min(12, n_dof),
+                                                                      whirl="forward"))
+        if not crit:
+            raise InputError(f"separation-margin: {file.label} has no forward 1x critical speed in {c_lo:g}..{c_hi:g} "
+                             "rad/s to separate from the operating range")
+        settings.update(operating=[op_lo, op_hi], critical_range=[c_lo, c_hi], critical_speeds=[w for w, _ in crit])
+    if "onset" in wanted:
+        found = [t for t in stability_thresholds(lambda s: linear_margin(rotor0, s), s_lo, s_hi) if t.stable_side == "below"]
+        if not found:
+            raise InputError(f"onset: {file.label} has no stability onset (stable below, unstable above) in --range "
+                             f"{s_lo:g} {s_hi:g}")
+        onset0 = found[0].speed
+        settings["onset"] = onset0
+    if "response" in wanted:
+        if not any(isinstance(c, Unbalance) for c in parts.components):
+            raise InputError(f"response: {file.label} has no [[unbalance]] to respond to")
+        n_nodes = parts.rotor.n_nodes
+        probe_nodes = tuple(range(n_nodes)) if probes is None else tuple(int(p) for p in probes)
+        for p in probe_nodes:
+            if not 0 <= p < n_nodes:
+                raise InputError(f"--probe {p}: {file.label} has nodes 0..{n_nodes - 1}")
+        settings["probes"] = list(probe_nodes)
+    n_floor = 33 if n_grid is None else int(n_grid)
+    n_resp = 400 if n_grid is None else int(n_grid)
+    if n_floor < 2:
+        raise InputError(f"--grid {n_floor}: at least 2")
+    if "min-log-dec" in wanted:
+        # the modes counted: those below a cut between the nominal rotor's n-th mode and the next one
+        # clear of it (a near pair counted whole), so a design cannot drop a mode by reordering
+        if max_frequency is None:
+            counted, n_eig, cut = mode_cut(rotor0, s_lo, s_hi, int(n_modes), n_floor)
+        else:
+            if not max_frequency > 0:
+                raise InputError(f"--max-frequency {max_frequency:g}: must be > 0 (rad/s)")
+            cut = np.full(n_floor, float(max_frequency))
+            f0 = np.imag(np.asarray(damped_eigenvalues(rotor0, s_hi, min(n_dof, 40))))
+            counted = int(np.sum(f0 < max_frequency))
+            n_eig = min(n_dof, counted + 4)
+        settings.update(log_dec_modes_counted=counted, log_dec_max_frequency=[float(np.min(cut)), float(np.max(cut))])
+
+    def quantities(x, which=tuple(dict.fromkeys(wanted))):
+        p = with_values(parts, paths, x)
+        scene = scene_from(p, file.scene)   # the file's linear(ised) rotor: fluid films, seals, reduction
+        out = {}
+        for name in which:
+            if name == "min-log-dec":
+                out[name] = log_dec_floor(scene, s_lo, s_hi, n_eig, n_grid=n_floor, cut=cut)
+            elif name == "mass":
+                out[name] = p.rotor.mass()
+            elif name == "separation-margin":
+                out[name] = _separation(scene, crit, *settings["operating"])
+            elif name == "onset":
+                w, res = onset_speed(scene, onset0)
+                out[name] = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
+            elif name == "response":
+                out[name] = _response(scene, probe_nodes, s_lo, s_hi, n_resp)
+        return out
+
+    q0 = jax.jit(quantities)(jnp.asarray(np.clip(nominal, lo, hi)))
+    bad = [k for k, v in q0.items() if not np.isfinite(float(v))]
+    if bad:
+        raise NumericalError(f"{file.label}: {', '.join(bad)} not finite at the starting design")
+    scales = {k: max(abs(float(v)), 1e-12) for k, v in q0.items()}
+    for name, op, limit in constraints:
+        scales[name] = max(scales[name], abs(limit), 1e-3 if UNITS[name] in ("", "%") else 1e-12)
+
+    def fn(x):
+        q = quantities(x)
+        f = -sense * q[objective] / scales[objective]
+        c = [(limit - q[name]) / scales[name] if op == ">=" else (q[name] - limit) / scales[name]
+             for name, op, limit in constraints]
+        return f, jnp.stack(c) if c else jnp.zeros(0)
+
+    return RotorProblem(file, names, paths, lo, hi, nominal, log, objective, sense, tuple(constraints),
+                        quantities, fn, scales, settings)
+
+
+def _separation(r, crit, op_lo, op_hi):
+    slacks = []
+    for W, k in crit:
+        w, res = critical_speed(r, k, W)
+        w = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
+        af = amplification_factor(damped_eigenvalues(r, w, k + 1)[k])
+        slacks.append(separation_slack(w, af, op_lo, op_hi))
+    return soft_min(jnp.stack(slacks), 0.05)
+
+
+def _response(scene, probes, lo, hi, n):
+    speeds = jnp.asarray(np.linspace(max(lo, 1e-3 * hi), hi, n))
+    Q = scene_unbalance_response(scene, speeds)                       # (n, n_coords)
+    full = scene.expand(Q.T)                                          # (n_dofs, n)
+    idx = np.asarray(probes) * DOFS_PER_NODE
+    amp = jnp.sqrt(jnp.abs(full[idx]) ** 2 + jnp.abs(full[idx + 1]) ** 2)
+    return jnp.exp(-soft_min(-jnp.log(amp), 1e-3))
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class RotorDesign:
+    """An optimised rotor file: the `problem`, the `optimum` (`Optimum`), the
+    parameters' values before and after (`{name: value}`), the quantities before and
+    after, and each constraint's row (`name`, `op`, `limit`, `value`, `met`,
+    `multiplier`)."""
+
+    problem: RotorProblem
+    optimum: object
+    before: dict
+    after: dict
+    quantities_before: dict
+    quantities_after: dict
+    constraint_rows: list
+
+    def overrides(self) -> dict:
+        """The optimum as `--set` values for the file."""
+        return dict(self.after)
+
+    def as_dict(self) -> dict:
+        o, p = self.optimum, self.problem
+        return {"objective": {"name": p.objective, "sense": "max" if p.sense > 0 else "min",
+                              "before": self.quantities_before[p.objective],
+                              "after": self.quantities_after[p.objective], "unit": UNITS[p.objective]},
+                "parameters": {k: {"before": self.before[k], "after": self.after[k], "lo": float(a), "hi": float(b),
+                                   "log_scaled": bool(g)}
+                               for k, a, b, g in zip(p.names, p.lo, p.hi, p.log)},
+                "constraints": self.constraint_rows, "quantities_before": self.quantities_before,
+                "quantities_after": self.quantities_after, "converged": o.converged, "feasible": o.feasible,
+                "reason": o.reason, "iterations": o.iterations, "evaluations": o.evaluations,
+                "starts": int(o.starts.shape[0]), "best_start": o.best,
+                "history": [{"objective": float(h[0]), "violation": float(h[1]), "mu": float(h[2]),
+                             "projected_gradient": float(h[3])} for h in o.history],
+                "settings": p.settings}
+
+
+def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_outer=30) -> RotorDesign:
+    """Solve `problem` from the file's values (clipped into the bounds) and
+    `n_starts - 1` Latin-hypercube starts. Raises `InputError` when no start meets
+    the constraints (naming those violated at the least-violating end)."""
+    if int(n_starts) < 1:
+        raise InputError(f"--starts {n_starts}: at least 1")
+    p = problem
+    starts = latin_starts(p.lo, p.hi, int(n_starts), first=p.nominal, log=p.log, seed=seed)
+    o = minimize(p.fn, p.lo, p.hi, starts, log=p.log, tol=tol, max_outer=max_outer)
+    q = jax.jit(p.quantities)
+    before = {k: float(v) for k, v in q(jnp.asarray(starts[0])).items()}
+    after = {k: float(v) for k, v in q(jnp.asarray(o.x)).items()}
+    rows = [{"name": name, "op": op, "limit": limit, "value": after[name], "unit": UNITS[name],
+             "met": bool(o.constraints[j] <= tol), "multiplier": float(o.multipliers[j])}
+            for j, (name, op, limit) in enumerate(p.constraints)]
+    if not o.feasible:
+        broken = [f"{r['name']}{r['op']}{r['limit']:g} (best {r['value']:.4g})" for r in rows if not r["met"]]
+        raise InputError(f"--constraint: no start of {len(starts)} met {', '.join(broken) or 'the constraints'}: "
+                         "they may be infeasible within the bounds")
+    return RotorDesign(p, o, dict(zip(p.names, map(float, starts[0]))), dict(zip(p.names, map(float, o.x))),
+                       before, after, rows)
