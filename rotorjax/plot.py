@@ -1183,3 +1183,42 @@ def plot_uncertainty(path=None, result=None, title="", *, fig=None):
     if title:
         fig.suptitle(title, fontsize=10)
     return _finish(fig, axes, layout=layout)
+
+
+def plot_design(path=None, design=None, campbell=None, title="", *, fig=None):
+    """A design's optimisation (`rotorjax.design.RotorDesign`): the objective and the
+    largest constraint violation after each accepted step of the best start; and,
+    with `campbell` `(speeds, before, after)` (each `Modes` over `speeds`), the
+    Campbell diagram before (grey) and after (colour), the 1x line dashed. On `fig`
+    (empty) or a new figure; `path` is ignored. Returns the `Figure`."""
+    if design is None:
+        raise TypeError("plot_design: missing the argument 'design'")
+    cols = 2 if campbell is not None else 1
+    fig, layout = _on_figure(fig, (5.0 * cols, 3.8), path, "plot_design")
+    ax = fig.add_subplot(1, cols, 1)
+    h = np.asarray(design.optimum.steps)
+    sense = design.problem.sense
+    k = np.arange(1, h.shape[0] + 1)
+    scale = design.problem.scales[design.problem.objective]
+    ax.plot(k, -sense * h[:, 0] * scale, "C0.-", label=design.problem.objective)
+    ax.set_xlabel("step (accepted, the best start)")
+    ax.set_ylabel(design.problem.objective)
+    axes = [ax]
+    if design.problem.constraints:
+        ax2 = ax.twinx()
+        ax2.semilogy(k, np.maximum(h[:, 1], 1e-16), "C3--", lw=0.8, label="largest violation")
+        ax2.set_ylabel("largest violation (scaled)")
+    if campbell is not None:
+        speeds, before, after = campbell
+        ax = fig.add_subplot(1, cols, 2)
+        ax.plot(speeds, np.asarray(before.frequencies), color="0.6", lw=1)
+        ax.plot(speeds, np.asarray(after.frequencies), color="C0", lw=1.2)
+        ax.plot(speeds, speeds, "k--", lw=0.8, label="1x")
+        ax.set_ylim(0, 1.5 * float(np.max(speeds)))
+        ax.set_xlabel("speed (rad/s)")
+        ax.set_ylabel("damped natural frequency (rad/s)")
+        ax.set_title("Campbell: before (grey), after", fontsize=9)
+        axes.append(ax)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return _finish(fig, axes, layout=layout)

@@ -229,3 +229,22 @@ def test_readme_fe_identification_row_is_the_json():
             f"Jacobian {ratio['res_jac']:.2g}x) |") in readme
     whole = fe["rotorjax"]["n_starts_32"]
     assert f"| {whole['s']:.2g} s (first, compiling, call {whole['first_call_s']:.2g} s) |" in readme
+
+
+def test_readme_uncertainty_and_design_numbers_are_the_json():
+    """The README's Monte Carlo and design benchmark sentences quote `uncertainty.json`
+    and `design.json`."""
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    u = json.loads((BENCH / "results" / "uncertainty.json").read_text())
+    assert (f"rotorjax {u['rotorjax_per_sample_ms']:.3g} ms a sample; a numpy/scipy loop doing the same fixed points "
+            f"{u['peer_per_sample_ms']:.2g} ms ({u['ratio_peer_over_rotorjax']:.2f}x") in readme
+    r = u["ross"]
+    assert (f"`ST_Rotor.run_campbell` ({r['scan_speeds_a']} speeds) {r['ross_a_per_sample_s']:.3g} s a sample "
+            f"({r['ratio_ross_a_over_rotorjax']:.0f}x), a loop of its `run_critical_speed` and `run_modal` "
+            f"{r['ross_b_per_sample_s']:.2g} s ({r['ratio_ross_b_over_rotorjax']:.0f}x)") in readme
+    d = json.loads((BENCH / "results" / "design.json").read_text())
+    assert (f"rotorjax converges in {d['rotorjax']['seconds']:.2g} s ({d['rotorjax']['evaluations']} evaluations, "
+            f"compiled), scipy's SLSQP on the same compiled objective with finite-difference gradients in "
+            f"{d['slsqp_fd']['seconds']:.2g} s ({d['ratios']['slsqp_fd_over_rotorjax']:.2g}x), with rotorjax's "
+            f"exact gradient in {d['slsqp_exact']['seconds']:.2g} s") in readme
+    assert f"(one gradient {d['gradient_eval_ms'] / d['objective_eval_ms']:.2g} objective evaluations" in readme

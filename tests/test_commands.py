@@ -18,7 +18,7 @@ EXPECTED = {
     "cantilever-limiters": ["simulate", "campbell", "response", "critical-speeds", "stability-map", "continue",
                             "hopf", "bifurcation", "static", "modes", "ucs", "frf", "level1"],
     "balancing-machine": ["balance", "identify"],
-    "rotorjax/rotors/ross_compare.toml": ["simulate", *FE, "balance", "identify", "uncertainty"],
+    "rotorjax/rotors/ross_compare.toml": ["simulate", *FE, "balance", "identify", "uncertainty", "optimize"],
 }
 
 

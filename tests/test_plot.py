@@ -542,6 +542,11 @@ PROPAGATION = _ns(outputs=("a", "b"), samples=np.random.default_rng(0).normal(si
                   finite=np.ones(400, bool), fosm_mean=np.zeros(2), fosm_std=np.ones(2),
                   quantiles={0.05: np.full(2, -1.64), 0.95: np.full(2, 1.64)})
 
+DESIGN = _ns(optimum=_ns(steps=np.array([[-1.0, 0.1], [-2.0, 0.0]])),
+             problem=_ns(sense=1, scales={"min-log-dec": 0.1}, objective="min-log-dec",
+                         constraints=(("mass", "<=", 1),)))
+_MODES = _ns(frequencies=np.tile([100.0, 300.0], (5, 1)))
+
 #: every public drawing function of rotorjax.plot with arguments, and whether it draws on `ax=` or `fig=`
 CALLS = {
     "plot_simulation": ("fig", lambda **kw: rplot.plot_simulation(RUN, title="run", **kw)),
@@ -577,6 +582,8 @@ CALLS = {
     "plot_fe_balance": ("ax", lambda **kw: rplot.plot_fe_balance(result=FE_BALANCE, title="t", **kw)),
     "plot_bench": ("fig", lambda **kw: rplot.plot_bench(_bench_report(), **kw)),
     "plot_uncertainty": ("fig", lambda **kw: rplot.plot_uncertainty(result=PROPAGATION, title="t", **kw)),
+    "plot_design": ("fig", lambda **kw: rplot.plot_design(design=DESIGN, title="t", **kw,
+                                                          campbell=(np.linspace(0, 400, 5), _MODES, _MODES))),
     "work_precision_curve": ("ax", lambda ax: rplot.work_precision_curve(ax, [(1e-3, 1e-2, "1e-6")], "m", "o-")),
 }
 

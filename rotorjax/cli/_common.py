@@ -74,6 +74,8 @@ COMMAND_NEEDS = {
     "identify": ("measurements to work from: a rotor file or the balancing machine", _measured),
     "uncertainty": ("a rotor file (parameters addressed by their rotor-file names)",
                     lambda s, p: "rotor_file" in s.extras),
+    "optimize": ("a rotor file (parameters addressed by their rotor-file names)",
+                 lambda s, p: "rotor_file" in s.extras),
 }
 
 
@@ -455,6 +457,17 @@ class Stages:
     def close(self):
         self.bar.update(self.bar.total - self.bar.n)
         self.bar.close()
+
+
+def rotor_file_target(args, command):
+    """`(preset, overrides)` of a command that takes a rotor file only (its parameters
+    addressed by their rotor-file names): the target, and the `--set` values that
+    differ from the file's."""
+    preset, params = preset_and_params(args, command)
+    if not is_rotor_file(preset):
+        raise InputError(f"{command} {preset.name}: give a rotor file (its parameters are addressed by their "
+                         "rotor-file names)")
+    return preset, {k: v for k, v in params.items() if v != preset.defaults.get(k)}
 
 
 def out_stem(folder, preset, prefix="", suffix=""):

@@ -8,6 +8,7 @@ import sys
 from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
+from ._optimize import cmd_optimize
 from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
 from ._common import (InputError, NumericalError, at_least, collect_warnings, finite, mode_count, nonnegative,
@@ -407,6 +408,39 @@ def build_parser():
        "names): Monte Carlo means, standard deviations and 5/50/95 % quantiles, the first-order (FOSM) mean and "
        "standard deviation from autodiff gradients, each parameter's share of the variance, and the probability "
        "that a mode is unstable (log dec < 0) with its 95 % interval; a histogram per output.")
+    _command(sub, "optimize", "a rotor file's parameters chosen within bounds against its margins (min-log-dec, "
+             "separation-margin, response, onset, mass), written as a rotor file", cmd_optimize, [
+        (("--vary",), dict(action="append", default=None, metavar="KEY=LO:HI",
+                           help="a parameter to choose, by its rotor-file name, and its bounds; repeatable")),
+        (("--objective",), dict(default="min-log-dec", choices=("min-log-dec", "separation-margin", "response",
+                                                                "onset", "mass"),
+                                help="the quantity to optimise (maximised: min-log-dec, separation-margin, onset; "
+                                     "minimised: response, mass; --sense overrides)")),
+        (("--sense",), dict(default=None, choices=("min", "max"), help="minimise or maximise the objective")),
+        (("--constraint",), dict(action="append", default=None, metavar="NAME>=V",
+                                 help="a limit on a quantity, NAME>=VALUE or NAME<=VALUE (units: rad/s, kg, m, "
+                                      "percent for separation-margin); repeatable")),
+        _range(required=False, help="the speed range of min-log-dec, response and onset, rad/s (default 0 to 1.5 x "
+                                    "the operating speed)"),
+        (("--modes",), dict(type=int, default=3, help="min-log-dec: the modes counted (the first N, a near pair "
+                                                      "whole; see --max-frequency)")),
+        (("--max-frequency",), dict(type=positive, default=None, help="min-log-dec: count the modes below this "
+                                                                      "damped frequency, rad/s")),
+        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+                                help="separation-margin: the operating speed range, rad/s")),
+        (("--probe",), dict(type=int, action="append", default=None, help="response: a probe node (default: every "
+                                                                           "node); repeatable")),
+        (("--starts",), dict(type=int, default=8, help="starts of the search (the file's values, then a Latin "
+                                                       "hypercube), vmapped")),
+        (("--seed",), dict(type=int, default=0, help="the random seed of the starts")),
+    ], kinds="rotor files", description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
+       "chosen within their bounds to maximise or minimise one quantity (--objective) subject to limits on others "
+       "(--constraint NAME>=V | NAME<=V): min-log-dec, a smooth lower bound on the least log decrement over --range "
+       "of the first --modes modes; separation-margin, the least API 684 separation-margin slack (percent) of the "
+       "forward 1x critical speeds from --operating; response, the largest unbalance response at the probes over "
+       "--range; onset, the stability threshold in --range; mass. One augmented-Lagrangian search on exact "
+       "gradients from --starts starts at once; the convergence history, each constraint's value and multiplier, the "
+       "optimised rotor written as a rotor file, a plot of the history and the Campbell diagram before and after.")
     ph = sub.add_parser("phasors", help="1x phasors of raw vibration signals, written as a phasor file",
                         formatter_class=_Formatter,
                         description="1x phasors from a raw measurement file (time, tacho, x1, x2, ..., run, "

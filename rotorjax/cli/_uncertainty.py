@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from ._common import InputError, NumericalError, is_rotor_file, out_stem, prepare_out, preset_and_params, write_json
+from ._common import InputError, NumericalError, out_stem, prepare_out, rotor_file_target, write_json
 
 
 def _inputs(texts):
@@ -30,17 +30,13 @@ def cmd_uncertainty(args) -> int:
     from rotorjax.uncertainty import propagate, rotor_quantities
     from ._common import save_figure
 
-    preset, params = preset_and_params(args, "uncertainty")
-    if not is_rotor_file(preset):
-        raise InputError(f"uncertainty {preset.name}: give a rotor file (its parameters are addressed by their "
-                         "rotor-file names)")
+    preset, overrides = rotor_file_target(args, "uncertainty")
     inputs = _inputs(args.dist)
     if args.samples < 2:
         raise InputError(f"--samples {args.samples}: at least 2")
     if args.modes < 0:
         raise InputError(f"--modes {args.modes}: at least 0")
     prepare_out(args.out)
-    overrides = {k: v for k, v in params.items() if v != preset.defaults.get(k)}
     lo, hi = args.range if args.range is not None else (None, None)
     q = rotor_quantities(preset.name, inputs, lo=lo, hi=hi, speed=args.speed, n_modes=args.modes,
                          overrides=overrides)

@@ -32,6 +32,8 @@ from .._errors import InputError
 
 #: why a subproblem stopped short of its tolerance: its steps no longer lower `L`; no step is acceptable
 FLAT, NO_STEP = 1, 2
+#: how many accepted steps `Optimum.steps` keeps
+TRACE = 400
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -45,6 +47,8 @@ class Optimum:
       their gradients), `history` `(iterations, 6)`: objective, largest violation,
       `mu`, projected gradient, inner iterations, and why the subproblem stopped
       (0: its tolerance or its iterations, `FLAT`, `NO_STEP`) per outer iteration;
+      `steps` `(n, 2)`: the objective and largest violation after each accepted step
+      (the first `TRACE`);
     - all starts: `starts`, `ends` `(n_starts, n)`, `end_objectives`,
       `end_violations`, `end_converged`; `best` (the index).
     """
@@ -59,6 +63,7 @@ class Optimum:
     iterations: int
     evaluations: int
     history: np.ndarray
+    steps: np.ndarray
     starts: np.ndarray
     ends: np.ndarray
     end_objectives: np.ndarray
@@ -85,18 +90,18 @@ def _projected_gradient(u, g):
     return jnp.max(jnp.abs(jnp.clip(u - g, 0.0, 1.0) - u))
 
 
-def _inner(vg, u, lam, mu, tol, max_inner, ftol=1e-12):
+def _inner(vg, u, lam, mu, tol, max_inner, trace, pos, ftol=1e-12):
     """Projected BFGS on `L(., lam, mu)` in the unit box from `u`: `(u, (L, (f, c)), g, evaluations)`."""
     n = u.shape[0]
     (val, aux), g = vg(u, lam, mu)
     H = jnp.eye(n) * jnp.minimum(1.0, 0.1 / jnp.maximum(jnp.max(jnp.abs(g)), 1e-300))
 
     def cond(s):
-        it, u, val, aux, g, H, n_eval, stop = s
+        it, u, val, aux, g, H, n_eval, stop, trace, pos = s
         return (it < max_inner) & (stop == 0) & (_projected_gradient(u, g) > tol * jnp.maximum(1.0, jnp.abs(val)))
 
     def body(s):
-        it, u, val, aux, g, H, n_eval, _ = s
+        it, u, val, aux, g, H, n_eval, _, trace, pos = s
         free = ~(((u <= 0.0) & (g > 0)) | ((u >= 1.0) & (g < 0)))
         ff = free[:, None] & free[None, :]
         d = -(jnp.where(ff, H, 0.0) @ jnp.where(free, g, 0.0))
@@ -120,29 +125,34 @@ def _inner(vg, u, lam, mu, tol, max_inner, ftol=1e-12):
         sy = jnp.dot(s_, y)
         rho = 1.0 / jnp.where(sy > 0, sy, 1.0)
         V = jnp.eye(n) - rho * jnp.outer(s_, y)
-        H_new = jnp.where(sy > 1e-12 * jnp.linalg.norm(s_) * jnp.linalg.norm(y), V @ H @ V.T + rho * jnp.outer(s_, s_), H)
+        curved = sy > 1e-12 * jnp.linalg.norm(s_) * jnp.linalg.norm(y)
+        H_new = jnp.where(curved, V @ H @ V.T + rho * jnp.outer(s_, s_), H)
         keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
         # stalled: no acceptable step, or a step that no longer lowers L (relative to its size)
         flat = ok & (val - vn <= ftol * jnp.maximum(1.0, jnp.abs(val)))
+        trace = jnp.where(ok & (pos < trace.shape[0]), trace.at[jnp.minimum(pos, trace.shape[0] - 1)].set(
+            jnp.stack([auxn[0], jnp.max(jnp.maximum(auxn[1], 0.0), initial=0.0)])), trace)
         return (it + 1, keep(un, u), keep(vn, val), jax.tree_util.tree_map(keep, auxn, aux), keep(gn, g),
-                keep(H_new, H), n_eval + k, jnp.where(ok, jnp.where(flat, FLAT, 0), NO_STEP))
+                keep(H_new, H), n_eval + k, jnp.where(ok, jnp.where(flat, FLAT, 0), NO_STEP), trace, pos + ok)
 
-    it, u, val, aux, g, H, n_eval, stop = jax.lax.while_loop(cond, body, (0, u, val, aux, g, H, 1, 0))
-    return u, aux, g, n_eval, it, stop
+    it, u, val, aux, g, H, n_eval, stop, trace, pos = jax.lax.while_loop(
+        cond, body, (0, u, val, aux, g, H, 1, 0, trace, pos))
+    return u, aux, g, n_eval, it, stop, trace, pos
 
 
 def _run(vg, u0, m, tol, max_outer, max_inner, mu0):
     """One start: the augmented Lagrangian's outer loop (see the module)."""
     lam = jnp.zeros(m)
     hist = jnp.full((max_outer, 6), jnp.nan)
+    trace = jnp.full((TRACE, 2), jnp.nan)
 
     def cond(s):
-        k, u, lam, mu, viol, hist, n_eval, done = s
+        k, u, lam, mu, viol, hist, n_eval, done, trace, pos = s
         return (k < max_outer) & ~done
 
     def body(s):
-        k, u, lam, mu, viol_prev, hist, n_eval, _ = s
-        u, (f, c), g, ne, inner, stop = _inner(vg, u, lam, mu, tol, max_inner)
+        k, u, lam, mu, viol_prev, hist, n_eval, _, trace, pos = s
+        u, (f, c), g, ne, inner, stop, trace, pos = _inner(vg, u, lam, mu, tol, max_inner, trace, pos)
         viol = jnp.max(jnp.maximum(c, 0.0), initial=0.0)
         lam_new = jnp.maximum(0.0, lam + mu * c)
         # the Lagrangian's gradient with the new multipliers: the same as L's at the subproblem's end
@@ -155,13 +165,13 @@ def _run(vg, u0, m, tol, max_outer, max_inner, mu0):
         stuck = (stop == NO_STEP) & (inner <= 1)      # not a step from where the last subproblem ended
         mu_new = jnp.where(viol > 0.25 * viol_prev, jnp.minimum(10 * mu, 1e10), mu)
         hist = hist.at[k].set(jnp.stack([f, viol, mu, pg, inner, stop]))
-        return k + 1, u, lam_new, mu_new, viol, hist, n_eval + ne, done | stuck
+        return k + 1, u, lam_new, mu_new, viol, hist, n_eval + ne, done | stuck, trace, pos
 
-    k, u, lam, mu, viol, hist, n_eval, end = jax.lax.while_loop(
-        cond, body, (0, u0, lam, jnp.float64(mu0), jnp.float64(jnp.inf), hist, 0, False))
+    k, u, lam, mu, viol, hist, n_eval, end, trace, pos = jax.lax.while_loop(
+        cond, body, (0, u0, lam, jnp.float64(mu0), jnp.float64(jnp.inf), hist, 0, False, trace, 0))
     last = hist[jnp.maximum(k - 1, 0)]
     done = end & (last[1] <= tol) & ((last[3] <= tol * jnp.maximum(1.0, jnp.abs(last[0]))) | (last[5] == FLAT))
-    return u, lam, k, hist, n_eval, done
+    return u, lam, k, hist, n_eval, done, trace
 
 
 @functools.partial(jax.jit, static_argnames=("fn", "m", "tol", "max_outer", "max_inner", "mu0"))
@@ -174,10 +184,11 @@ def _solve(fn, u0s, a, b, log, *, m, tol, max_outer, max_inner, mu0):
         return f + jnp.sum(jnp.maximum(0.0, lam + mu * c) ** 2 - lam**2) / (2 * mu), (f, c)
 
     vg = jax.value_and_grad(lagrangian, has_aux=True)
-    u, lam, k, hist, n_eval, done = jax.vmap(lambda u0: _run(vg, u0, m, tol, max_outer, max_inner, mu0))(u0s)
+    u, lam, k, hist, n_eval, done, trace = jax.vmap(
+        lambda u0: _run(vg, u0, m, tol, max_outer, max_inner, mu0))(u0s)
     ends = jax.vmap(lambda v: _to_x(v, a, b, log))(u)
     f_end, c_end = jax.vmap(fn)(ends)
-    return u, lam, k, hist, n_eval, done, ends, f_end, c_end
+    return u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end
 
 
 def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=200, mu0=10.0) -> Optimum:
@@ -200,7 +211,7 @@ def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=
         raise InputError("minimize: every start must lie within the bounds")
     a, b = _ends(lo, hi, log)
     m = int(np.prod(jax.eval_shape(fn, jnp.asarray(starts[0]))[1].shape))
-    u, lam, k, hist, n_eval, done, ends, f_end, c_end = (np.asarray(v) for v in _solve(
+    u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end = (np.asarray(v) for v in _solve(
         fn, jnp.asarray(_to_u(starts, a, b, log)), jnp.asarray(a), jnp.asarray(b), jnp.asarray(log), m=m,
         tol=float(tol), max_outer=int(max_outer), max_inner=int(max_inner), mu0=float(mu0)))
     c_end = c_end.reshape(len(ends), m)
@@ -223,7 +234,8 @@ def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=
                   f"{last[3]:.3g} (tolerance {tol:g}){why}")
     return Optimum(x=ends[best], objective=float(f_end[best]), constraints=c_end[best], multipliers=lam[best],
                    converged=bool(done[best]), feasible=bool(feasible[best]), reason=reason, iterations=kb,
-                   evaluations=int(n_eval[best]), history=hist[best, :kb], starts=starts, ends=ends,
+                   evaluations=int(n_eval[best]), history=hist[best, :kb],
+                   steps=trace[best][np.isfinite(trace[best, :, 0])], starts=starts, ends=ends,
                    end_objectives=f_end, end_violations=viol, end_converged=done.astype(bool), best=best)
 
 

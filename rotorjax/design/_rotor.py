@@ -3,15 +3,22 @@
 its quantities as the objective, limits on others as constraints, solved by the one
 mechanism (`minimize`).
 
-The quantities (each a smooth function of the parameters, pure JAX):
+The quantities (each a smooth function of the parameters, pure JAX), and whether a
+design wants them large (max) or small (min) unless told:
 
-| name | what | sense |
-|---|---|---|
-| `min-log-dec` | a lower bound on the least log decrement over `speed_range` (`log_dec_floor`) of the modes whose damped frequency is below `max_frequency` (default: a cut between the nominal rotor's `n_modes`-th mode and the next one clear of it, `mode_cut`, a near pair counted whole): a design may move a mode out of that band | max |
-| `separation-margin` | the least API 684 slack (percent: margin had less margin required) of the forward 1x critical speeds in `critical_range` from `operating` (`separation_slack`) | max |
-| `response` | the largest unbalance-response amplitude (m) at the probes over `speed_range` (a soft maximum on `n_grid` speeds; the file's `[[unbalance]]`) | min |
-| `onset` | the stability threshold in `speed_range` where the rotor turns unstable (`onset_speed`) | max |
-| `mass` | the rotor's mass, kg | min |
+- `min-log-dec` (max): a lower bound on the least log decrement over `speed_range`
+  (`log_dec_floor`) of the modes whose damped frequency is below `max_frequency`
+  (default: a cut between the nominal rotor's `n_modes`-th mode and the next one
+  clear of it, `mode_cut`, a near pair counted whole): a design may move a mode out
+  of that band;
+- `separation-margin` (max): the least API 684 slack (percent: the margin had less
+  the margin required) of the forward 1x critical speeds in `critical_range` from
+  `operating` (`separation_slack`);
+- `response` (min): the largest unbalance-response amplitude (m) at the probes over
+  `speed_range` (a soft maximum on `n_grid` speeds; the file's `[[unbalance]]`);
+- `onset` (max): the stability threshold in `speed_range` where the rotor turns
+  unstable (`onset_speed`);
+- `mass` (min): the rotor's mass, kg.
 
 Critical speeds and the onset are followed from the file's own values (the nominal
 rotor's, by `secant_root`): a design where one is lost (no longer converges) is a
@@ -26,7 +33,8 @@ import numpy as np
 
 from .._errors import InputError, NumericalError
 from ..analysis import (amplification_factor, critical_speed, critical_speeds_1x, damped_eigenvalues, linear_margin,
-                        log_dec_floor, mode_cut, onset_speed, scene_unbalance_response, separation_slack, soft_min, stability_thresholds)
+                        log_dec_floor, mode_cut, onset_speed, scene_unbalance_response, separation_slack, soft_min,
+                        stability_thresholds)
 from ..io import read_rotor_file
 from ..models import Unbalance
 from ..models._fe_rotor import DOFS_PER_NODE
@@ -165,7 +173,8 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
                              "rad/s to separate from the operating range")
         settings.update(operating=[op_lo, op_hi], critical_range=[c_lo, c_hi], critical_speeds=[w for w, _ in crit])
     if "onset" in wanted:
-        found = [t for t in stability_thresholds(lambda s: linear_margin(rotor0, s), s_lo, s_hi) if t.stable_side == "below"]
+        found = [t for t in stability_thresholds(lambda s: linear_margin(rotor0, s), s_lo, s_hi)
+                 if t.stable_side == "below"]
         if not found:
             raise InputError(f"onset: {file.label} has no stability onset (stable below, unstable above) in --range "
                              f"{s_lo:g} {s_hi:g}")
@@ -269,6 +278,19 @@ class RotorDesign:
     quantities_after: dict
     constraint_rows: list
 
+    def campbell(self, speeds, n_modes=8):
+        """`(speeds, before, after)`: the Campbell diagrams (`Modes` over `speeds`) of the
+        starting design and the optimum (the file's linear(ised) rotor)."""
+        from ..analysis import campbell
+
+        p = self.problem
+        parts = parts_of(p.file.scene)
+        out = []
+        for values in (self.before, self.after):
+            x = jnp.asarray([values[k] for k in p.names])
+            out.append(campbell(scene_from(with_values(parts, p.paths, x), p.file.scene), speeds, n_modes))
+        return np.asarray(speeds), out[0], out[1]
+
     def overrides(self) -> dict:
         """The optimum as `--set` values for the file."""
         return dict(self.after)
@@ -286,7 +308,9 @@ class RotorDesign:
                 "reason": o.reason, "iterations": o.iterations, "evaluations": o.evaluations,
                 "starts": int(o.starts.shape[0]), "best_start": o.best,
                 "history": [{"objective": float(h[0]), "violation": float(h[1]), "mu": float(h[2]),
-                             "projected_gradient": float(h[3])} for h in o.history],
+                             "projected_gradient": float(h[3]), "steps": int(h[4])} for h in o.history],
+                "steps": [{"objective": -p.sense * float(f) * p.scales[p.objective], "violation": float(v)}
+                          for f, v in o.steps],
                 "settings": p.settings}
 
 

@@ -47,7 +47,8 @@ def test_the_eigenvalues_derivative_equals_jaxs_own_rule(rotor):
             return lambda m: jnp.sum(w * jnp.real(_sorted(f(m))))
 
         g = jax.grad(scalar(jnp.linalg.eigvals))(a)
-        np.testing.assert_allclose(jax.grad(scalar(eigenvalues))(a), g, rtol=1e-7, atol=1e-8 * float(jnp.max(jnp.abs(g))))
+        np.testing.assert_allclose(jax.grad(scalar(eigenvalues))(a), g, rtol=1e-7,
+                                   atol=1e-8 * float(jnp.max(jnp.abs(g))))
 
 
 def test_the_log_dec_floor_is_below_the_dense_minimum_and_close_to_it(rotor):

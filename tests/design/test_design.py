@@ -108,7 +108,8 @@ def test_an_active_separation_constraint_holds_with_its_multiplier(file):
 
 @pytest.mark.parametrize("call, match", [
     (lambda f: rotor_problem(f, {"bearing9.kxx": (1e5, 1e6)}, "mass"), r"--vary bearing9\.kxx: not a parameter"),
-    (lambda f: rotor_problem(f, {"bearing0.kxx": (1e6, 1e5)}, "mass"), r"--vary bearing0\.kxx=1e\+06:100000: .*LO < HI"),
+    (lambda f: rotor_problem(f, {"bearing0.kxx": (1e6, 1e5)}, "mass"),
+     r"--vary bearing0\.kxx=1e\+06:100000: .*LO < HI"),
     (lambda f: rotor_problem(f, {"disk0.m": (0.0, 40.0)}, "mass"), r"--vary disk0\.m=0:40: disk0\.m must be >0"),
     (lambda f: rotor_problem(f, {"bearing0.kxx": (-1e5, 1e6)}, "mass"), r"bearing0\.kxx must be >=0"),
     (lambda f: rotor_problem(f, {}, "mass"), r"--vary: give at least one parameter"),
