@@ -34,8 +34,7 @@ import numpy as np
 
 from ..models._contract import require
 from ..models._validate import InputError
-from ._linear import damped_eigenvalues
-from ._response import linear_margin
+from ._linear import damped_eigenvalues, eigenvalues
 from ._roots import secant_root
 
 #: API 684 / API 617: below this amplification factor a critical speed needs no margin
@@ -182,9 +181,15 @@ def separation_slack(critical, af, op_lo, op_hi):
     return have - required_separation_margin(af, below)
 
 
-def onset_speed(rotor, guess, iters=8):
-    """The speed near `guess` where the rotor's linear stability margin (the largest
-    real part of its eigenvalues, `linear_margin`) crosses zero, and the margin there
-    (to check it): `secant_root` from a threshold found by `stability_thresholds`.
-    Traceable; its derivative is the implicit function theorem's."""
-    return secant_root(linear_margin, rotor, guess, iters)
+def onset_speed(rotor, guess, frequency, iters=8):
+    """The speed near `guess` where the mode of damped frequency nearest `frequency`
+    (rad/s) turns unstable (its eigenvalue's real part crosses zero), and that real
+    part there (to check it): `secant_root` from a threshold found by
+    `stability_thresholds` (the largest real part, `linear_margin`, is kinked where
+    another mode leads it: the secant follows the one mode). Traceable; its
+    derivative is the implicit function theorem's."""
+    def real_part(r, s):
+        lam = eigenvalues(r.linear_matrices(s).state_matrix())
+        return jnp.real(lam[jnp.argmin(jnp.abs(jnp.imag(lam) - frequency))])
+
+    return secant_root(real_part, rotor, guess, iters)

@@ -179,7 +179,9 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
             raise InputError(f"onset: {file.label} has no stability onset (stable below, unstable above) in --range "
                              f"{s_lo:g} {s_hi:g}")
         onset0 = found[0].speed
-        settings["onset"] = onset0
+        lam = np.asarray(damped_eigenvalues(rotor0, onset0))
+        whirl = float(np.imag(lam[np.argmax(np.real(lam))]))    # the mode that turns unstable there
+        settings.update(onset=onset0, onset_frequency=whirl)
     if "response" in wanted:
         if not any(isinstance(c, Unbalance) for c in parts.components):
             raise InputError(f"response: {file.label} has no [[unbalance]] to respond to")
@@ -219,7 +221,7 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
             elif name == "separation-margin":
                 out[name] = _separation(scene, crit, *settings["operating"])
             elif name == "onset":
-                w, res = onset_speed(scene, onset0)
+                w, res = onset_speed(scene, onset0, whirl)
                 out[name] = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
             elif name == "response":
                 out[name] = _response(scene, probe_nodes, s_lo, s_hi, n_resp)

@@ -1,0 +1,47 @@
+"""The `onset` design quantity on a fluid-film rotor (`journal_rig.toml`: ROSS's
+example rotor on two short plain journal bearings): the oil-whirl threshold followed
+from the nominal one to other film viscosities equals a fresh scan-and-bisect of the
+file read again with those values, and so does its gradient."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from rotorjax.analysis import linear_margin
+from rotorjax.design import rotor_problem
+from rotorjax.io import read_rotor_file, shipped_rotor
+
+PATH = str(shipped_rotor("journal_rig"))
+NAMES = ("bearing0.viscosity", "bearing1.viscosity")
+
+
+_margin = eqx.filter_jit(linear_margin)   # one compilation for every file read (one layout)
+
+
+def _scanned(values, lo=195.0, hi=225.0):
+    """The threshold by bisection of the largest real part on the file read again with
+    `values` (an independent path: the file's reader, the margin, no secant)."""
+    scene = read_rotor_file(PATH, dict(zip(NAMES, values))).scene
+    a, b = lo, hi
+    assert float(_margin(scene, jnp.float64(a))) < 0 < float(_margin(scene, jnp.float64(b)))
+    while b - a > 1e-11 * b:
+        c = 0.5 * (a + b)
+        a, b = (c, b) if float(_margin(scene, jnp.float64(c))) < 0 else (a, c)
+    return 0.5 * (a + b)
+
+
+def test_the_onset_follows_the_scanned_threshold_and_its_gradient():
+    file = read_rotor_file(PATH)
+    p = rotor_problem(file, {n: (0.005, 0.05) for n in NAMES}, "onset", speed_range=(100.0, 400.0))
+    x0 = p.nominal
+    assert p.settings["onset"] == pytest.approx(_scanned(x0), rel=1e-9)
+    onset = jax.jit(lambda v: p.quantities(v)["onset"])
+    x = x0 * np.array([1.3, 0.8])
+    assert float(onset(jnp.asarray(x))) == pytest.approx(_scanned(x), rel=1e-8)
+    g = np.asarray(jax.jit(jax.grad(lambda v: p.quantities(v)["onset"]))(jnp.asarray(x)))
+    e = np.array([1e-3 * x[0], 0.0])
+    fd = (_scanned(x + e) - _scanned(x - e)) / (2e-3 * x[0])
+    assert g[0] == pytest.approx(fd, rel=1e-4)
+    assert g[0] > 0 and g[1] > 0     # a thicker film raises the oil-whirl threshold
