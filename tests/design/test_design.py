@@ -113,6 +113,8 @@ def test_an_active_separation_constraint_holds_with_its_multiplier(file):
     (lambda f: rotor_problem(f, {"disk0.m": (0.0, 40.0)}, "mass"), r"--vary disk0\.m=0:40: disk0\.m must be >0"),
     (lambda f: rotor_problem(f, {"bearing0.kxx": (-1e5, 1e6)}, "mass"), r"bearing0\.kxx must be >=0"),
     (lambda f: rotor_problem(f, {}, "mass"), r"--vary: give at least one parameter"),
+    (lambda f: rotor_problem(f, {"bearing0.node": (1.0, 3.0)}, "mass"),
+     r"--vary bearing0\.node: an integer that shapes the scene"),
     (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "stiffness"), r"--objective stiffness: unknown"),
     (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "separation-margin"), r"--operating: separation-margin"),
     (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "onset", speed_range=(0.0, 1000.0)),
