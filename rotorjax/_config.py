@@ -4,10 +4,31 @@ rotorjax enables JAX's 64-bit mode when it is imported (`jax_enable_x64`), becau
 the stability margins and balanced states it computes are below single precision.
 Import rotorjax before creating any JAX arrays you will pass to it, or set the
 environment variable `JAX_ENABLE_X64=1` yourself.
+
+It also turns off XLA's concurrency-optimised scheduler on CPU
+(`--xla_cpu_enable_concurrency_optimized_scheduler=false`, added to `XLA_FLAGS`
+unless that variable already names it). With it on, a vmapped program with many
+independent eigenvalue calls (the gradient of a separation margin over several
+designs, on 2 cores) deadlocked about every run: every XLA thread idle, the
+result never ready. XLA reads `XLA_FLAGS` when JAX starts its first backend, so
+import rotorjax before running any JAX computation (or set the flag yourself).
 """
+
+import os
 
 import jax
 
+#: the XLA option rotorjax sets, and its value (see the module)
+CPU_SCHEDULER_FLAG = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
+
+
+def _add_xla_flag(flag: str) -> None:
+    flags = os.environ.get("XLA_FLAGS", "")
+    if flag.split("=")[0] not in flags:
+        os.environ["XLA_FLAGS"] = f"{flags} {flag}".strip()
+
+
+_add_xla_flag(CPU_SCHEDULER_FLAG)
 jax.config.update("jax_enable_x64", True)
 
 
@@ -18,8 +39,6 @@ NO_CACHE_VARIABLE = "ROTORJAX_NO_COMPILATION_CACHE"
 
 def default_cache_dir() -> str:
     """`$ROTORJAX_CACHE_DIR`, else `$XDG_CACHE_HOME/rotorjax/jax` (`~/.cache/rotorjax/jax`)."""
-    import os
-
     given = os.environ.get(CACHE_DIR_VARIABLE)
     if given:
         return given
@@ -39,8 +58,6 @@ def enable_compilation_cache(path=None) -> str | None:
 
     Call it before the first compilation: JAX decides once per process whether it
     uses a cache."""
-    import os
-
     if os.environ.get(NO_CACHE_VARIABLE, "") not in ("", "0"):
         return None
     if path is None and jax.config.jax_compilation_cache_dir and (

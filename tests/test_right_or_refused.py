@@ -165,6 +165,19 @@ def test_the_cli_uses_a_persistent_compilation_cache(monkeypatch, tmp_path):
             jax.config.update(name, value)
 
 
+def test_importing_rotorjax_turns_off_the_cpu_scheduler_that_deadlocked_unless_the_user_set_it():
+    """`rotorjax._config` adds the XLA option to `XLA_FLAGS` (a vmapped gradient
+    through many eigenvalue solves deadlocked with XLA's concurrency-optimised CPU
+    scheduler on: `tests/design/test_design.py`'s separation-constrained search hung
+    every run), and keeps the user's own setting of that option."""
+    code = "import os, rotorjax; print(os.environ['XLA_FLAGS'])"
+    for given, want in [("", "--xla_cpu_enable_concurrency_optimized_scheduler=false"),
+                        ("--xla_cpu_enable_concurrency_optimized_scheduler=true",
+                         "--xla_cpu_enable_concurrency_optimized_scheduler=true")]:
+        env = {**os.environ, "XLA_FLAGS": given}
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        assert out.stdout.split() == [want]
+
 # ---- item 9: small defects ----
 def test_a_closed_pipe_is_not_an_error():
     proc = subprocess.run(f"{sys.executable} -m rotorjax.cli presets | head -1", shell=True, capture_output=True,

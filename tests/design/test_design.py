@@ -82,6 +82,30 @@ def test_each_quantity_has_the_gradient_of_its_finite_differences(file, name):
         assert g[i] == pytest.approx(fd, rel=2e-4, abs=1e-7 * abs(float(q(jnp.asarray(x0)))) / x0[i]), (name, i)
 
 
+def test_an_active_separation_constraint_holds_with_its_multiplier(file):
+    """Lighten the two disks (minimise the mass) while the API 684 separation margins
+    from an operating range of 400..600 rad/s hold: lighter disks raise the second
+    critical speed (300 rad/s) towards the range, so the margin ends active (its slack
+    0 within 1e-4 percent) with a positive multiplier, and the disks lighter than at
+    the start; the slack there equals API 684's formula at the critical speed and
+    amplification factor the analyses give independently."""
+    from rotorjax.analysis import (amplification_factor, critical_speed, damped_eigenvalues,
+                                   required_separation_margin)
+
+    vary = {"disk0.m": (15.0, 40.0), "disk1.m": (15.0, 40.0)}
+    p = rotor_problem(file, vary, "mass", [("separation-margin", ">=", 0.0)], operating=(400.0, 600.0))
+    d = optimize_rotor(p, n_starts=2)
+    row, = d.constraint_rows
+    assert d.optimum.converged and row["met"] and abs(row["value"]) < 1e-4 and row["multiplier"] > 0
+    assert d.quantities_after["mass"] < d.quantities_before["mass"] - 5.0
+    rotor = read_rotor_file(str(shipped_rotor("ross_compare")),
+                            {**SETS, **{k: v for k, v in d.after.items()}}).scene.full_rotor
+    w, _ = critical_speed(rotor, 3, 340.0)
+    af = amplification_factor(damped_eigenvalues(rotor, w, 4)[3])
+    slack = 100 * (400.0 - float(w)) / 400.0 - float(required_separation_margin(af, True))
+    assert slack == pytest.approx(0.0, abs=0.05)     # the soft minimum over the three critical speeds: within 0.05
+
+
 @pytest.mark.parametrize("call, match", [
     (lambda f: rotor_problem(f, {"bearing9.kxx": (1e5, 1e6)}, "mass"), r"--vary bearing9\.kxx: not a parameter"),
     (lambda f: rotor_problem(f, {"bearing0.kxx": (1e6, 1e5)}, "mass"),
