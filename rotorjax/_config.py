@@ -12,6 +12,9 @@ independent eigenvalue calls (the gradient of a separation margin over several
 designs, on 2 cores) deadlocked about every run: every XLA thread idle, the
 result never ready. XLA reads `XLA_FLAGS` when JAX starts its first backend, so
 import rotorjax before running any JAX computation (or set the flag yourself).
+A compiled loop (`lax.while_loop`) around such a gradient deadlocked even with the
+option off (and with Eigen's threads and XNNPACK off too), so `rotorjax.design`
+keeps its loops on the host.
 """
 
 import os

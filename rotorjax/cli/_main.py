@@ -432,7 +432,15 @@ def build_parser():
                                                                            "node); repeatable")),
         (("--starts",), dict(type=int, default=8, help="starts of the search (the file's values, then a Latin "
                                                        "hypercube), vmapped")),
-        (("--seed",), dict(type=int, default=0, help="the random seed of the starts")),
+        (("--seed",), dict(type=int, default=0, help="the random seed of the starts (and of --scatter's samples)")),
+        (("--scatter",), dict(action="append", default=None, metavar="KEY=DIST",
+                              help="robust design: a parameter not varied that scatters, KEY=normal(MEAN,SD) | "
+                                   "lognormal(MEAN,SD) | uniform(LO,HI); repeatable")),
+        (("--robust",), dict(type=float, default=None, metavar="K",
+                             help="robust design: optimise and constrain each quantity's mean moved K standard "
+                                  "deviations the bad way over the --scatter samples (default 1 with --scatter)")),
+        (("--robust-samples",), dict(type=int, default=32, help="robust design: samples of the scatter (the same "
+                                                                "at every design)")),
     ], kinds="rotor files", description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
        "chosen within their bounds to maximise or minimise one quantity (--objective) subject to limits on others "
        "(--constraint NAME>=V | NAME<=V): min-log-dec, a smooth lower bound on the least log decrement over --range "
@@ -440,7 +448,9 @@ def build_parser():
        "forward 1x critical speeds from --operating; response, the largest unbalance response at the probes over "
        "--range; onset, the stability threshold in --range; mass. One augmented-Lagrangian search on exact "
        "gradients from --starts starts at once; the convergence history, each constraint's value and multiplier, the "
-       "optimised rotor written as a rotor file, a plot of the history and the Campbell diagram before and after.")
+       "optimised rotor written as a rotor file, a plot of the history and the Campbell diagram before and after. "
+       "Robust design: with --scatter, every quantity is its mean less (or plus) --robust standard deviations over "
+       "--robust-samples samples of the scattering parameters.")
     ph = sub.add_parser("phasors", help="1x phasors of raw vibration signals, written as a phasor file",
                         formatter_class=_Formatter,
                         description="1x phasors from a raw measurement file (time, tacho, x1, x2, ..., run, "

@@ -30,6 +30,18 @@ def _vary(texts):
     return out
 
 
+def _scatter(texts):
+    from rotorjax.uncertainty import parse_distribution
+
+    out = {}
+    for text in texts or []:
+        key, dist = parse_distribution(text, "--scatter")
+        if key in out:
+            raise InputError(f"--scatter {text}: {key} is given twice")
+        out[key] = dist
+    return out or None
+
+
 def cmd_optimize(args) -> int:
     from rotorjax.design import optimize_rotor, parse_constraint, rotor_problem
     from rotorjax.io import read_rotor_file, save_rotor
@@ -39,6 +51,7 @@ def cmd_optimize(args) -> int:
     preset, overrides = rotor_file_target(args, "optimize")
     vary = _vary(args.vary)
     constraints = [parse_constraint(c) for c in (args.constraint or [])]
+    scatter = _scatter(args.scatter)
     if args.starts < 1:
         raise InputError(f"--starts {args.starts}: at least 1")
     prepare_out(args.out)
@@ -46,7 +59,8 @@ def cmd_optimize(args) -> int:
     sense = {"max": 1, "min": -1, None: None}[args.sense]
     problem = rotor_problem(file, vary, args.objective, constraints, speed_range=args.range, n_modes=args.modes,
                             operating=args.operating, probes=args.probe, sense=sense,
-                            max_frequency=args.max_frequency)
+                            max_frequency=args.max_frequency, scatter=scatter, robust_k=args.robust,
+                            robust_samples=args.robust_samples, seed=args.seed)
     design = optimize_rotor(problem, n_starts=args.starts, seed=args.seed)
     o = design.optimum
     stem = out_stem(args.out, preset, "optimize_")
@@ -65,13 +79,17 @@ def cmd_optimize(args) -> int:
         print(json.dumps(out, indent=2))
     else:
         unit = f" {obj['unit']}" if obj["unit"] else ""
-        print(f"{preset.name}: {obj['sense']}imise {obj['name']}: {obj['before']:.6g} -> {obj['after']:.6g}{unit} "
+        robust = out["robust"]
+        what = (f"{obj['name']} (mean {'-' if obj['sense'] == 'max' else '+'} {robust['k']:g} sd over "
+                f"{robust['samples']} samples of the scatter)" if robust else obj["name"])
+        print(f"{preset.name}: {obj['sense']}imise {what}: {obj['before']:.6g} -> {obj['after']:.6g}{unit} "
               f"({o.reason}; {o.evaluations} evaluations, start {o.best + 1} of {args.starts})")
         for k, v in out["parameters"].items():
             print(f"  {k}: {v['before']:.6g} -> {v['after']:.6g}  (bounds {v['lo']:g}..{v['hi']:g})")
         for r in out["constraints"]:
             unit = f" {r['unit']}" if r["unit"] else ""
-            print(f"  constraint {r['name']} {r['op']} {r['limit']:g}: {r['value']:.6g}{unit} "
+            stat = f" (mean {r['mean']:.6g}, sd {r['sd']:.3g})" if "mean" in r else ""
+            print(f"  constraint {r['name']} {r['op']} {r['limit']:g}: {r['value']:.6g}{unit}{stat} "
                   f"({'met' if r['met'] else 'NOT met'}, multiplier {r['multiplier']:.3g})")
         print(f"  wrote {rotor_path}, {stem}.png and .json")
     if not o.converged:

@@ -15,8 +15,10 @@ and bounds `lo <= x <= hi`, from many starts at once (vmapped), on JAX gradients
   below `tol` (relative to `max(1, |f|)`), or no step lowering `L` by more than 1e-12
   of it.
 
-Every start runs the same compiled loops (`jax.vmap` over the starts: each lane stops
-changing when it has converged). The result has every start's end point, the best
+Every start runs in lock-step: one compiled program evaluates `L` and its gradient
+at every start's point at once (`jax.vmap`), and the loops around it run on the host
+(a compiled loop around the eigenvalue solves deadlocked XLA's CPU runtime); a start
+stops changing when it has converged. The result has every start's end point, the best
 start's history (per outer iteration: objective, largest violation, `mu`, projected
 gradient, inner iterations), each constraint's value and multiplier.
 """
@@ -86,109 +88,137 @@ def _to_u(x, a, b, log):
     return (np.where(log, np.log(np.where(log, x, 1.0)), x) - a) / (b - a)
 
 
-def _projected_gradient(u, g):
-    return jnp.max(jnp.abs(jnp.clip(u - g, 0.0, 1.0) - u))
+def _evaluator(fn, m, a, b, log):
+    """`L`, `(f, c)` and `dL/du` at every start's point at once: one compiled program
+    per `fn` (cached), the loops around it on the host."""
+    return _batched(fn, m, tuple(a), tuple(b), tuple(bool(v) for v in log))
 
 
-def _inner(vg, u, lam, mu, tol, max_inner, trace, pos, ftol=1e-12):
-    """Projected BFGS on `L(., lam, mu)` in the unit box from `u`: `(u, (L, (f, c)), g, evaluations)`."""
-    n = u.shape[0]
-    (val, aux), g = vg(u, lam, mu)
-    H = jnp.eye(n) * jnp.minimum(1.0, 0.1 / jnp.maximum(jnp.max(jnp.abs(g)), 1e-300))
+@functools.lru_cache(maxsize=32)
+def _batched(fn, m, a, b, log):
+    a, b, log = np.array(a), np.array(b), np.array(log)
 
-    def cond(s):
-        it, u, val, aux, g, H, n_eval, stop, trace, pos = s
-        return (it < max_inner) & (stop == 0) & (_projected_gradient(u, g) > tol * jnp.maximum(1.0, jnp.abs(val)))
-
-    def body(s):
-        it, u, val, aux, g, H, n_eval, _, trace, pos = s
-        free = ~(((u <= 0.0) & (g > 0)) | ((u >= 1.0) & (g < 0)))
-        ff = free[:, None] & free[None, :]
-        d = -(jnp.where(ff, H, 0.0) @ jnp.where(free, g, 0.0))
-        descent = jnp.dot(d, g) < 0
-        d = jnp.where(descent, d, -jnp.where(free, g, 0.0) * jnp.minimum(1.0, 0.1 / jnp.max(jnp.abs(g))))
-        H = jnp.where(descent, H, jnp.eye(n) * jnp.minimum(1.0, 0.1 / jnp.max(jnp.abs(g))))
-
-        def ls_cond(t):
-            step, k, un, vn, auxn, gn, ok = t
-            return ~ok & (k < 24)
-
-        def ls_body(t):
-            step, k, _, _, _, _, _ = t
-            un = jnp.clip(u + step * d, 0.0, 1.0)
-            (vn, auxn), gn = vg(un, lam, mu)
-            ok = jnp.isfinite(vn) & jnp.all(jnp.isfinite(gn)) & (vn <= val + 1e-4 * jnp.dot(g, un - u))
-            return step * 0.5, k + 1, un, vn, auxn, gn, ok
-
-        _, k, un, vn, auxn, gn, ok = jax.lax.while_loop(ls_cond, ls_body, (1.0, 0, u, val, aux, g, False))
-        s_, y = un - u, gn - g
-        sy = jnp.dot(s_, y)
-        rho = 1.0 / jnp.where(sy > 0, sy, 1.0)
-        V = jnp.eye(n) - rho * jnp.outer(s_, y)
-        curved = sy > 1e-12 * jnp.linalg.norm(s_) * jnp.linalg.norm(y)
-        H_new = jnp.where(curved, V @ H @ V.T + rho * jnp.outer(s_, s_), H)
-        keep = lambda new, old: jnp.where(ok, new, old)  # noqa: E731
-        # stalled: no acceptable step, or a step that no longer lowers L (relative to its size)
-        flat = ok & (val - vn <= ftol * jnp.maximum(1.0, jnp.abs(val)))
-        trace = jnp.where(ok & (pos < trace.shape[0]), trace.at[jnp.minimum(pos, trace.shape[0] - 1)].set(
-            jnp.stack([auxn[0], jnp.max(jnp.maximum(auxn[1], 0.0), initial=0.0)])), trace)
-        return (it + 1, keep(un, u), keep(vn, val), jax.tree_util.tree_map(keep, auxn, aux), keep(gn, g),
-                keep(H_new, H), n_eval + k, jnp.where(ok, jnp.where(flat, FLAT, 0), NO_STEP), trace, pos + ok)
-
-    it, u, val, aux, g, H, n_eval, stop, trace, pos = jax.lax.while_loop(
-        cond, body, (0, u, val, aux, g, H, 1, 0, trace, pos))
-    return u, aux, g, n_eval, it, stop, trace, pos
-
-
-def _run(vg, u0, m, tol, max_outer, max_inner, mu0):
-    """One start: the augmented Lagrangian's outer loop (see the module)."""
-    lam = jnp.zeros(m)
-    hist = jnp.full((max_outer, 6), jnp.nan)
-    trace = jnp.full((TRACE, 2), jnp.nan)
-
-    def cond(s):
-        k, u, lam, mu, viol, hist, n_eval, done, trace, pos = s
-        return (k < max_outer) & ~done
-
-    def body(s):
-        k, u, lam, mu, viol_prev, hist, n_eval, _, trace, pos = s
-        u, (f, c), g, ne, inner, stop, trace, pos = _inner(vg, u, lam, mu, tol, max_inner, trace, pos)
-        viol = jnp.max(jnp.maximum(c, 0.0), initial=0.0)
-        lam_new = jnp.maximum(0.0, lam + mu * c)
-        # the Lagrangian's gradient with the new multipliers: the same as L's at the subproblem's end
-        pg = _projected_gradient(u, g)
-        compl = jnp.max(jnp.abs(jnp.minimum(-c, lam_new)), initial=0.0)
-        # converged: feasible, the multipliers consistent, and the subproblem solved (its projected gradient
-        # small, or no further decrease possible at working precision)
-        scale = jnp.maximum(1.0, jnp.abs(f))
-        done = (viol <= tol) & (compl <= tol) & ((pg <= tol * scale) | (stop == FLAT))
-        stuck = (stop == NO_STEP) & (inner <= 1)      # not a step from where the last subproblem ended
-        mu_new = jnp.where(viol > 0.25 * viol_prev, jnp.minimum(10 * mu, 1e10), mu)
-        hist = hist.at[k].set(jnp.stack([f, viol, mu, pg, inner, stop]))
-        return k + 1, u, lam_new, mu_new, viol, hist, n_eval + ne, done | stuck, trace, pos
-
-    k, u, lam, mu, viol, hist, n_eval, end, trace, pos = jax.lax.while_loop(
-        cond, body, (0, u0, lam, jnp.float64(mu0), jnp.float64(jnp.inf), hist, 0, False, trace, 0))
-    last = hist[jnp.maximum(k - 1, 0)]
-    done = end & (last[1] <= tol) & ((last[3] <= tol * jnp.maximum(1.0, jnp.abs(last[0]))) | (last[5] == FLAT))
-    return u, lam, k, hist, n_eval, done, trace
-
-
-@functools.partial(jax.jit, static_argnames=("fn", "m", "tol", "max_outer", "max_inner", "mu0"))
-def _solve(fn, u0s, a, b, log, *, m, tol, max_outer, max_inner, mu0):
-    """Every start's run, and `fn` at the ends: one compiled program per `fn` and
-    settings (a second `minimize` of the same function reuses it)."""
     def lagrangian(u, lam, mu):
         f, c = fn(_to_x(u, a, b, log))
         c = jnp.reshape(c, (m,))
         return f + jnp.sum(jnp.maximum(0.0, lam + mu * c) ** 2 - lam**2) / (2 * mu), (f, c)
 
-    vg = jax.value_and_grad(lagrangian, has_aux=True)
-    u, lam, k, hist, n_eval, done, trace = jax.vmap(
-        lambda u0: _run(vg, u0, m, tol, max_outer, max_inner, mu0))(u0s)
-    ends = jax.vmap(lambda v: _to_x(v, a, b, log))(u)
-    f_end, c_end = jax.vmap(fn)(ends)
-    return u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end
+    vg = jax.jit(jax.vmap(jax.value_and_grad(lagrangian, has_aux=True)))
+
+    def evaluate(U, lam, mu):
+        (val, (f, c)), g = vg(jnp.asarray(U), jnp.asarray(lam), jnp.asarray(mu))
+        return np.asarray(val), np.asarray(f), np.asarray(c).reshape(len(U), m), np.asarray(g)
+
+    return evaluate
+
+
+def _projected_gradient(U, G):
+    return np.max(np.abs(np.clip(U - G, 0.0, 1.0) - U), axis=-1)
+
+
+def _inner(evaluate, U, lam, mu, tol, max_inner, trace, pos, active, ftol=1e-12):
+    """Projected BFGS on `L(., lam, mu)` in the unit box from each row of `U` (the rows
+    not `active` are carried along unchanged): `(U, f, c, G, evaluations, iterations,
+    stop, trace, pos)`."""
+    S, n = U.shape
+    val, f, c, G = evaluate(U, lam, mu)
+    gmax = np.maximum(np.max(np.abs(G), axis=1), 1e-300)
+    H = np.eye(n)[None] * np.minimum(1.0, 0.1 / gmax)[:, None, None]
+    n_eval, it = np.ones(S, int), np.zeros(S, int)
+    stop = np.zeros(S, int)
+    running = active.copy()
+    for _ in range(max_inner):
+        running &= (stop == 0) & (_projected_gradient(U, G) > tol * np.maximum(1.0, np.abs(val)))
+        if not running.any():
+            break
+        free = ~(((U <= 0.0) & (G > 0)) | ((U >= 1.0) & (G < 0)))
+        ff = free[:, :, None] & free[:, None, :]
+        D = -np.einsum("sij,sj->si", np.where(ff, H, 0.0), np.where(free, G, 0.0))
+        descent = np.einsum("si,si->s", D, G) < 0
+        scale = np.minimum(1.0, 0.1 / np.maximum(np.max(np.abs(G), axis=1), 1e-300))
+        D = np.where(descent[:, None], D, -np.where(free, G, 0.0) * scale[:, None])
+        H = np.where(descent[:, None, None], H, np.eye(n)[None] * scale[:, None, None])
+        # projected backtracking (Armijo), every running start's trial point at once
+        step, ok, k = np.ones(S), np.zeros(S, bool), np.zeros(S, int)
+        Un, vn, fn_, cn, Gn = U.copy(), val.copy(), f.copy(), c.copy(), G.copy()
+        for _ in range(24):
+            trying = running & ~ok
+            if not trying.any():
+                break
+            T = np.where(trying[:, None], np.clip(U + step[:, None] * D, 0.0, 1.0), U)
+            tv, tf, tc, tG = evaluate(T, lam, mu)
+            good = trying & np.isfinite(tv) & np.all(np.isfinite(tG), axis=1) & (
+                tv <= val + 1e-4 * np.einsum("si,si->s", G, T - U))
+            Un[good], vn[good], fn_[good], cn[good], Gn[good] = T[good], tv[good], tf[good], tc[good], tG[good]
+            ok |= good
+            k += trying
+            step = np.where(trying & ~good, step * 0.5, step)
+        Sd, Y = Un - U, Gn - G
+        sy = np.einsum("si,si->s", Sd, Y)
+        rho = 1.0 / np.where(sy > 0, sy, 1.0)
+        V = np.eye(n)[None] - rho[:, None, None] * Sd[:, :, None] * Y[:, None, :]
+        curved = sy > 1e-12 * np.linalg.norm(Sd, axis=1) * np.linalg.norm(Y, axis=1)
+        H_new = np.where(curved[:, None, None], V @ H @ np.swapaxes(V, 1, 2)
+                         + rho[:, None, None] * Sd[:, :, None] * Sd[:, None, :], H)
+        upd = running & ok
+        # stalled: no acceptable step, or a step that no longer lowers L (relative to its size)
+        flat = upd & (val - vn <= ftol * np.maximum(1.0, np.abs(val)))
+        for s_ in np.flatnonzero(upd & (pos < trace.shape[1])):
+            trace[s_, pos[s_]] = [fn_[s_], np.max(np.maximum(cn[s_], 0.0), initial=0.0)]
+        pos = pos + upd
+        U = np.where(upd[:, None], Un, U)
+        val, f = np.where(upd, vn, val), np.where(upd, fn_, f)
+        c, G = np.where(upd[:, None], cn, c), np.where(upd[:, None], Gn, G)
+        H = np.where(upd[:, None, None], H_new, H)
+        n_eval += np.where(running, k, 0)
+        it += running
+        stop = np.where(running, np.where(ok, np.where(flat, FLAT, 0), NO_STEP), stop)
+    return U, f, c, G, n_eval, it, stop, trace, pos
+
+
+def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0):
+    """Every start's augmented-Lagrangian run (see the module), lock-step: each outer
+    iteration's subproblems for all the starts not yet done, their evaluations batched
+    (one compiled `L` and gradient for all starts); the loops run on the host, so no
+    compiled loop holds the eigenvalue solves (XLA's CPU runtime deadlocked on a
+    vmapped loop of them: `rotorjax._config`)."""
+    evaluate = _evaluator(fn, m, a, b, log)
+    S = U0.shape[0]
+    U = np.array(U0, dtype=float)
+    lam = np.zeros((S, m))
+    mu = np.full(S, float(mu0))
+    viol_prev = np.full(S, np.inf)
+    hist = np.full((S, max_outer, 6), np.nan)
+    trace = np.full((S, TRACE, 2), np.nan)
+    pos = np.zeros(S, int)
+    k = np.zeros(S, int)
+    n_eval = np.zeros(S, int)
+    running = np.ones(S, bool)
+    for _ in range(max_outer):
+        if not running.any():
+            break
+        U, f, c, G, ne, inner, stop, trace, pos = _inner(evaluate, U, lam, mu, tol, max_inner, trace, pos, running)
+        viol = np.max(np.maximum(c, 0.0), axis=1, initial=0.0)
+        lam_new = np.maximum(0.0, lam + mu[:, None] * c)
+        pg = _projected_gradient(U, G)
+        compl = np.max(np.abs(np.minimum(-c, lam_new)), axis=1, initial=0.0)
+        scale = np.maximum(1.0, np.abs(f))
+        done = (viol <= tol) & (compl <= tol) & ((pg <= tol * scale) | (stop == FLAT))
+        stuck = (stop == NO_STEP) & (inner <= 1)      # not a step from where the last subproblem ended
+        mu_new = np.where(viol > 0.25 * viol_prev, np.minimum(10 * mu, 1e10), mu)
+        for s_ in np.flatnonzero(running):
+            hist[s_, k[s_]] = [f[s_], viol[s_], mu[s_], pg[s_], inner[s_], stop[s_]]
+        lam = np.where(running[:, None], lam_new, lam)
+        mu = np.where(running, mu_new, mu)
+        viol_prev = np.where(running, viol, viol_prev)
+        n_eval += np.where(running, ne, 0)
+        k += running
+        running &= ~(done | stuck)
+    last = hist[np.arange(S), np.maximum(k - 1, 0)]
+    done = (last[:, 1] <= tol) & ((last[:, 3] <= tol * np.maximum(1.0, np.abs(last[:, 0]))) | (last[:, 5] == FLAT))
+    ends = np.asarray(jax.vmap(lambda v: _to_x(v, a, b, log))(jnp.asarray(U)))
+    _, f_end, c_end, _ = evaluate(U, lam, mu)
+    return U, lam, k, hist, n_eval, done, trace, ends, f_end, c_end
 
 
 def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=200, mu0=10.0) -> Optimum:
@@ -211,9 +241,9 @@ def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=
         raise InputError("minimize: every start must lie within the bounds")
     a, b = _ends(lo, hi, log)
     m = int(np.prod(jax.eval_shape(fn, jnp.asarray(starts[0]))[1].shape))
-    u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end = (np.asarray(v) for v in _solve(
-        fn, jnp.asarray(_to_u(starts, a, b, log)), jnp.asarray(a), jnp.asarray(b), jnp.asarray(log), m=m,
-        tol=float(tol), max_outer=int(max_outer), max_inner=int(max_inner), mu0=float(mu0)))
+    u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end = _solve(
+        fn, _to_u(starts, a, b, log), a, b, log, m=m, tol=float(tol), max_outer=int(max_outer),
+        max_inner=int(max_inner), mu0=float(mu0))
     c_end = c_end.reshape(len(ends), m)
     viol = np.max(np.maximum(c_end, 0.0), axis=1, initial=0.0)
     finite = np.isfinite(f_end) & np.all(np.isfinite(c_end), axis=1)

@@ -20,6 +20,16 @@ design wants them large (max) or small (min) unless told:
   unstable (`onset_speed`);
 - `mass` (min): the rotor's mass, kg.
 
+**Robust design** (`scatter`, `robust_k`): parameters that are not designed but
+scatter (bearing coefficients, a disk's mass: `{name: distribution}`, as
+`rotorjax.uncertainty` takes them) are drawn once, `robust_samples` of them (common
+random numbers: the same samples at every design, so the statistics are smooth
+functions of the design and their gradients exact), and every quantity becomes its
+sample mean and standard deviation over them. The objective is the mean moved by `k`
+standard deviations the bad way (`mean - k sd` for a quantity maximised, `mean + k
+sd` for one minimised), and so is each constraint (`mean - k sd >= limit`, `mean + k
+sd <= limit`): with normal outputs, `k = 1.645` holds a limit at 95 %.
+
 Critical speeds and the onset are followed from the file's own values (the nominal
 rotor's, by `secant_root`): a design where one is lost (no longer converges) is a
 non-finite point, which the search steps back from.
@@ -71,6 +81,15 @@ class RotorProblem:
     fn: object
     scales: dict
     settings: dict
+    robust: dict | None = None
+
+    def value(self, q, name, worse):
+        """A quantity's value in the problem's terms from `quantities(x)`'s `q`: itself,
+        or (robust) its mean moved by `k` standard deviations towards `worse` (+1: up,
+        -1: down)."""
+        if self.robust is None:
+            return q[name]
+        return q[name] + worse * self.robust["k"] * q[f"{name} sd"]
 
 
 def parse_constraint(text, option="--constraint"):
@@ -117,7 +136,7 @@ def _bounds(file, vary, option):
 
 def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n_modes=3, operating=None,
                   critical_range=None, probes=None, n_grid=None, overrides=None, sense=None, max_frequency=None,
-                  option="--vary") -> RotorProblem:
+                  scatter=None, robust_k=None, robust_samples=32, seed=0, option="--vary") -> RotorProblem:
     """The design problem of the rotor file `rotor` (a path or a `RotorFile`).
 
     - `vary`: `{name: (lo, hi)}` (rotor-file names; a positive quantity's bounds above
@@ -132,12 +151,15 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
       log-dec floor (33) and the response (400); `max_frequency` (rad/s): the log
       decrements counted are the modes' below it (default: a cut above the nominal
       rotor's `n_modes`-th mode, `mode_cut`);
+    - `scatter`: `{name: distribution}` of parameters not varied, `robust_k` (default 1
+      with `scatter`), `robust_samples`, `seed`: a robust design (see the module);
     - `overrides`: `--set` values; `option`: the option the names came with.
     """
     file = read_rotor_file(rotor, overrides) if isinstance(rotor, str) else rotor
     if not vary:
         raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} bearing0.kxx=1e5:1e7")
     names, paths, lo, hi, nominal, log = _bounds(file, vary, option)
+    noise_paths, noise, robust = _scatter(file, names, scatter, robust_k, robust_samples, seed)
     wanted = [objective] + [c[0] for c in constraints]
     for name in wanted:
         if name not in SENSES:
@@ -209,8 +231,8 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
             n_eig = min(n_dof, counted + 4)
         settings.update(log_dec_modes_counted=counted, log_dec_max_frequency=[float(np.min(cut)), float(np.max(cut))])
 
-    def quantities(x, which=tuple(dict.fromkeys(wanted))):
-        p = with_values(parts, paths, x)
+    def at(values, which):
+        p = with_values(parts, paths + noise_paths, values)
         scene = scene_from(p, file.scene)   # the file's linear(ised) rotor: fluid films, seals, reduction
         out = {}
         for name in which:
@@ -227,23 +249,75 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
                 out[name] = _response(scene, probe_nodes, s_lo, s_hi, n_resp)
         return out
 
+    def quantities(x, which=tuple(dict.fromkeys(wanted))):
+        if robust is None:
+            return at(x, which)
+        each = jax.vmap(lambda xi: at(jnp.concatenate([x, xi]), which))(jnp.asarray(noise))
+        out = {name: jnp.mean(v) for name, v in each.items()}
+        out.update({f"{name} sd": _sd(v) for name, v in each.items()})
+        return out
+
     q0 = jax.jit(quantities)(jnp.asarray(np.clip(nominal, lo, hi)))
-    bad = [k for k, v in q0.items() if not np.isfinite(float(v))]
+    bad = [k for k, v in q0.items() if not np.isfinite(float(v)) and not k.endswith(" sd")]
     if bad:
         raise NumericalError(f"{file.label}: {', '.join(bad)} not finite at the starting design")
     scales = {k: max(abs(float(v)), 1e-12) for k, v in q0.items()}
     for name, op, limit in constraints:
         scales[name] = max(scales[name], abs(limit), 1e-3 if UNITS[name] in ("", "%") else 1e-12)
 
+    problem = RotorProblem(file, names, paths, lo, hi, nominal, log, objective, sense, tuple(constraints),
+                           quantities, None, scales, settings, robust)
+
     def fn(x):
         q = quantities(x)
-        f = -sense * q[objective] / scales[objective]
-        c = [(limit - q[name]) / scales[name] if op == ">=" else (q[name] - limit) / scales[name]
-             for name, op, limit in constraints]
+        f = -sense * problem.value(q, objective, -sense) / scales[objective]
+        c = [(limit - problem.value(q, name, -1)) / scales[name] if op == ">="
+             else (problem.value(q, name, 1) - limit) / scales[name] for name, op, limit in constraints]
         return f, jnp.stack(c) if c else jnp.zeros(0)
 
-    return RotorProblem(file, names, paths, lo, hi, nominal, log, objective, sense, tuple(constraints),
-                        quantities, fn, scales, settings)
+    return dataclasses.replace(problem, fn=fn)
+
+
+def _sd(v):
+    """The sample standard deviation, with a finite derivative where it is 0 (a
+    quantity the scatter does not move, such as the mass under bearing scatter)."""
+    var = jnp.sum((v - jnp.mean(v)) ** 2) / (v.shape[0] - 1)
+    pos = var > 0
+    return jnp.where(pos, jnp.sqrt(jnp.where(pos, var, 1.0)), 0.0)
+
+
+def _scatter(file, varied, scatter, k, n, seed):
+    """The scattered parameters' paths, their `(n, m)` samples and the robust settings
+    (or `(), None, None` without `scatter`)."""
+    if not scatter:
+        if k is not None:
+            raise InputError("--robust: give the parameters that scatter, --scatter KEY=lognormal(MEAN,SD) ...")
+        return (), None, None
+    from ..uncertainty import draw, reaches_zero
+
+    k = 1.0 if k is None else float(k)
+    if not (np.isfinite(k) and k >= 0):
+        raise InputError(f"--robust {k:g}: the number of standard deviations must be >= 0")
+    if not isinstance(n, (int, np.integer)) or n < 2:
+        raise InputError(f"--robust-samples {n}: at least 2")
+    paths = []
+    for name, dist in scatter.items():
+        if name in varied:
+            raise InputError(f"--scatter {name}: also given to --vary; a designed parameter cannot scatter (give "
+                             "the scatter of another parameter)")
+        path = file.path(name)
+        if path is None:
+            raise InputError(f"--scatter {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` "
+                             "lists its keys")
+        if path.refusal:
+            raise InputError(f"--scatter {name}: {path.refusal}")
+        if not file.signed(name) and reaches_zero(dist):
+            raise InputError(f"--scatter {name}={dist.text()}: {name} is a positive quantity and this distribution "
+                             "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
+        paths.append(path)
+    samples = draw(scatter, int(n), seed=seed)
+    return tuple(paths), samples, {"k": k, "samples": int(n), "seed": int(seed),
+                                   "scatter": {name: d.text() for name, d in scatter.items()}}
 
 
 def _separation(r, crit, op_lo, op_hi):
@@ -299,9 +373,14 @@ class RotorDesign:
 
     def as_dict(self) -> dict:
         o, p = self.optimum, self.problem
-        return {"objective": {"name": p.objective, "sense": "max" if p.sense > 0 else "min",
-                              "before": self.quantities_before[p.objective],
-                              "after": self.quantities_after[p.objective], "unit": UNITS[p.objective]},
+        objective = {"name": p.objective, "sense": "max" if p.sense > 0 else "min",
+                     "before": float(p.value(self.quantities_before, p.objective, -p.sense)),
+                     "after": float(p.value(self.quantities_after, p.objective, -p.sense)), "unit": UNITS[p.objective]}
+        if p.robust is not None:
+            objective.update({f"{w} {s}": q[f"{p.objective}{t}"] for w, q in (("before", self.quantities_before),
+                                                                              ("after", self.quantities_after))
+                              for s, t in (("mean", ""), ("sd", " sd"))})
+        return {"objective": objective,
                 "parameters": {k: {"before": self.before[k], "after": self.after[k], "lo": float(a), "hi": float(b),
                                    "log_scaled": bool(g)}
                                for k, a, b, g in zip(p.names, p.lo, p.hi, p.log)},
@@ -313,7 +392,7 @@ class RotorDesign:
                              "projected_gradient": float(h[3]), "steps": int(h[4])} for h in o.history],
                 "steps": [{"objective": -p.sense * float(f) * p.scales[p.objective], "violation": float(v)}
                           for f, v in o.steps],
-                "settings": p.settings}
+                "settings": p.settings, "robust": p.robust}
 
 
 def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_outer=30) -> RotorDesign:
@@ -328,9 +407,12 @@ def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_oute
     q = jax.jit(p.quantities)
     before = {k: float(v) for k, v in q(jnp.asarray(starts[0])).items()}
     after = {k: float(v) for k, v in q(jnp.asarray(o.x)).items()}
-    rows = [{"name": name, "op": op, "limit": limit, "value": after[name], "unit": UNITS[name],
-             "met": bool(o.constraints[j] <= tol), "multiplier": float(o.multipliers[j])}
+    rows = [{"name": name, "op": op, "limit": limit, "value": float(p.value(after, name, -1 if op == ">=" else 1)),
+             "unit": UNITS[name], "met": bool(o.constraints[j] <= tol), "multiplier": float(o.multipliers[j])}
             for j, (name, op, limit) in enumerate(p.constraints)]
+    if p.robust is not None:
+        for r in rows:
+            r.update(mean=after[r["name"]], sd=after[f"{r['name']} sd"])
     if not o.feasible:
         broken = [f"{r['name']}{r['op']}{r['limit']:g} (best {r['value']:.4g})" for r in rows if not r["met"]]
         raise InputError(f"--constraint: no start of {len(starts)} met {', '.join(broken) or 'the constraints'}: "

@@ -115,6 +115,16 @@ def distribution(kind, a, b, name="the parameter"):
     return KINDS[kind](a, b)
 
 
+def reaches_zero(dist) -> bool:
+    """Whether `dist` puts weight at or below 0 (a normal one within 5 standard
+    deviations of its mean): not for a positive quantity."""
+    if isinstance(dist, Normal):
+        return dist.mean <= 5 * dist.sd
+    if isinstance(dist, Uniform):
+        return dist.lo <= 0
+    return False
+
+
 def parse_distribution(text, option="--dist"):
     """`KEY=kind(A,B)` (`bearing0.kxx=normal(1e6,5e4)`) as `(key, distribution)`."""
     m = _SPEC.match(text)

@@ -25,6 +25,7 @@ from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues
 from ..io import read_rotor_file
 from ..models import SpinMatrices
 from ..models._parameters import parts_of, value_of, with_values
+from ._distributions import reaches_zero
 
 #: a fixed point whose residual exceeds this (relative to the speed) has not converged
 CRITICAL_TOLERANCE = 1e-8
@@ -70,7 +71,7 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
             raise InputError(f"{option} {name}: {path.refusal}")
         paths.append(path)
         dist = inputs[name] if isinstance(inputs, dict) else None
-        if dist is not None and not file.signed(name) and _reaches_zero(dist):
+        if dist is not None and not file.signed(name) and reaches_zero(dist):
             raise InputError(f"{option} {name}={dist.text()}: {name} is a positive quantity and this distribution "
                              "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
     speed = float(file.entries["speed"].value) if speed is None else float(speed)
@@ -115,12 +116,3 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
                              f"({', '.join(n for n, v in zip(outputs, f0) if not np.isfinite(v))})")
     return RotorQuantities(fn, outputs, names, nominal, crit, speed, file.label)
 
-
-def _reaches_zero(dist):
-    from ._distributions import Normal, Uniform
-
-    if isinstance(dist, Normal):
-        return dist.mean <= 5 * dist.sd
-    if isinstance(dist, Uniform):
-        return dist.lo <= 0
-    return False

@@ -11,6 +11,7 @@ import pytest
 from rotorjax._errors import InputError
 from rotorjax.design import latin_starts, minimize, optimize_rotor, parse_constraint, rotor_problem
 from rotorjax.io import read_rotor_file, shipped_rotor
+from rotorjax.uncertainty import LogNormal, Normal, draw
 
 SETS = {"bearing0.cxx": 500.0, "bearing0.cyy": 500.0, "bearing1.cxx": 500.0, "bearing1.cyy": 500.0}
 
@@ -106,6 +107,29 @@ def test_an_active_separation_constraint_holds_with_its_multiplier(file):
     assert slack == pytest.approx(0.0, abs=0.05)     # the soft minimum over the three critical speeds: within 0.05
 
 
+def test_a_robust_design_holds_its_constraint_k_standard_deviations_out(file):
+    """The disks lightened as above, but the bearings' stiffnesses scatter (lognormal, 10
+    %): the separation margin's mean less 2 standard deviations over 8 common samples
+    must stay >= 0. The robust optimum is heavier than the nominal one (64.9 kg); its
+    constraint is active with a positive multiplier; and the statistic equals the mean
+    less 2 sample standard deviations of the margin evaluated independently, sample by
+    sample, by the problem that varies the bearings' stiffnesses as parameters."""
+    scatter = {"bearing0.kxx": LogNormal(1e6, 1e5), "bearing1.kxx": LogNormal(1e6, 1e5)}
+    vary = {"disk0.m": (15.0, 40.0), "disk1.m": (15.0, 40.0)}
+    p = rotor_problem(file, vary, "mass", [("separation-margin", ">=", 0.0)], operating=(400.0, 600.0),
+                      scatter=scatter, robust_k=2.0, robust_samples=8)
+    d = optimize_rotor(p, n_starts=1)
+    row, = d.constraint_rows
+    assert d.optimum.converged and row["met"] and abs(row["value"]) < 1e-4 and row["multiplier"] > 0
+    assert d.quantities_after["mass"] > 67.0 and row["sd"] > 0.5
+    plain = rotor_problem(file, {**vary, "bearing0.kxx": (5e5, 2e6), "bearing1.kxx": (5e5, 2e6)},
+                          "separation-margin", operating=(400.0, 600.0))
+    X = np.concatenate([np.tile([d.after["disk0.m"], d.after["disk1.m"]], (8, 1)), draw(scatter, 8, seed=0)], axis=1)
+    each = np.array([float(jax.jit(plain.quantities)(jnp.asarray(x))["separation-margin"]) for x in X])
+    assert row["value"] == pytest.approx(each.mean() - 2 * each.std(ddof=1), abs=1e-6)
+    assert row["mean"] == pytest.approx(each.mean(), abs=1e-6)
+
+
 @pytest.mark.parametrize("call, match", [
     (lambda f: rotor_problem(f, {"bearing9.kxx": (1e5, 1e6)}, "mass"), r"--vary bearing9\.kxx: not a parameter"),
     (lambda f: rotor_problem(f, {"bearing0.kxx": (1e6, 1e5)}, "mass"),
@@ -122,6 +146,17 @@ def test_an_active_separation_constraint_holds_with_its_multiplier(file):
     (lambda f: optimize_rotor(rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "min-log-dec", [("mass", "<=", 1.0)],
                                             speed_range=(0.0, 600.0), n_grid=9), n_starts=1),
      r"--constraint: no start of 1 met mass<=1"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", scatter={"disk0.m": LogNormal(30.0, 1.0)}),
+     r"--scatter disk0\.m: also given to --vary"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", scatter={"disk9.m": LogNormal(30.0, 1.0)}),
+     r"--scatter disk9\.m: not a parameter"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", scatter={"disk1.m": Normal(30.0, 10.0)}),
+     r"--scatter disk1\.m=normal\(30, 10\): disk1\.m is a positive quantity"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", robust_k=1.0), r"--robust: give the parameters"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", scatter={"disk1.m": LogNormal(30.0, 1.0)},
+                             robust_k=-1.0), r"--robust -1: the number of standard deviations must be >= 0"),
+    (lambda f: rotor_problem(f, {"disk0.m": (20.0, 40.0)}, "mass", scatter={"disk1.m": LogNormal(30.0, 1.0)},
+                             robust_samples=1), r"--robust-samples 1: at least 2"),
     (lambda f: parse_constraint("mass=3"), r"--constraint 'mass=3': give NAME>=VALUE"),
     (lambda f: parse_constraint("mass<=heavy"), r"'heavy' is not a number"),
     (lambda f: parse_constraint("weight<=3"), r"unknown quantity 'weight'"),
