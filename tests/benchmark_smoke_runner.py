@@ -14,8 +14,13 @@ import sys
 import time
 import traceback
 
-# as the scripts that split work over host devices set it (before jax is imported)
-os.environ.setdefault("XLA_FLAGS", "--xla_force_host_platform_device_count=2 --xla_cpu_multi_thread_eigen=false")
+# as the scripts that split work over host devices set it (before jax is imported); added to the flags this
+# process inherits (pytest's, where importing rotorjax has already set one: `rotorjax._config`)
+_FLAGS = os.environ.get("XLA_FLAGS", "")
+for _flag in ("--xla_force_host_platform_device_count=2", "--xla_cpu_multi_thread_eigen=false"):
+    if _flag.split("=")[0] not in _FLAGS:
+        _FLAGS = f"{_FLAGS} {_flag}".strip()
+os.environ["XLA_FLAGS"] = _FLAGS
 BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks")
 
 
