@@ -110,15 +110,21 @@ def parse_constraint(text, option="--constraint"):
     raise InputError(f"{option} {text!r}: give NAME>=VALUE or NAME<=VALUE, e.g. 'min-log-dec>=0.1'")
 
 
+def _path(file, name, option):
+    """The parameter path of the rotor-file name `name`, or `InputError` naming it."""
+    path = file.path(name)
+    if path is None:
+        raise InputError(f"{option} {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` lists "
+                         "its keys")
+    if path.refusal:
+        raise InputError(f"{option} {name}: {path.refusal}")
+    return path
+
+
 def _bounds(file, vary, option):
     names, paths, lo, hi, nominal, log = [], [], [], [], [], []
     for name, (a, b) in vary.items():
-        path = file.path(name)
-        if path is None:
-            raise InputError(f"{option} {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` "
-                             "lists its keys")
-        if path.refusal:
-            raise InputError(f"{option} {name}: {path.refusal}")
+        path = _path(file, name, option)
         if not (np.isfinite(a) and np.isfinite(b) and a < b):
             raise InputError(f"{option} {name}={a:g}:{b:g}: the bounds need LO < HI")
         domain = file.entries[name].domain if name in file.entries else (">=0" if file.signed(name) else ">0")
@@ -305,12 +311,7 @@ def _scatter(file, varied, scatter, k, n, seed):
         if name in varied:
             raise InputError(f"--scatter {name}: also given to --vary; a designed parameter cannot scatter (give "
                              "the scatter of another parameter)")
-        path = file.path(name)
-        if path is None:
-            raise InputError(f"--scatter {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` "
-                             "lists its keys")
-        if path.refusal:
-            raise InputError(f"--scatter {name}: {path.refusal}")
+        path = _path(file, name, "--scatter")
         if not file.signed(name) and reaches_zero(dist):
             raise InputError(f"--scatter {name}={dist.text()}: {name} is a positive quantity and this distribution "
                              "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
