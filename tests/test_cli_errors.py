@@ -9,7 +9,6 @@ import os
 import re
 import shutil
 
-import numpy as np
 import pytest
 
 import rotorjax
@@ -415,6 +414,16 @@ CASES = [
      r"--range 500 100: the critical speeds' range needs 0 <= LO < HI"),
     (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--modes", "-1"], 2, r"--modes -1: at least 0"),
     (["uncertainty", "elliptic-abb", "--dist", "k=normal(1,0.1)"], 2, r"`uncertainty` does not apply to"),
+    (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--output", "response"], 2,
+     r"response: .*flexible_rig\.toml has no \[\[unbalance\]\] to respond to"),
+    (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--output", "separation-margin"], 2,
+     r"--operating: separation-margin needs the operating range"),
+    (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--output", "separation-margin", "--operating", "600",
+      "400"], 2, r"--operating 600 400: needs 0 < LO <= HI"),
+    (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--output", "onset", "--range", "0", "500"], 2,
+     r"onset: .*flexible_rig\.toml has no stability onset"),
+    (["uncertainty", *FR, "--dist", "disk0.m=lognormal(10,1)", "--output", "margin"], 2,
+     r"--output: invalid choice: 'margin'"),
     (["uncertainty", "tapered_two_material.toml", "--dist", "disk0.m=lognormal(10,1)"], 2,
      r"--range: .*tapered_two_material\.toml has no operating speed \(\[rotor\] speed\)"),
     # --- balance on a rotor file ---

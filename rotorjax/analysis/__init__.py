@@ -86,6 +86,8 @@ from ._margins import onset_speed as onset_speed
 from ._margins import required_separation_margin as required_separation_margin
 from ._margins import separation_slack as separation_slack
 from ._margins import soft_min as soft_min
+from ._quantities import SceneQuantities as SceneQuantities
+from ._quantities import scene_quantities as scene_quantities
 from ._linear import Modes as Modes
 from ._linear import campbell as campbell
 from ._linear import CampbellCriticalSpeed as CampbellCriticalSpeed

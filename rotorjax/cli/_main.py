@@ -5,6 +5,7 @@ import argparse
 import re
 import sys
 
+from ..analysis._quantities import SENSES
 from ..identify import FITTABLE
 from ..presets import PRESETS
 from ._balance import cmd_balance, cmd_identify
@@ -26,6 +27,8 @@ from ._simulate import cmd_simulate
 from ._stability import HOPF_RANGE, cmd_critical_speeds, cmd_hopf, cmd_stability_map, cmd_steady
 
 PRESET_NAMES = tuple(PRESETS)
+#: the quantities `optimize` optimises and `uncertainty --output` propagates
+QUANTITIES = tuple(SENSES)
 #: the keys `bifurcation` can sweep (on the presets that sweep)
 SWEEPABLE = tuple(dict.fromkeys(k for p in PRESETS.values() for k in p.sweepable))
 SOLVERS = ("auto", "dopri8", "dopri5", "tsit5", "kvaerno5", "kvaerno3")
@@ -390,8 +393,8 @@ def build_parser():
         (("--method",), dict(default="lm", choices=("lm", "optax"), help="rotor file: Levenberg-Marquardt, or "
                                                                           "optax's Adam (gradient descent)")),
     ], kinds="balancing-machine, rotor files")
-    _command(sub, "uncertainty", "a rotor file's critical speeds and log decrements as distributions of its "
-             "parameters' scatter (vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
+    _command(sub, "uncertainty", "a rotor file's critical speeds, log decrements, margins and responses as "
+             "distributions of its parameters' scatter (vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
         (("--dist",), dict(action="append", default=None, metavar="KEY=DIST(A,B)",
                            help="a parameter's distribution, by its rotor-file name: normal(MEAN,SD), "
                                 "lognormal(MEAN,SD) (the quantity's own mean and sd) or uniform(LO,HI); repeatable")),
@@ -401,19 +404,28 @@ def build_parser():
         (("--speed",), dict(type=nonnegative, default=None, help="the speed of the log decrements, rad/s (default: "
                                                                  "the file's [rotor] speed)")),
         (("--modes",), dict(type=int, default=3, help="log decrements of this many modes (by frequency; 0: none)")),
+        (("--output",), dict(action="append", default=None, choices=QUANTITIES,
+                             help="also a design quantity over --range: min-log-dec (the floor of the first --modes "
+                                  "modes), separation-margin (API 684 slack, percent; needs --operating), response "
+                                  "(largest unbalance response at the probes, m), onset (rad/s), mass; repeatable")),
+        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+                                help="--output separation-margin: the operating speed range, rad/s")),
+        (("--probe",), dict(type=int, action="append", default=None, help="--output response: a probe node "
+                                                                           "(default: every node); repeatable")),
         (("--seed",), dict(type=int, default=0, help="the random seed")),
     ], kinds="rotor files", description="A rotor file's forward 1x critical speeds (in --range) and the log "
        "decrements of its first --modes modes (at --speed) as distributions of its parameters' scatter "
        "(--dist KEY=normal(MEAN,SD) | lognormal(MEAN,SD) | uniform(LO,HI), parameters by their rotor-file "
-       "names): Monte Carlo means, standard deviations and 5/50/95 % quantiles, the first-order (FOSM) mean and "
-       "standard deviation from autodiff gradients, each parameter's share of the variance, and the probability "
-       "that a mode is unstable (log dec < 0) with its 95 % interval; a histogram per output.")
+       "names), and any --output design quantity (the same as optimize's): Monte Carlo means, standard "
+       "deviations and 5/50/95 % quantiles, the first-order (FOSM) mean and standard deviation from autodiff "
+       "gradients, each parameter's share of the variance, and the probabilities that a mode is unstable (log dec "
+       "< 0) and that the separation margin falls short of API 684's, with their 95 % intervals; a histogram per "
+       "output.")
     _command(sub, "optimize", "a rotor file's parameters chosen within bounds against its margins (min-log-dec, "
              "separation-margin, response, onset, mass), written as a rotor file", cmd_optimize, [
         (("--vary",), dict(action="append", default=None, metavar="KEY=LO:HI",
                            help="a parameter to choose, by its rotor-file name, and its bounds; repeatable")),
-        (("--objective",), dict(default="min-log-dec", choices=("min-log-dec", "separation-margin", "response",
-                                                                "onset", "mass"),
+        (("--objective",), dict(default="min-log-dec", choices=QUANTITIES,
                                 help="the quantity to optimise (maximised: min-log-dec, separation-margin, onset; "
                                      "minimised: response, mass; --sense overrides)")),
         (("--sense",), dict(default=None, choices=("min", "max"), help="minimise or maximise the objective")),

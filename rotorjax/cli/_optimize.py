@@ -61,7 +61,7 @@ def cmd_optimize(args) -> int:
                             operating=args.operating, probes=args.probe, sense=sense,
                             max_frequency=args.max_frequency, scatter=scatter, robust_k=args.robust,
                             robust_samples=args.robust_samples, seed=args.seed)
-    design = optimize_rotor(problem, n_starts=args.starts, seed=args.seed)
+    design = optimize_rotor(problem, n_starts=args.starts, seed=args.seed, progress=not args.json)
     o = design.optimum
     stem = out_stem(args.out, preset, "optimize_")
     rotor_path = stem + ".toml"

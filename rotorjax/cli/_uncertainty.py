@@ -1,6 +1,8 @@
-"""`uncertainty ROTOR.toml --dist KEY=normal(MEAN,SD) ...`: a rotor file's critical
-speeds and log decrements as distributions (vmapped Monte Carlo and first-order
-moments), with the probability that a mode is unstable."""
+"""`uncertainty ROTOR.toml --dist KEY=normal(MEAN,SD) ... [--output NAME ...]`: a rotor
+file's critical speeds, log decrements and design quantities (response, onset,
+separation margin, ...) as distributions (vmapped Monte Carlo and first-order
+moments), with the probability that a mode is unstable and that a critical speed is
+short of API 684's separation margin."""
 
 import json
 import os
@@ -39,16 +41,22 @@ def cmd_uncertainty(args) -> int:
     prepare_out(args.out)
     lo, hi = args.range if args.range is not None else (None, None)
     q = rotor_quantities(preset.name, inputs, lo=lo, hi=hi, speed=args.speed, n_modes=args.modes,
-                         overrides=overrides)
-    res = propagate(q.fn, inputs, samples=args.samples, seed=args.seed, names=q.outputs)
-    unstable = {}
+                         overrides=overrides, quantities=tuple(args.output or ()), operating=args.operating,
+                         probes=args.probe)
+    res = propagate(q.fn, inputs, samples=args.samples, seed=args.seed, names=q.outputs,
+                    progress=not args.json)
+    unstable, short = {}, {}
     for name in q.outputs:
-        if name.startswith("log_dec_"):
+        if name.startswith("log_dec_") or name == "min-log-dec" or name == "separation-margin":
             p, (a, b) = res.probability(name, below=0.0)
-            unstable[name] = {"p": p, "ci95": [a, b]}
+            (short if name == "separation-margin" else unstable)[name] = {"p": p, "ci95": [a, b]}
     out = {"preset": preset.name, "speed": q.speed, "parameters": {k: float(v) for k, v in zip(q.names, q.nominal)},
            "nominal_critical_speeds": [w for w, _ in q.critical], **res.as_dict(),
            "probability_unstable": unstable}
+    if short:
+        out["probability_separation_short"] = short
+    if q.settings:
+        out["settings"] = q.settings
     stem = out_stem(args.out, preset, "uncertainty_")
     title = f"{os.path.basename(preset.name)}: {res.n} samples of {len(inputs)} parameter(s)"
     save_figure(plot_uncertainty(result=res, title=title), stem + ".png")
@@ -66,7 +74,7 @@ def cmd_uncertainty(args) -> int:
             print(f"  {name}: mean {res.mean[j]:.6g} (+- {res.sem[j]:.2g}), sd {res.std[j]:.4g}, 5-95 % "
                   f"[{lo5:.6g}, {hi95:.6g}]; first order {res.fosm_mean[j]:.6g} +- {res.fosm_std[j]:.4g}; most "
                   f"from {q.names[int(np.argmax(res.shares[j]))]}")
-        for name, u in unstable.items():
+        for name, u in {**unstable, **short}.items():
             print(f"  P({name} < 0) = {u['p']:.4g}, 95 % [{u['ci95'][0]:.3g}, {u['ci95'][1]:.3g}]")
         for w in out.get("warnings", []):
             print(f"  warning: {w}")

@@ -176,7 +176,7 @@ def _inner(evaluate, U, lam, mu, tol, max_inner, trace, pos, active, ftol=1e-12)
     return U, f, c, G, n_eval, it, stop, trace, pos
 
 
-def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0):
+def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0, progress=False):
     """Every start's augmented-Lagrangian run (see the module), lock-step: each outer
     iteration's subproblems for all the starts not yet done, their evaluations batched
     (one compiled `L` and gradient for all starts); the loops run on the host, so no
@@ -194,6 +194,11 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0):
     k = np.zeros(S, int)
     n_eval = np.zeros(S, int)
     running = np.ones(S, bool)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=max_outer, desc="optimize", unit="outer", leave=False)
     for _ in range(max_outer):
         if not running.any():
             break
@@ -214,6 +219,12 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0):
         n_eval += np.where(running, ne, 0)
         k += running
         running &= ~(done | stuck)
+        if bar is not None:
+            bar.update()
+            bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where(viol <= tol, f, np.inf))),
+                            violation=float(np.min(viol)))
+    if bar is not None:
+        bar.close()
     last = hist[np.arange(S), np.maximum(k - 1, 0)]
     done = (last[:, 1] <= tol) & ((last[:, 3] <= tol * np.maximum(1.0, np.abs(last[:, 0]))) | (last[:, 5] == FLAT))
     ends = np.asarray(jax.vmap(lambda v: _to_x(v, a, b, log))(jnp.asarray(U)))
@@ -221,12 +232,14 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0):
     return U, lam, k, hist, n_eval, done, trace, ends, f_end, c_end
 
 
-def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=200, mu0=10.0) -> Optimum:
+def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=200, mu0=10.0,
+             progress=False) -> Optimum:
     """Minimise `fn(x) -> (f, c)` (`f` a scalar, `c` an `(m,)` array, `c <= 0` met; pure
     JAX) over `lo <= x <= hi` from each row of `starts` `(n_starts, n)` (see the
     module). `log`: per parameter, whether it is scaled in its logarithm (needs
-    `lo > 0`). `f` and `c` should be of order one (scale them). Returns an `Optimum`;
-    `InputError` for bad bounds or starts."""
+    `lo > 0`). `f` and `c` should be of order one (scale them). `progress`: a bar over
+    the outer iterations, on stderr (tqdm), with the starts still running and the best
+    feasible objective. Returns an `Optimum`; `InputError` for bad bounds or starts."""
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     starts = np.atleast_2d(np.asarray(starts, dtype=float))
     n = lo.size
@@ -243,7 +256,7 @@ def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=
     m = int(np.prod(jax.eval_shape(fn, jnp.asarray(starts[0]))[1].shape))
     u, lam, k, hist, n_eval, done, trace, ends, f_end, c_end = _solve(
         fn, _to_u(starts, a, b, log), a, b, log, m=m, tol=float(tol), max_outer=int(max_outer),
-        max_inner=int(max_inner), mu0=float(mu0))
+        max_inner=int(max_inner), mu0=float(mu0), progress=progress)
     c_end = c_end.reshape(len(ends), m)
     viol = np.max(np.maximum(c_end, 0.0), axis=1, initial=0.0)
     finite = np.isfinite(f_end) & np.all(np.isfinite(c_end), axis=1)

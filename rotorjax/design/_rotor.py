@@ -3,22 +3,11 @@
 its quantities as the objective, limits on others as constraints, solved by the one
 mechanism (`minimize`).
 
-The quantities (each a smooth function of the parameters, pure JAX), and whether a
-design wants them large (max) or small (min) unless told:
-
-- `min-log-dec` (max): a lower bound on the least log decrement over `speed_range`
-  (`log_dec_floor`) of the modes whose damped frequency is below `max_frequency`
-  (default: a cut between the nominal rotor's `n_modes`-th mode and the next one
-  clear of it, `mode_cut`, a near pair counted whole): a design may move a mode out
-  of that band;
-- `separation-margin` (max): the least API 684 slack (percent: the margin had less
-  the margin required) of the forward 1x critical speeds in `critical_range` from
-  `operating` (`separation_slack`);
-- `response` (min): the largest unbalance-response amplitude (m) at the probes over
-  `speed_range` (a soft maximum on `n_grid` speeds; the file's `[[unbalance]]`);
-- `onset` (max): the stability threshold in `speed_range` where the rotor turns
-  unstable (`onset_speed`);
-- `mass` (min): the rotor's mass, kg.
+The quantities (each a smooth function of the parameters, pure JAX, set up once on
+the file's values by `rotorjax.analysis.scene_quantities`, which uncertainty shares),
+and whether a design wants them large (max) or small (min) unless told:
+`min-log-dec` (max), `separation-margin` (max, API 684's slack in percent),
+`response` (min, m), `onset` (max, rad/s), `mass` (min, kg).
 
 **Robust design** (`scatter`, `robust_k`): parameters that are not designed but
 scatter (bearing coefficients, a disk's mass: `{name: distribution}`, as
@@ -30,9 +19,8 @@ standard deviations the bad way (`mean - k sd` for a quantity maximised, `mean +
 sd` for one minimised), and so is each constraint (`mean - k sd >= limit`, `mean + k
 sd <= limit`): with normal outputs, `k = 1.645` holds a limit at 95 %.
 
-Critical speeds and the onset are followed from the file's own values (the nominal
-rotor's, by `secant_root`): a design where one is lost (no longer converges) is a
-non-finite point, which the search steps back from.
+Critical speeds and the onset are followed from the file's own values: a design
+where one is lost is a non-finite point, which the search steps back from.
 """
 
 import dataclasses
@@ -42,21 +30,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError, NumericalError
-from ..analysis import (amplification_factor, critical_speed, critical_speeds_1x, damped_eigenvalues, linear_margin,
-                        log_dec_floor, mode_cut, onset_speed, scene_unbalance_response, separation_slack, soft_min,
-                        stability_thresholds)
+from ..analysis import scene_quantities
+from ..analysis._quantities import SENSES, UNITS
 from ..io import read_rotor_file
-from ..models import Unbalance
-from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._parameters import parts_of, scene_from, value_of, with_values
 from ._optimize import latin_starts, minimize
-
-#: the quantities, and whether a design wants them large (+1) or small (-1)
-SENSES = {"min-log-dec": 1, "separation-margin": 1, "response": -1, "onset": 1, "mass": -1}
-#: their units, for the messages and reports
-UNITS = {"min-log-dec": "", "separation-margin": "%", "response": "m", "onset": "rad/s", "mass": "kg"}
-#: a followed root whose residual exceeds this (relative) is lost
-ROOT_TOLERANCE = 1e-8
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -110,21 +88,10 @@ def parse_constraint(text, option="--constraint"):
     raise InputError(f"{option} {text!r}: give NAME>=VALUE or NAME<=VALUE, e.g. 'min-log-dec>=0.1'")
 
 
-def _path(file, name, option):
-    """The parameter path of the rotor-file name `name`, or `InputError` naming it."""
-    path = file.path(name)
-    if path is None:
-        raise InputError(f"{option} {name}: not a parameter of {file.label}; `rotorjax presets {file.label}` lists "
-                         "its keys")
-    if path.refusal:
-        raise InputError(f"{option} {name}: {path.refusal}")
-    return path
-
-
 def _bounds(file, vary, option):
     names, paths, lo, hi, nominal, log = [], [], [], [], [], []
     for name, (a, b) in vary.items():
-        path = _path(file, name, option)
+        path = file.parameter_path(name, option)
         if not (np.isfinite(a) and np.isfinite(b) and a < b):
             raise InputError(f"{option} {name}={a:g}:{b:g}: the bounds need LO < HI")
         domain = file.entries[name].domain if name in file.entries else (">=0" if file.signed(name) else ">0")
@@ -171,94 +138,19 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
         if name not in SENSES:
             raise InputError(f"--objective {name}: unknown; known: {', '.join(SENSES)}")
     sense = SENSES[objective] if sense is None else int(sense)
-    speed = float(file.entries["speed"].value)
-    ranged = bool({"min-log-dec", "response", "onset"} & set(wanted))
-    if speed_range is None and ranged:
-        if not speed > 0:
-            raise InputError(f"--range: {file.label} has no operating speed ([rotor] speed); give --range LO HI")
-        speed_range = (0.0, 1.5 * speed)
-    s_lo, s_hi = (0.0, 1.0) if speed_range is None else (float(v) for v in speed_range)
-    if not 0 <= s_lo < s_hi:
-        raise InputError(f"--range {s_lo:g} {s_hi:g}: needs 0 <= LO < HI (rad/s)")
     parts = parts_of(file.scene)
-    rotor0 = file.scene    # the file's linear(ised) rotor
-    n_dof = file.scene.n_coordinates
-    if not 1 <= int(n_modes) <= n_dof:
-        raise InputError(f"--modes {n_modes}: between 1 and {file.label}'s {n_dof} free dofs")
-    settings = {"range": [s_lo, s_hi] if ranged else None, "modes": int(n_modes)}
-    crit, onset0, probe_nodes = (), None, None
-    if "separation-margin" in wanted:
-        if operating is None:
-            raise InputError("--operating: separation-margin needs the operating range, --operating LO HI (rad/s)")
-        op_lo, op_hi = (float(v) for v in operating)
-        if not 0 < op_lo <= op_hi:
-            raise InputError(f"--operating {op_lo:g} {op_hi:g}: needs 0 < LO <= HI (rad/s)")
-        c_lo, c_hi = (0.0, 2.0 * op_hi) if critical_range is None else (float(v) for v in critical_range)
-        crit = tuple((float(W), int(k)) for W, k in critical_speeds_1x(rotor0, c_lo, c_hi, n_modes=min(12, n_dof),
-                                                                      whirl="forward"))
-        if not crit:
-            raise InputError(f"separation-margin: {file.label} has no forward 1x critical speed in {c_lo:g}..{c_hi:g} "
-                             "rad/s to separate from the operating range")
-        settings.update(operating=[op_lo, op_hi], critical_range=[c_lo, c_hi], critical_speeds=[w for w, _ in crit])
-    if "onset" in wanted:
-        found = [t for t in stability_thresholds(lambda s: linear_margin(rotor0, s), s_lo, s_hi)
-                 if t.stable_side == "below"]
-        if not found:
-            raise InputError(f"onset: {file.label} has no stability onset (stable below, unstable above) in --range "
-                             f"{s_lo:g} {s_hi:g}")
-        onset0 = found[0].speed
-        lam = np.asarray(damped_eigenvalues(rotor0, onset0))
-        whirl = float(np.imag(lam[np.argmax(np.real(lam))]))    # the mode that turns unstable there
-        settings.update(onset=onset0, onset_frequency=whirl)
-    if "response" in wanted:
-        if not any(isinstance(c, Unbalance) for c in parts.components):
-            raise InputError(f"response: {file.label} has no [[unbalance]] to respond to")
-        n_nodes = parts.rotor.n_nodes
-        probe_nodes = tuple(range(n_nodes)) if probes is None else tuple(int(p) for p in probes)
-        for p in probe_nodes:
-            if not 0 <= p < n_nodes:
-                raise InputError(f"--probe {p}: {file.label} has nodes 0..{n_nodes - 1}")
-        settings["probes"] = list(probe_nodes)
-    n_floor = 33 if n_grid is None else int(n_grid)
-    n_resp = 400 if n_grid is None else int(n_grid)
-    if n_floor < 2:
-        raise InputError(f"--grid {n_floor}: at least 2")
-    if "min-log-dec" in wanted:
-        # the modes counted: those below a cut between the nominal rotor's n-th mode and the next one
-        # clear of it (a near pair counted whole), so a design cannot drop a mode by reordering
-        if max_frequency is None:
-            counted, n_eig, cut = mode_cut(rotor0, s_lo, s_hi, int(n_modes), n_floor)
-        else:
-            if not max_frequency > 0:
-                raise InputError(f"--max-frequency {max_frequency:g}: must be > 0 (rad/s)")
-            cut = np.full(n_floor, float(max_frequency))
-            f0 = np.imag(np.asarray(damped_eigenvalues(rotor0, s_hi, min(n_dof, 40))))
-            counted = int(np.sum(f0 < max_frequency))
-            n_eig = min(n_dof, counted + 4)
-        settings.update(log_dec_modes_counted=counted, log_dec_max_frequency=[float(np.min(cut)), float(np.max(cut))])
+    plan = scene_quantities(file.scene, wanted, label=file.label, speed=float(file.entries["speed"].value),
+                            speed_range=speed_range, n_modes=n_modes, operating=operating,
+                            critical_range=critical_range, probes=probes, n_grid=n_grid, max_frequency=max_frequency)
+    settings = plan.settings
 
-    def at(values, which):
-        p = with_values(parts, paths + noise_paths, values)
-        scene = scene_from(p, file.scene)   # the file's linear(ised) rotor: fluid films, seals, reduction
-        out = {}
-        for name in which:
-            if name == "min-log-dec":
-                out[name] = log_dec_floor(scene, s_lo, s_hi, n_eig, n_grid=n_floor, cut=cut)
-            elif name == "mass":
-                out[name] = p.rotor.mass()
-            elif name == "separation-margin":
-                out[name] = _separation(scene, crit, *settings["operating"])
-            elif name == "onset":
-                w, res = onset_speed(scene, onset0, whirl)
-                out[name] = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
-            elif name == "response":
-                out[name] = _response(scene, probe_nodes, s_lo, s_hi, n_resp)
-        return out
+    def at(values):
+        return plan.evaluate(with_values(parts, paths + noise_paths, values))
 
-    def quantities(x, which=tuple(dict.fromkeys(wanted))):
+    def quantities(x):
         if robust is None:
-            return at(x, which)
-        each = jax.vmap(lambda xi: at(jnp.concatenate([x, xi]), which))(jnp.asarray(noise))
+            return at(x)
+        each = jax.vmap(lambda xi: at(jnp.concatenate([x, xi])))(jnp.asarray(noise))
         out = {name: jnp.mean(v) for name, v in each.items()}
         out.update({f"{name} sd": _sd(v) for name, v in each.items()})
         return out
@@ -311,7 +203,7 @@ def _scatter(file, varied, scatter, k, n, seed):
         if name in varied:
             raise InputError(f"--scatter {name}: also given to --vary; a designed parameter cannot scatter (give "
                              "the scatter of another parameter)")
-        path = _path(file, name, "--scatter")
+        path = file.parameter_path(name, "--scatter")
         if not file.signed(name) and reaches_zero(dist):
             raise InputError(f"--scatter {name}={dist.text()}: {name} is a positive quantity and this distribution "
                              "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
@@ -319,25 +211,6 @@ def _scatter(file, varied, scatter, k, n, seed):
     samples = draw(scatter, int(n), seed=seed)
     return tuple(paths), samples, {"k": k, "samples": int(n), "seed": int(seed),
                                    "scatter": {name: d.text() for name, d in scatter.items()}}
-
-
-def _separation(r, crit, op_lo, op_hi):
-    slacks = []
-    for W, k in crit:
-        w, res = critical_speed(r, k, W)
-        w = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
-        af = amplification_factor(damped_eigenvalues(r, w, k + 1)[k])
-        slacks.append(separation_slack(w, af, op_lo, op_hi))
-    return soft_min(jnp.stack(slacks), 0.05)
-
-
-def _response(scene, probes, lo, hi, n):
-    speeds = jnp.asarray(np.linspace(max(lo, 1e-3 * hi), hi, n))
-    Q = scene_unbalance_response(scene, speeds)                       # (n, n_coords)
-    full = scene.expand(Q.T)                                          # (n_dofs, n)
-    idx = np.asarray(probes) * DOFS_PER_NODE
-    amp = jnp.sqrt(jnp.abs(full[idx]) ** 2 + jnp.abs(full[idx + 1]) ** 2)
-    return jnp.exp(-soft_min(-jnp.log(amp), 1e-3))
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -396,15 +269,16 @@ class RotorDesign:
                 "settings": p.settings, "robust": p.robust}
 
 
-def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_outer=30) -> RotorDesign:
+def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_outer=30, progress=False) -> RotorDesign:
     """Solve `problem` from the file's values (clipped into the bounds) and
-    `n_starts - 1` Latin-hypercube starts. Raises `InputError` when no start meets
-    the constraints (naming those violated at the least-violating end)."""
+    `n_starts - 1` Latin-hypercube starts (`progress`: `minimize`'s bar). Raises
+    `InputError` when no start meets the constraints (naming those violated at the
+    least-violating end)."""
     if int(n_starts) < 1:
         raise InputError(f"--starts {n_starts}: at least 1")
     p = problem
     starts = latin_starts(p.lo, p.hi, int(n_starts), first=p.nominal, log=p.log, seed=seed)
-    o = minimize(p.fn, p.lo, p.hi, starts, log=p.log, tol=tol, max_outer=max_outer)
+    o = minimize(p.fn, p.lo, p.hi, starts, log=p.log, tol=tol, max_outer=max_outer, progress=progress)
     q = jax.jit(p.quantities)
     before = {k: float(v) for k, v in q(jnp.asarray(starts[0])).items()}
     after = {k: float(v) for k, v in q(jnp.asarray(o.x)).items()}

@@ -5,6 +5,7 @@ import dataclasses
 
 import numpy as np
 
+from .._errors import InputError
 from ..models._fe_rotor import BEARING_COEFFICIENTS, BEARING_FOLLOWS, SUPPORT_FOLLOWS, SUPPORT_KEYS
 from ..models._parameters import ParameterPath, Target
 from ..models._registry import TABLES
@@ -74,6 +75,17 @@ class RotorFile:
         if i not in entries:
             return None
         return _parameter_path(name, table, i, key, entries[i], self.spec, self.placed, self.scene.full_rotor)
+
+    def parameter_path(self, name, option):
+        """`path(name)`, or `InputError` naming `option` and `name` where the file has no
+        such parameter or refuses it (a parameter that cannot be moved smoothly)."""
+        path = self.path(name)
+        if path is None:
+            raise InputError(f"{option} {name}: not a parameter of {self.label}; `rotorjax presets {self.label}` "
+                             "lists its keys")
+        if path.refusal:
+            raise InputError(f"{option} {name}: {path.refusal}")
+        return path
 
     def signed(self, name) -> bool:
         """Whether the key `name` may be negative (a cross-coupled coefficient, a phase)."""

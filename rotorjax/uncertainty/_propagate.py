@@ -104,7 +104,8 @@ def draw(inputs, n, correlation=None, seed=0):
     return np.stack([np.asarray(inputs[k].from_normal(jnp.asarray(z[:, i]))) for i, k in enumerate(names)], axis=1)
 
 
-def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1024, names=None) -> Propagation:
+def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1024, names=None,
+              progress=False) -> Propagation:
     """Outputs of `fn` as distributions (see the module).
 
     **Arguments:**
@@ -115,6 +116,7 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     - `samples` (>= 2), `correlation` (None, a matrix, or `{(a, b): rho}`), `seed`,
       `chunk_size` (samples per vmapped call).
     - `names`: the outputs' names (default `y0, y1, ...`).
+    - `progress`: a progress bar over the chunks, on stderr (tqdm).
 
     **Returns:** a `Propagation`. **Raises:** `InputError` for bad input;
     `NumericalError` when no sample gives finite outputs.
@@ -126,7 +128,8 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     keys = list(inputs)
     X = draw(inputs, int(samples), correlation, seed)
     res = sweep(lambda p: jnp.atleast_1d(fn(jnp.stack([p[f"p{i}"] for i in range(len(keys))]))),
-                {f"p{i}": X[:, i] for i in range(len(keys))}, mode="zip", chunk_size=chunk_size, progress=False)
+                {f"p{i}": X[:, i] for i in range(len(keys))}, mode="zip", chunk_size=chunk_size,
+                progress=bool(progress))
     Y = np.asarray(res.values).reshape(X.shape[0], -1)
     names = tuple(names) if names is not None else tuple(f"y{j}" for j in range(Y.shape[1]))
     if len(names) != Y.shape[1]:

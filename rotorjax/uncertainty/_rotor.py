@@ -4,7 +4,8 @@ the forward 1x critical speeds and the logarithmic decrements of the first modes
 Parameters are addressed by the rotor file's names (`bearing0.kxx`, `disk1.m`,
 `material0.E`, `shaft2.od`, ...: the `--set` keys), each resolved once to the
 leaves of the scene it sets (`rotorjax.models._parameters`), as identification
-addresses them. The outputs, for the file's full linear rotor:
+addresses them. The outputs, for the file's linear(ised) rotor (the full shaft and its
+bearings; with fluid films, seals or supports, the scene that linearises them):
 
 - `critical_speed_i`: the forward 1x critical speeds the nominal rotor has in
   `[lo, hi]` (`critical_speeds_1x`), each followed to the sample's rotor by the fixed
@@ -12,7 +13,11 @@ addresses them. The outputs, for the file's full linear rotor:
   a sample whose fixed point has not converged (residual above 1e-8 of the speed)
   gives NaN and is counted, not averaged;
 - `log_dec_i`: the logarithmic decrements of the first `n_modes` damped modes (by
-  frequency) at `speed`.
+  frequency) at `speed`;
+- any of the quantities a design optimises (`rotorjax.analysis.scene_quantities`,
+  asked for by name): `min-log-dec` (the floor over the range), `separation-margin`
+  (API 684's slack, percent), `response` (the largest unbalance-response amplitude at
+  the probes over the range, m), `onset` (the stability threshold, rad/s), `mass`.
 """
 
 import dataclasses
@@ -21,10 +26,10 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError, NumericalError
-from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues
+from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues, scene_quantities
 from ..io import read_rotor_file
-from ..models import SpinMatrices
-from ..models._parameters import parts_of, value_of, with_values
+from ..models import SpinMatrices, Unbalance
+from ..models._parameters import parts_of, scene_from, value_of, with_values
 from ._distributions import reaches_zero
 
 #: a fixed point whose residual exceeds this (relative to the speed) has not converged
@@ -34,7 +39,8 @@ CRITICAL_TOLERANCE = 1e-8
 @dataclasses.dataclass(frozen=True, eq=False)
 class RotorQuantities:
     """`fn(values) -> outputs` of a rotor file (see the module), the outputs' names, the
-    parameters' names and nominal values, and the nominal critical speeds."""
+    parameters' names and nominal values, the nominal critical speeds, and the
+    settings of the design quantities asked for (`SceneQuantities.settings`)."""
 
     fn: object
     outputs: tuple
@@ -43,10 +49,11 @@ class RotorQuantities:
     critical: tuple
     speed: float
     label: str
+    settings: dict = dataclasses.field(default_factory=dict)
 
 
-def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, overrides=None,
-                     option="--dist") -> RotorQuantities:
+def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, overrides=None, quantities=(),
+                     operating=None, probes=None, option="--dist") -> RotorQuantities:
     """The quantities of the rotor file `rotor` (a path or a `RotorFile`) as a function
     of the parameters `inputs` (their names, or `{name: distribution}`: a positive
     quantity's distribution must stay positive, so a normal one within 5 standard
@@ -55,6 +62,9 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
     - `lo`, `hi` (rad/s): the range of the critical speeds (default 0 to 1.5 x `speed`);
       `speed` (rad/s): where the log decrements are taken (default the file's `[rotor]
       speed`); `n_modes`: how many log decrements (0: none).
+    - `quantities`: names of `scene_quantities` to add, over the speed range `[lo,
+      hi]`, with `operating` `(lo, hi)` rad/s for `separation-margin` and `probes`
+      (nodes) for `response`;
     - `overrides`: `--set` values for the file; `option`: the option the names came
       with, for the messages.
     """
@@ -63,13 +73,7 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
     names = tuple(inputs)
     paths = []
     for name in names:
-        path = file.path(name)
-        if path is None:
-            raise InputError(f"{option} {name}: not a parameter of {file.label}; `rotorjax presets "
-                             f"{file.label}` lists its keys")
-        if path.refusal:
-            raise InputError(f"{option} {name}: {path.refusal}")
-        paths.append(path)
+        paths.append(file.parameter_path(name, option))
         dist = inputs[name] if isinstance(inputs, dict) else None
         if dist is not None and not file.signed(name) and reaches_zero(dist):
             raise InputError(f"{option} {name}={dist.text()}: {name} is a positive quantity and this distribution "
@@ -85,20 +89,31 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
     n_modes = int(n_modes)
     if n_modes and not speed >= 0:
         raise InputError(f"--speed {speed:g}: the log decrements need a speed >= 0")
-    rotor0 = parts.rotor
-    n_dof = len(rotor0.free_dofs)
+    # the file's linear(ised) rotor: the shaft and its bearings alone, assembled once for every speed the
+    # critical speeds' iterations visit; or, with components that add to the linear equations (fluid
+    # films, seals, supports), the scene they linearise
+    bare = all(isinstance(c, Unbalance) for c in parts.components)
+
+    def linear(p):
+        if not bare:
+            return scene_from(p, file.scene)
+        return p.rotor if p.rotor.speed_dependent else SpinMatrices(*p.rotor.reduced_matrices(0.0))
+
+    rotor0 = parts.rotor if bare else file.scene
+    n_dof = file.scene.n_coordinates if not bare else len(rotor0.free_dofs)
     if n_modes > n_dof:
         raise InputError(f"--modes {n_modes}: {file.label} has {n_dof} free dofs")
     crit = tuple((float(W), int(k)) for W, k in critical_speeds_1x(rotor0, lo, hi, n_modes=min(12, n_dof),
                                                                   whirl="forward"))
-    if not crit and not n_modes:
+    if not crit and not n_modes and not quantities:
         raise InputError(f"--range {lo:g} {hi:g}: {file.label} has no forward critical speed there, and no log "
                          "decrements were asked for (--modes)")
+    plan = scene_quantities(file.scene, quantities, label=file.label, speed_range=(lo, hi),
+                            n_modes=max(n_modes, 1), operating=operating, probes=probes) if quantities else None
 
     def fn(values):
-        r = with_values(parts, paths, values).rotor
-        if not r.speed_dependent:   # assembled once for every speed the critical speeds' iterations visit
-            r = SpinMatrices(*r.reduced_matrices(0.0))
+        p = with_values(parts, paths, values)
+        r = linear(p)
         out = []
         for W, k in crit:
             w, res = critical_speed(r, k, W)
@@ -106,13 +121,17 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
         if n_modes:
             lam = damped_eigenvalues(r, speed, n_modes)
             out.extend(-2 * jnp.pi * jnp.real(lam) / jnp.imag(lam))
+        if plan is not None:
+            out.extend(plan.evaluate(p).values())
         return jnp.stack(out)
 
     nominal = np.array([float(value_of(parts, p)) for p in paths])
-    outputs = tuple(f"critical_speed_{i}" for i in range(len(crit))) + tuple(f"log_dec_{i}" for i in range(n_modes))
+    outputs = (tuple(f"critical_speed_{i}" for i in range(len(crit))) + tuple(f"log_dec_{i}" for i in range(n_modes))
+               + (plan.names if plan is not None else ()))
     f0 = np.asarray(fn(jnp.asarray(nominal)))
     if not np.all(np.isfinite(f0)):
         raise NumericalError(f"{file.label}: the nominal rotor's quantities are not finite "
                              f"({', '.join(n for n, v in zip(outputs, f0) if not np.isfinite(v))})")
-    return RotorQuantities(fn, outputs, names, nominal, crit, speed, file.label)
+    return RotorQuantities(fn, outputs, names, nominal, crit, speed, file.label,
+                           plan.settings if plan is not None else {})
 

@@ -21,16 +21,17 @@ def file():
     return read_rotor_file(str(shipped_rotor("ross_compare")), SETS)
 
 
-def test_the_mechanism_meets_a_closed_form():
+def test_the_mechanism_meets_a_closed_form(capsys):
     """min (x - 2)^2 + (y - 1)^2 on the disc x^2 + y^2 <= 1 within a box: the optimum
     (2, 1) / sqrt(5) and its multiplier `(2 - x) / x` (from `grad f = -lambda grad c`),
     from 6 starts at once; and a bound-held optimum (Rosenbrock with x <= 0.8: (0.8,
-    0.64))."""
+    0.64)). With `progress`, a bar over the outer iterations on stderr."""
     def fn(v):
         return (v[0] - 2) ** 2 + (v[1] - 1) ** 2, jnp.array([v[0] ** 2 + v[1] ** 2 - 1.0])
 
     lo, hi = np.array([-3.0, -3.0]), np.array([3.0, 3.0])
-    o = minimize(fn, lo, hi, latin_starts(lo, hi, 6, first=[0.0, 0.0]))
+    o = minimize(fn, lo, hi, latin_starts(lo, hi, 6, first=[0.0, 0.0]), progress=True)
+    assert "optimize" in capsys.readouterr().err
     x = 2 / np.sqrt(5)
     assert o.converged and o.feasible and o.end_converged.all()
     np.testing.assert_allclose(o.x, [x, x / 2], atol=1e-6)

@@ -1,7 +1,8 @@
-"""The `onset` design quantity on a fluid-film rotor (`journal_rig.toml`: ROSS's
-example rotor on two short plain journal bearings): the oil-whirl threshold followed
-from the nominal one to other film viscosities equals a fresh scan-and-bisect of the
-file read again with those values, and so does its gradient."""
+"""A fluid-film rotor's quantities (`journal_rig.toml`: ROSS's example rotor on two
+short plain journal bearings), against the file read again with other film
+viscosities: the `onset` design quantity (the oil-whirl threshold followed from the
+nominal one) equals a fresh scan-and-bisect, and so does its gradient; and
+uncertainty's critical speeds and log decrements are the linearised films'."""
 
 import equinox as eqx
 import jax
@@ -9,9 +10,10 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from rotorjax.analysis import linear_margin
+from rotorjax.analysis import critical_speeds_1x, linear_margin, modes
 from rotorjax.design import rotor_problem
 from rotorjax.io import read_rotor_file, shipped_rotor
+from rotorjax.uncertainty import LogNormal, rotor_quantities
 
 PATH = str(shipped_rotor("journal_rig"))
 NAMES = ("bearing0.viscosity", "bearing1.viscosity")
@@ -45,3 +47,18 @@ def test_the_onset_follows_the_scanned_threshold_and_its_gradient():
     fd = (_scanned(x + e) - _scanned(x - e)) / (2e-3 * x[0])
     assert g[0] == pytest.approx(fd, rel=1e-4)
     assert g[0] > 0 and g[1] > 0     # a thicker film raises the oil-whirl threshold
+
+
+def test_uncertainty_takes_the_critical_speeds_and_log_decs_of_the_linearised_films():
+    """`rotor_quantities` on a rotor whose bearings are fluid films: a sample's critical
+    speeds and log decrement equal `critical_speeds_1x` and `modes` of the scene read
+    again with its viscosity (the films linearised at their static equilibrium at
+    each speed). It had taken the bare shaft's, which has no bearings (42 spurious
+    critical speeds, not followed: the command refused)."""
+    q = rotor_quantities(PATH, {NAMES[0]: LogNormal(0.03, 3e-4)}, lo=0.0, hi=20.6, n_modes=1)
+    assert q.outputs == ("critical_speed_0", "log_dec_0")
+    out = np.asarray(q.fn(jnp.array([0.031])))
+    scene = read_rotor_file(PATH, {NAMES[0]: 0.031}).scene
+    crit = [w for w, _ in critical_speeds_1x(scene, 0.0, 20.6, whirl="forward", xtol=1e-12)]
+    np.testing.assert_allclose(out[:1], crit, rtol=1e-8)
+    np.testing.assert_allclose(out[1:], np.asarray(modes(scene, q.speed, 1).log_dec), rtol=1e-9)

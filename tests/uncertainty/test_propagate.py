@@ -61,11 +61,13 @@ def test_first_order_moments(jeffcott):
     assert lin.shares[0] == pytest.approx([4 * 0.09 / (4 * 0.09 + 9 * 0.25), 9 * 0.25 / (4 * 0.09 + 9 * 0.25)])
 
 
-def test_uniform_and_a_violation_probability():
+def test_uniform_and_a_violation_probability(capsys):
     """A uniform parameter's probability of exceeding a level: `k / n` with a Wilson
-    interval that holds the exact value; the interval itself against its formula."""
+    interval that holds the exact value; the interval itself against its formula.
+    (With `progress`, a bar over the chunks on stderr.)"""
     u = Uniform(0.0, 2.0)
-    r = propagate(lambda v: v[0], {"u": u}, samples=4000, seed=1, names=("u",))
+    r = propagate(lambda v: v[0], {"u": u}, samples=4000, seed=1, names=("u",), chunk_size=1000, progress=True)
+    assert "sweep" in capsys.readouterr().err
     p, (lo, hi) = r.probability("u", above=1.5)
     assert lo <= 0.25 <= hi and abs(p - 0.25) < 0.03
     assert wilson(0, 100)[1][0] == 0.0 and wilson(100, 100)[1][1] == 1.0
