@@ -70,7 +70,7 @@ def test_floquet_critical_speeds_inside_paper_brackets():
     runs = []
     for rtol in (1e-8, 1e-10):
         cs = critical_speeds(lambda n: A.main_motion_floquet(TABLE1, n, rtol=rtol, atol=rtol * 1e-2).margin,
-                             0.5, 10.0, n_scan=96)
+                             0.5, 10.0, n_scan=40)
         runs.append(cs)
     speeds = [np.array([c.speed for c in cs]) for cs in runs]
     assert len(speeds[0]) == 3
