@@ -26,7 +26,9 @@ OPERATING = (400.0, 600.0)
 def sampled():
     q = rotor_quantities(PATH, INPUTS, lo=0.0, hi=600.0, n_modes=0, overrides=SETS,
                          quantities=("response", "separation-margin", "mass"), operating=OPERATING, probes=(2,))
-    return q, propagate(q.fn, INPUTS, samples=64, seed=1, names=q.outputs)
+    # chunks of 16: the 64 samples in one vmapped program hung XLA's CPU runtime in 3 runs of 4 (every thread
+    # idle; the deadlock `rotorjax._config` describes, here with its scheduler option off); 16 at a time ran
+    return q, propagate(q.fn, INPUTS, samples=64, seed=1, names=q.outputs, chunk_size=16)
 
 
 def _independent(values):
