@@ -29,6 +29,7 @@ import functools
 import jax
 import jax.numpy as jnp
 import numpy as np
+from tqdm.auto import tqdm
 
 from .._errors import InputError
 
@@ -194,11 +195,7 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0, progress=Fal
     k = np.zeros(S, int)
     n_eval = np.zeros(S, int)
     running = np.ones(S, bool)
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=max_outer, desc="optimize", unit="outer", leave=False)
+    bar = tqdm(total=max_outer, desc="optimize", unit="outer", leave=False, disable=not progress)
     for _ in range(max_outer):
         if not running.any():
             break
@@ -219,12 +216,10 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0, progress=Fal
         n_eval += np.where(running, ne, 0)
         k += running
         running &= ~(done | stuck)
-        if bar is not None:
-            bar.update()
-            bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where(viol <= tol, f, np.inf))),
-                            violation=float(np.min(viol)))
-    if bar is not None:
-        bar.close()
+        bar.update()
+        bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where(viol <= tol, f, np.inf))),
+                        violation=float(np.min(viol)), refresh=False)
+    bar.close()
     last = hist[np.arange(S), np.maximum(k - 1, 0)]
     done = (last[:, 1] <= tol) & ((last[:, 3] <= tol * np.maximum(1.0, np.abs(last[:, 0]))) | (last[:, 5] == FLAT))
     ends = np.asarray(jax.vmap(lambda v: _to_x(v, a, b, log))(jnp.asarray(U)))
