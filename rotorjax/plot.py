@@ -1185,15 +1185,17 @@ def plot_uncertainty(path=None, result=None, title="", *, fig=None):
     return _finish(fig, axes, layout=layout)
 
 
-def plot_design(path=None, design=None, campbell=None, title="", *, fig=None):
+def plot_design(path=None, design=None, campbell=None, title="", *, margins=None, speed_label="speed", fig=None):
     """A design's optimisation (`rotorjax.design.RotorDesign`): the objective and the
     largest constraint violation after each accepted step of the best start; and,
     with `campbell` `(speeds, before, after)` (each `Modes` over `speeds`), the
-    Campbell diagram before (grey) and after (colour), the 1x line dashed. On `fig`
-    (empty) or a new figure; `path` is ignored. Returns the `Figure`."""
+    Campbell diagram before (grey) and after (colour), the 1x line dashed; or, with
+    `margins` `(speeds, before, after)` (a preset's reference-motion stability
+    margins), the margin over `speed_label` before and after, the stable side below
+    0. On `fig` (empty) or a new figure; `path` is ignored. Returns the `Figure`."""
     if design is None:
         raise TypeError("plot_design: missing the argument 'design'")
-    cols = 2 if campbell is not None else 1
+    cols = 2 if campbell is not None or margins is not None else 1
     fig, layout = _on_figure(fig, (5.0 * cols, 3.8), path, "plot_design")
     ax = fig.add_subplot(1, cols, 1)
     h = np.asarray(design.optimum.steps)
@@ -1218,6 +1220,16 @@ def plot_design(path=None, design=None, campbell=None, title="", *, fig=None):
         ax.set_xlabel("speed (rad/s)")
         ax.set_ylabel("damped natural frequency (rad/s)")
         ax.set_title("Campbell: before (grey), after", fontsize=9)
+        axes.append(ax)
+    if margins is not None:
+        speeds, before, after = margins
+        ax = fig.add_subplot(1, cols, 2)
+        ax.plot(speeds, before, color="0.6", lw=1, label="before")
+        ax.plot(speeds, after, color="C0", lw=1.2, label="after")
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xlabel(speed_label)
+        ax.set_ylabel("stability margin (< 0: stable)")
+        ax.set_title("reference motion's margin: before (grey), after", fontsize=9)
         axes.append(ax)
     if title:
         fig.suptitle(title, fontsize=10)

@@ -188,8 +188,13 @@ def onset_speed(rotor, guess, frequency, iters=8):
     `stability_thresholds` (the largest real part, `linear_margin`, is kinked where
     another mode leads it: the secant follows the one mode). Traceable; its
     derivative is the implicit function theorem's."""
-    def real_part(r, s):
-        lam = eigenvalues(r.linear_matrices(s).state_matrix())
-        return jnp.real(lam[jnp.argmin(jnp.abs(jnp.imag(lam) - frequency))])
+    return secant_root(lambda r, s: mode_real_part(r, s, frequency), rotor, guess, iters)
 
-    return secant_root(real_part, rotor, guess, iters)
+
+def mode_real_part(rotor, speed, frequency):
+    """The real part of the eigenvalue of `rotor`'s linear equations at `speed` whose
+    damped frequency is nearest `frequency` (rad/s): one mode's stability margin,
+    smooth where the largest real part (`linear_margin`) is kinked by another mode
+    overtaking it."""
+    lam = eigenvalues(rotor.linear_matrices(speed).state_matrix())
+    return jnp.real(lam[jnp.argmin(jnp.abs(jnp.imag(lam) - frequency))])

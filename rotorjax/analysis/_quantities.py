@@ -17,7 +17,11 @@ optimises and constrains (`rotorjax.design`) and what uncertainty propagates
   over the probes;
 - `onset`: the stability threshold in `speed_range` where the rotor turns unstable
   (`onset_speed`);
-- `mass`: the rotor's mass, kg.
+- `mass`: the rotor's mass, kg;
+- `stable-range`: how much of `speed_range` the reference motion is stable over (the
+  linearised rotor's straight running; an auto-balancer preset's main motion: its
+  auto-balancing range), from its stability thresholds followed one by one
+  (`StableSpeeds`).
 
 Critical speeds and the onset are followed from the nominal rotor's values (by
 `secant_root`): where one is lost (its residual above `ROOT_TOLERANCE` of the speed)
@@ -26,6 +30,7 @@ the quantity is NaN, which a search steps back from and a Monte Carlo counts out
 
 import dataclasses
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -36,13 +41,16 @@ from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._parameters import parts_of, scene_from
 from ._critical import stability_thresholds
 from ._linear import critical_speed, critical_speeds_1x, damped_eigenvalues
-from ._margins import amplification_factor, log_dec_floor, mode_cut, onset_speed, separation_slack, soft_min
+from ._margins import (amplification_factor, log_dec_floor, mode_cut, mode_real_part, onset_speed, separation_slack,
+                       soft_min)
 from ._response import linear_margin, scene_unbalance_response
+from ._roots import secant_root
 
 #: the quantities, and whether a design wants them large (+1) or small (-1)
-SENSES = {"min-log-dec": 1, "separation-margin": 1, "response": -1, "onset": 1, "mass": -1}
-#: their units, for the messages and reports
-UNITS = {"min-log-dec": "", "separation-margin": "%", "response": "m", "onset": "rad/s", "mass": "kg"}
+SENSES = {"min-log-dec": 1, "separation-margin": 1, "response": -1, "onset": 1, "mass": -1, "stable-range": 1}
+#: their units, for the messages and reports (a preset's speeds are in its own unit)
+UNITS = {"min-log-dec": "", "separation-margin": "%", "response": "m", "onset": "rad/s", "mass": "kg",
+         "stable-range": "rad/s"}
 #: a followed root whose residual exceeds this (relative) is lost
 ROOT_TOLERANCE = 1e-8
 
@@ -63,6 +71,7 @@ class SceneQuantities:
     probes: tuple
     floor: tuple
     n_response: int
+    stable: object = None
 
     def evaluate(self, parts) -> dict:
         scene = scene_from(parts, self.template)   # the linear(ised) rotor: fluid films, seals, reduction
@@ -81,6 +90,8 @@ class SceneQuantities:
                 out[name] = jnp.where(jnp.abs(res) <= ROOT_TOLERANCE * jnp.abs(w), w, jnp.nan)
             elif name == "response":
                 out[name] = _response(scene, self.probes, lo, hi, self.n_response)
+            elif name == "stable-range":
+                out[name] = self.stable.evaluate(parts)[name]
         return out
 
 
@@ -102,7 +113,7 @@ def scene_quantities(scene, names, *, label="the rotor", speed=0.0, speed_range=
     for name in names:
         if name not in SENSES:
             raise InputError(f"{name}: unknown quantity; known: {', '.join(SENSES)}")
-    ranged = bool({"min-log-dec", "response", "onset"} & set(names))
+    ranged = bool({"min-log-dec", "response", "onset", "stable-range"} & set(names))
     if speed_range is None and ranged:
         if not speed > 0:
             raise InputError(f"--range: {label} has no operating speed ([rotor] speed); give --range LO HI")
@@ -163,8 +174,158 @@ def scene_quantities(scene, names, *, label="the rotor", speed=0.0, speed_range=
             n_eig = min(n_dof, counted + 4)
         floor = (n_eig, n_floor, cut)
         settings.update(log_dec_modes_counted=counted, log_dec_max_frequency=[float(np.min(cut)), float(np.max(cut))])
+    stable = None
+    if "stable-range" in names:
+        stable = stable_speeds(eqx.Partial(_linear_margin, scene), parts, (s_lo, s_hi), label=label)
+        # each threshold followed on its crossing mode's real part (the largest is kinked where modes overtake)
+        freqs = []
+        for t in stable.thresholds:
+            lam = np.asarray(damped_eigenvalues(scene, t))
+            freqs.append(float(np.imag(lam[np.argmax(np.real(lam))])))
+        stable = dataclasses.replace(stable, follow=eqx.Partial(_crossing_mode, scene, jnp.asarray(freqs)))
+        settings.update(stable.settings(), threshold_frequencies=freqs)
     return SceneQuantities(names, settings, scene, (s_lo, s_hi), crit, onset, probe_nodes, floor,
-                      400 if n_grid is None else int(n_grid))
+                           400 if n_grid is None else int(n_grid), stable)
+
+
+def _linear_margin(template, parts, speed):
+    return linear_margin(scene_from(parts, template), speed)
+
+
+def _crossing_mode(template, frequencies, parts, speed, i):
+    return mode_real_part(scene_from(parts, template), speed, frequencies[i])
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class StableSpeeds:
+    """How much of `speed_range` a reference motion is stable over, as a smooth
+    function of its parameters: the stability thresholds the nominal motion has in the
+    `scanned` range (wider than `speed_range`, so that a threshold moving in from
+    outside is followed too), each followed by `secant_root` on `margin(params,
+    speed)` (pure JAX; < 0 stable), or on `follow(params, speed, i)`, threshold `i`'s
+    own smooth margin (a rotor's crossing mode: the largest real part is kinked where
+    another mode leads), and `stable[i]`, whether the motion is stable between
+    threshold `i - 1` and `i` (the scanned range's ends outside them).
+
+    `evaluate(params) -> {"stable-range": length, "threshold_i": speed}` (the
+    thresholds in `speed_range`): the length the sum of the stable intervals clipped
+    to `speed_range` (its derivative the thresholds', by the implicit function
+    theorem). An unstable band between two thresholds that has closed (both ends lost or
+    crossed, and the motion stable at the band's nominal middle) counts as closed, its
+    two thresholds reported at that middle; NaN where a threshold is lost otherwise (its
+    last secant step above `TOLERANCE` of the speed) or two have crossed, which a
+    search steps back from and a Monte Carlo counts out. A band that opens where the
+    nominal motion had none is not seen: `scanned_length` checks a design afresh."""
+
+    margin: object
+    speed_range: tuple
+    scanned: tuple
+    thresholds: tuple
+    stable: tuple
+    unit: str = "rad/s"
+    follow: object = None
+
+    #: a followed threshold whose last secant step exceeds this (relative to the speed) is lost
+    TOLERANCE = 1e-6
+
+    def outputs(self) -> tuple:
+        lo, hi = self.speed_range
+        inside = [t for t in self.thresholds if lo <= t <= hi]
+        return ("stable-range",) + tuple(f"threshold_{i}" for i in range(len(inside)))
+
+    def settings(self) -> dict:
+        return {"stable_range_scanned": list(self.scanned), "thresholds": list(self.thresholds),
+                "stable_between_thresholds": list(self.stable)}
+
+    def evaluate(self, params) -> dict:
+        lo, hi = self.speed_range
+        x = jnp.zeros(0)
+        if self.thresholds:
+            x, step = jax.vmap(lambda g, i: _followed(self._branch(i), params, g))(
+                jnp.asarray(self.thresholds), jnp.arange(len(self.thresholds)))
+            bad = ~jnp.isfinite(x) | (step > self.TOLERANCE * jnp.maximum(jnp.abs(x), 1.0))
+            x = self._closed_bands(params, x, bad)
+        edges = jnp.clip(jnp.concatenate([jnp.asarray(self.scanned[:1]), x, jnp.asarray(self.scanned[1:])]),
+                         lo, hi)
+        out = {"stable-range": jnp.sum(jnp.where(jnp.asarray(self.stable), jnp.diff(edges), 0.0))}
+        inside = [i for i, t in enumerate(self.thresholds) if lo <= t <= hi]
+        out.update({f"threshold_{j}": x[i] for j, i in enumerate(inside)})
+        return out
+
+    def _branch(self, i):
+        """Threshold `i`'s margin, `(params, speed) -> value`."""
+        if self.follow is None:
+            return self.margin
+        return lambda p, s: self.follow(p, s, i)
+
+    def _closed_bands(self, params, x, bad):
+        """The followed thresholds, an unstable band that has closed (its two ends lost
+        or crossed, and the motion stable at the nominal band's middle) made one of
+        zero width there; NaN where a threshold is lost otherwise, or two have crossed."""
+        t = self.thresholds
+        bands = [i for i in range(len(t) - 1) if not self.stable[i + 1]]
+        if bands:
+            mids = jnp.asarray([0.5 * (t[i] + t[i + 1]) for i in bands])
+            frozen = jax.lax.stop_gradient(params)
+            stable_mid = jax.vmap(lambda s: self.margin(frozen, s))(mids) < 0
+            for j, i in enumerate(bands):
+                closed = (bad[i] | bad[i + 1] | (x[i + 1] <= x[i])) & stable_mid[j]
+                x = x.at[i].set(jnp.where(closed, mids[j], x[i])).at[i + 1].set(jnp.where(closed, mids[j], x[i + 1]))
+                bad = bad.at[i].set(bad[i] & ~closed).at[i + 1].set(bad[i + 1] & ~closed)
+        lost = jnp.any(bad) | jnp.any(jnp.diff(x) < 0)
+        return jnp.where(lost, jnp.nan, x)
+
+    def scanned_length(self, params, n_scan=200) -> tuple:
+        """`(length, thresholds)` at `params` found afresh (`stability_thresholds` on
+        `n_scan` speeds of the scanned range, bisection to 1e-10): what `evaluate`
+        follows, to check it where a band may have opened or closed."""
+        lo, hi = self.speed_range
+        a, b = self.scanned
+        found = stability_thresholds(eqx.Partial(_at_nominal, self.margin, params), a, b, n_scan=n_scan)
+        if found:
+            stable = [found[0].stable_side == "below"] + [f.stable_side == "above" for f in found]
+        else:
+            stable = [float(self.margin(params, jnp.float64(0.5 * (lo + hi)))) < 0]
+        edges = np.clip([a] + [f.speed for f in found] + [b], lo, hi)
+        return float(np.sum(np.where(stable, np.diff(edges), 0.0))), [f.speed for f in found]
+
+
+#: margin evaluations per followed threshold (a threshold near the margin's extremum, its slope small at the
+#: guess, took 8; a converged one stays put)
+ITERS = 10
+
+
+def _followed(margin, params, guess):
+    """A threshold followed from `guess` (`secant_root`) and its last step's size."""
+    x, _, step = secant_root(margin, params, guess, iters=ITERS, with_step=True, rolled=True)
+    return x, step
+
+
+def stable_speeds(margin, params, speed_range, *, n_scan=40, pad=0.25, label="the rotor",
+                  unit="rad/s") -> StableSpeeds:
+    """Set up `StableSpeeds` of `margin(params, speed)` on the nominal `params`: its
+    thresholds in `speed_range` widened by `pad` of its width either side (above half
+    its bottom), found by `stability_thresholds` on `n_scan` speeds."""
+    lo, hi = (float(v) for v in speed_range)
+    if not (np.isfinite(lo) and np.isfinite(hi) and 0 <= lo < hi):
+        raise InputError(f"--range {lo:g} {hi:g}: stable-range needs 0 <= LO < HI ({unit})")
+    width = hi - lo
+    a, b = (max(lo - pad * width, 0.5 * lo) if lo > 0 else 0.0), hi + pad * width
+    found = stability_thresholds(eqx.Partial(_at_nominal, margin, params), a, b, n_scan=n_scan)
+    if found:
+        stable = [found[0].stable_side == "below"] + [t.stable_side == "above" for t in found]
+    else:
+        m = float(margin(params, jnp.float64(0.5 * (lo + hi))))
+        if not np.isfinite(m):
+            raise InputError(f"stable-range: the stability margin of {label} is not finite at {0.5 * (lo + hi):g} "
+                             f"{unit} (no reference motion there)")
+        stable = [m < 0]
+    return StableSpeeds(margin, (lo, hi), (a, b), tuple(t.speed for t in found), tuple(bool(v) for v in stable),
+                        unit)
+
+
+def _at_nominal(margin, params, speed):
+    return margin(params, speed)
 
 
 def _separation(r, crit, op_lo, op_hi):

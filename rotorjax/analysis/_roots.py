@@ -163,19 +163,24 @@ def root_gradient(g2: Callable, x, p):
     return jax.tree_util.tree_map(lambda d: -d / gx, gp)
 
 
-def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None):
+def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_step=False, rolled=False):
     """The root near `guess` of `g(params, x)` (a scalar function, pure JAX), followed
     as `params` (a pytree) change, and the residual there: `(x*, g(params, x_n))`.
 
     `iters` evaluations of `g` on `params` without derivatives: a Newton step with
     the slope `slope0` (or a forward difference at `guess`, one more evaluation),
     then secant steps (superlinear), each keeping the last usable slope where the
-    secant's is not (zero width, not finite). Then one Newton step on `params` as
-    given, its slope a forward difference at the last iterate: `x*`'s derivative is
-    the implicit function theorem's `-(dg/dp) / (dg/dx)`, with no derivatives
-    through the iterations (unrolled: a few steps, no while loop around LAPACK
-    calls, vmappable over designs). A slope of the wrong sign or a root that has
-    gone leaves the residual large: the caller checks it."""
+    secant's is not (zero width, not finite, of the other sign), and no step more
+    once a step is within 1e-12 of `x` (a secant through two points that close
+    is the residual's rounding noise: it threw a converged root far away). Then one
+    Newton step on `params` as given, its slope a forward difference at the last
+    iterate: `x*`'s derivative is the implicit function theorem's `-(dg/dp) /
+    (dg/dx)`, with no derivatives through the iterations (unrolled: a few steps, no
+    while loop around LAPACK calls, vmappable over designs; `rolled`: the secant
+    steps in one `while_loop`, which compiles `g` once instead of `iters` times and
+    stops once converged, for a `g` that integrates in time). A slope of the wrong sign or a root that has
+    gone leaves the residual large: the caller checks it (`with_step`: also the
+    last step's size, `|g / slope|`, which measures it in `x`'s units)."""
     frozen = jax.tree_util.tree_map(lambda v: jax.lax.stop_gradient(v) if isinstance(v, jax.Array) else v, params)
 
     def step_size(x):
@@ -188,14 +193,32 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None):
     else:
         slope = jnp.float64(slope0)
     x1 = x0 - g0 / jnp.where(slope == 0, 1.0, slope)
-    for _ in range(iters - 2):
+
+    def secant(_, carry):
+        x0, g0, x1, slope = carry
         g1 = g(frozen, x1)
+        # converged (the last step within 1e-12 of x): stay, for a secant across noise points anywhere
+        moved = jnp.abs(x1 - x0) > 1e-12 * jnp.maximum(jnp.abs(x1), 1.0)
         secant = (g1 - g0) / jnp.where(x1 == x0, 1.0, x1 - x0)
-        slope = jnp.where((x1 != x0) & jnp.isfinite(secant) & (secant != 0), secant, slope)
-        x0, g0, x1 = x1, g1, x1 - g1 / jnp.where(slope == 0, 1.0, slope)
+        usable = moved & jnp.isfinite(secant) & (jnp.sign(secant) == jnp.sign(slope))
+        slope = jnp.where(usable, secant, slope)
+        return x1, g1, jnp.where(moved, x1 - g1 / jnp.where(slope == 0, 1.0, slope), x1), slope
+
+    carry = (x0, g0, x1, slope)
+    if rolled:
+        def running(c):
+            return (c[0] < iters - 2) & (jnp.abs(c[1][2] - c[1][0]) > 1e-12 * jnp.maximum(jnp.abs(c[1][2]), 1.0))
+
+        carry = jax.lax.while_loop(running, lambda c: (c[0] + 1, secant(c[0], c[1])), (0, carry))[1]
+    else:
+        for i in range(iters - 2):
+            carry = secant(i, carry)
+    x1 = carry[2]
     h = step_size(x1)
     g1 = g(params, x1)
     slope = (g(frozen, x1 + h) - jax.lax.stop_gradient(g1)) / h
+    if with_step:
+        return x1 - g1 / slope, g1, jax.lax.stop_gradient(jnp.abs(g1 / slope))
     return x1 - g1 / slope, g1
 
 

@@ -72,10 +72,10 @@ COMMAND_NEEDS = {
     "level1": ("a finite-element rotor", _fe),
     "balance": ("measurements to work from: a rotor file or the balancing machine", _measured),
     "identify": ("measurements to work from: a rotor file or the balancing machine", _measured),
-    "uncertainty": ("a rotor file (parameters addressed by their rotor-file names)",
-                    lambda s, p: "rotor_file" in s.extras),
-    "optimize": ("a rotor file (parameters addressed by their rotor-file names)",
-                 lambda s, p: "rotor_file" in s.extras),
+    "uncertainty": ("a rotor file, or a reference motion traceable in its parameters (a preset)",
+                    lambda s, p: "rotor_file" in s.extras or _traceable(s, p)),
+    "optimize": ("a rotor file, or a reference motion traceable in its parameters (a preset)",
+                 lambda s, p: "rotor_file" in s.extras or _traceable(s, p)),
 }
 
 
@@ -459,15 +459,13 @@ class Stages:
         self.bar.close()
 
 
-def rotor_file_target(args, command):
-    """`(preset, overrides)` of a command that takes a rotor file only (its parameters
-    addressed by their rotor-file names): the target, and the `--set` values that
-    differ from the file's."""
+def design_target(args, command):
+    """`(preset, params, overrides)` of `optimize` and `uncertainty`: the target (a rotor
+    file, its parameters addressed by their rotor-file names; or a preset with a
+    reference motion, by its `--set` keys), its parameters with the `--set` values
+    applied, and those that differ from its own."""
     preset, params = preset_and_params(args, command)
-    if not is_rotor_file(preset):
-        raise InputError(f"{command} {preset.name}: give a rotor file (its parameters are addressed by their "
-                         "rotor-file names)")
-    return preset, {k: v for k, v in params.items() if v != preset.defaults.get(k)}
+    return preset, params, {k: v for k, v in params.items() if v != preset.defaults.get(k)}
 
 
 def out_stem(folder, preset, prefix="", suffix=""):

@@ -393,14 +393,17 @@ def build_parser():
         (("--method",), dict(default="lm", choices=("lm", "optax"), help="rotor file: Levenberg-Marquardt, or "
                                                                           "optax's Adam (gradient descent)")),
     ], kinds="balancing-machine, rotor files")
-    _command(sub, "uncertainty", "a rotor file's critical speeds, log decrements, margins and responses as "
-             "distributions of its parameters' scatter (vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
+    _command(sub, "uncertainty", "a rotor file's critical speeds, log decrements, margins and responses, or a "
+             "preset's stability thresholds and stable speed range, as distributions of its parameters' scatter "
+             "(vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
         (("--dist",), dict(action="append", default=None, metavar="KEY=DIST(A,B)",
-                           help="a parameter's distribution, by its rotor-file name: normal(MEAN,SD), "
+                           help="a parameter's distribution, by its rotor-file name (a preset: its --set key): "
+                                "normal(MEAN,SD), "
                                 "lognormal(MEAN,SD) (the quantity's own mean and sd) or uniform(LO,HI); repeatable")),
         (("--samples",), dict(type=int, default=10_000, help="Monte Carlo samples (>= 2)")),
         _range(required=False, help="the range of the forward 1x critical speeds followed, rad/s (default 0 to 1.5 "
-                                    "x the operating speed)"),
+                                    "x the operating speed); a preset: of its stability thresholds, in its speed "
+                                    "unit (needed)"),
         (("--speed",), dict(type=nonnegative, default=None, help="the speed of the log decrements, rad/s (default: "
                                                                  "the file's [rotor] speed)")),
         (("--modes",), dict(type=int, default=3, help="log decrements of this many modes (by frequency; 0: none)")),
@@ -413,27 +416,35 @@ def build_parser():
         (("--probe",), dict(type=int, action="append", default=None, help="--output response: a probe node "
                                                                            "(default: every node); repeatable")),
         (("--seed",), dict(type=int, default=0, help="the random seed")),
-    ], kinds="rotor files", description="A rotor file's forward 1x critical speeds (in --range) and the log "
+        (("--n-scan",), dict(type=at_least(2), default=40, help="a preset: the speeds scanned for its stability "
+                                                                "thresholds (over --range widened by a quarter)")),
+    ], kinds="rotor files; presets with a reference motion (anisotropic-abb, elliptic-abb with rho1=rho2, "
+             "cantilever-limiters)", description="A rotor file's forward 1x critical speeds (in --range) and the log "
        "decrements of its first --modes modes (at --speed) as distributions of its parameters' scatter "
        "(--dist KEY=normal(MEAN,SD) | lognormal(MEAN,SD) | uniform(LO,HI), parameters by their rotor-file "
        "names), and any --output design quantity (the same as optimize's): Monte Carlo means, standard "
        "deviations and 5/50/95 % quantiles, the first-order (FOSM) mean and standard deviation from autodiff "
        "gradients, each parameter's share of the variance, and the probabilities that a mode is unstable (log dec "
        "< 0) and that the separation margin falls short of API 684's, with their 95 % intervals; a histogram per "
-       "output.")
+       "output. A preset with a reference motion (an auto-balancer's main motion, straight running): the "
+       "stability thresholds it has in --range (threshold_i) and stable-range, how much of --range it is stable "
+       "over (the auto-balancing range), as distributions of its --set keys' scatter.")
     _command(sub, "optimize", "a rotor file's parameters chosen within bounds against its margins (min-log-dec, "
-             "separation-margin, response, onset, mass), written as a rotor file", cmd_optimize, [
+             "separation-margin, response, onset, mass, stable-range), written as a rotor file; a preset's against "
+             "its stable speed range (an auto-balancer's auto-balancing range)", cmd_optimize, [
         (("--vary",), dict(action="append", default=None, metavar="KEY=LO:HI",
-                           help="a parameter to choose, by its rotor-file name, and its bounds; repeatable")),
-        (("--objective",), dict(default="min-log-dec", choices=QUANTITIES,
-                                help="the quantity to optimise (maximised: min-log-dec, separation-margin, onset; "
-                                     "minimised: response, mass; --sense overrides)")),
+                           help="a parameter to choose, by its rotor-file name (a preset: its --set key), and "
+                                "its bounds; repeatable")),
+        (("--objective",), dict(default=None, choices=QUANTITIES,
+                                help="the quantity to optimise (maximised: min-log-dec, separation-margin, onset, "
+                                     "stable-range; minimised: response, mass; --sense overrides); default "
+                                     "min-log-dec, and a preset's stable-range (its only one)")),
         (("--sense",), dict(default=None, choices=("min", "max"), help="minimise or maximise the objective")),
         (("--constraint",), dict(action="append", default=None, metavar="NAME>=V",
                                  help="a limit on a quantity, NAME>=VALUE or NAME<=VALUE (units: rad/s, kg, m, "
                                       "percent for separation-margin); repeatable")),
-        _range(required=False, help="the speed range of min-log-dec, response and onset, rad/s (default 0 to 1.5 x "
-                                    "the operating speed)"),
+        _range(required=False, help="the speed range of min-log-dec, response, onset and stable-range, rad/s "
+                                    "(default 0 to 1.5 x the operating speed); a preset: in its speed unit (needed)"),
         (("--modes",), dict(type=int, default=3, help="min-log-dec: the modes counted (the first N, a near pair "
                                                       "whole; see --max-frequency)")),
         (("--max-frequency",), dict(type=positive, default=None, help="min-log-dec: count the modes below this "
@@ -453,12 +464,17 @@ def build_parser():
                                   "deviations the bad way over the --scatter samples (default 1 with --scatter)")),
         (("--robust-samples",), dict(type=int, default=32, help="robust design: samples of the scatter (the same "
                                                                 "at every design)")),
-    ], kinds="rotor files", description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
+        (("--n-scan",), dict(type=at_least(2), default=40, help="stable-range of a preset: the speeds scanned for "
+                                                                "its thresholds (over --range widened by a quarter)")),
+    ], kinds="rotor files; presets with a reference motion (anisotropic-abb, elliptic-abb with rho1=rho2, "
+             "cantilever-limiters)", description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
        "chosen within their bounds to maximise or minimise one quantity (--objective) subject to limits on others "
        "(--constraint NAME>=V | NAME<=V): min-log-dec, a smooth lower bound on the least log decrement over --range "
        "of the first --modes modes; separation-margin, the least API 684 separation-margin slack (percent) of the "
        "forward 1x critical speeds from --operating; response, the largest unbalance response at the probes over "
-       "--range; onset, the stability threshold in --range; mass. One augmented-Lagrangian search on exact "
+       "--range; onset, the stability threshold in --range; mass; stable-range, how much of --range the rotor is stable "
+       "over. A preset with a reference motion (--vary its --set keys): stable-range, the auto-balancing range of "
+       "an auto-balancer's main motion, its thresholds followed by the implicit function theorem. One augmented-Lagrangian search on exact "
        "gradients from --starts starts at once; the convergence history, each constraint's value and multiplier, the "
        "optimised rotor written as a rotor file, a plot of the history and the Campbell diagram before and after. "
        "Robust design: with --scatter, every quantity is its mean less (or plus) --robust standard deviations over "

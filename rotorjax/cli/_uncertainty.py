@@ -2,14 +2,15 @@
 file's critical speeds, log decrements and design quantities (response, onset,
 separation margin, ...) as distributions (vmapped Monte Carlo and first-order
 moments), with the probability that a mode is unstable and that a critical speed is
-short of API 684's separation margin."""
+short of API 684's separation margin; or a preset's stability thresholds and stable
+speed range (an auto-balancer's auto-balancing range)."""
 
 import json
 import os
 
 import numpy as np
 
-from ._common import InputError, NumericalError, out_stem, prepare_out, rotor_file_target, write_json
+from ._common import InputError, NumericalError, design_target, is_rotor_file, out_stem, prepare_out, write_json
 
 
 def _inputs(texts):
@@ -29,10 +30,10 @@ def _inputs(texts):
 
 def cmd_uncertainty(args) -> int:
     from rotorjax.plot import plot_uncertainty
-    from rotorjax.uncertainty import propagate, rotor_quantities
+    from rotorjax.uncertainty import preset_quantities, propagate, rotor_quantities
     from ._common import save_figure
 
-    preset, overrides = rotor_file_target(args, "uncertainty")
+    preset, params, overrides = design_target(args, "uncertainty")
     inputs = _inputs(args.dist)
     if args.samples < 2:
         raise InputError(f"--samples {args.samples}: at least 2")
@@ -40,13 +41,22 @@ def cmd_uncertainty(args) -> int:
         raise InputError(f"--modes {args.modes}: at least 0")
     prepare_out(args.out)
     lo, hi = args.range if args.range is not None else (None, None)
-    q = rotor_quantities(preset.name, inputs, lo=lo, hi=hi, speed=args.speed, n_modes=args.modes,
-                         overrides=overrides, quantities=tuple(args.output or ()), operating=args.operating,
-                         probes=args.probe)
+    if is_rotor_file(preset):
+        q = rotor_quantities(preset.name, inputs, lo=lo, hi=hi, speed=args.speed, n_modes=args.modes,
+                             overrides=overrides, quantities=tuple(args.output or ()), operating=args.operating,
+                             probes=args.probe)
+    else:
+        for option, given in (("--output", args.output), ("--speed", args.speed), ("--operating", args.operating),
+                              ("--probe", args.probe)):
+            if given:
+                raise InputError(f"{option}: a rotor file's; {preset.name} (a preset) gives its stability "
+                                 "thresholds and stable-range over --range")
+        q = preset_quantities(preset, params, inputs, args.range, n_scan=args.n_scan)
     # the design quantities in vmapped chunks of 16: 64 samples of response, separation margin and mass in one
     # program hung XLA's CPU runtime in 3 runs of 4 (every thread idle); 16 at a time ran every time
     res = propagate(q.fn, inputs, samples=args.samples, seed=args.seed, names=q.outputs,
-                    chunk_size=16 if args.output else 1024, progress=not args.json)
+                    chunk_size=16 if args.output or not is_rotor_file(preset) else 1024, progress=not args.json,
+                    reverse=not is_rotor_file(preset))
     unstable, short = {}, {}
     for name in q.outputs:
         if name.startswith("log_dec_") or name == "min-log-dec" or name == "separation-margin":

@@ -217,7 +217,7 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0, progress=Fal
         k += running
         running &= ~(done | stuck)
         bar.update()
-        bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where(viol <= tol, f, np.inf))),
+        bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where((viol <= tol) & np.isfinite(f), f, np.inf))),
                         violation=float(np.min(viol)), refresh=False)
     bar.close()
     last = hist[np.arange(S), np.maximum(k - 1, 0)]

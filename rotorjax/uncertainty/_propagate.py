@@ -10,7 +10,7 @@ output's variance.
   Samples whose outputs are not finite (a solver that did not converge there) are
   counted and left out of the statistics, and named in the result.
 - First order (FOSM): `mean ~ f(mu)`, `var ~ g^T Sigma g` with `g = df/dp` at the
-  parameters' means (`jax.jacfwd`) and `Sigma_ij = rho_ij sd_i sd_j` (`rho` the
+  parameters' means (`jax.jacfwd`, or `jax.jacrev`) and `Sigma_ij = rho_ij sd_i sd_j` (`rho` the
   copula's correlation, exact for normal parameters); the share of parameter `i`
   is `g_i^2 sd_i^2 / sum_j g_j^2 sd_j^2` (uncorrelated reading).
 - Violation probability: the fraction `k / n` of samples where an output crosses a
@@ -105,7 +105,7 @@ def draw(inputs, n, correlation=None, seed=0):
 
 
 def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1024, names=None,
-              progress=False) -> Propagation:
+              progress=False, reverse=False) -> Propagation:
     """Outputs of `fn` as distributions (see the module).
 
     **Arguments:**
@@ -117,6 +117,9 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
       `chunk_size` (samples per vmapped call).
     - `names`: the outputs' names (default `y0, y1, ...`).
     - `progress`: a progress bar over the chunks, on stderr (tqdm).
+    - `reverse`: the first-order gradient in reverse mode (`jax.jacrev`), for an `fn`
+      that integrates in time (diffrax's adjoint is reverse-mode only); else forward
+      (`jax.jacfwd`).
 
     **Returns:** a `Propagation`. **Raises:** `InputError` for bad input;
     `NumericalError` when no sample gives finite outputs.
@@ -144,7 +147,8 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     L = correlation_factor(keys, correlation)
     cov = (L @ L.T) * np.outer(sd, sd)
     f0 = np.asarray(jnp.atleast_1d(fn(jnp.asarray(mu))))
-    g = np.asarray(jax.jacfwd(lambda v: jnp.atleast_1d(fn(v)))(jnp.asarray(mu))).reshape(f0.size, len(keys))
+    jacobian = jax.jacrev if reverse else jax.jacfwd
+    g = np.asarray(jacobian(lambda v: jnp.atleast_1d(fn(v)))(jnp.asarray(mu))).reshape(f0.size, len(keys))
     var = np.einsum("oi,ij,oj->o", g, cov, g)
     contrib = (g * sd[None, :]) ** 2
     shares = contrib / np.maximum(contrib.sum(axis=1, keepdims=True), 1e-300)

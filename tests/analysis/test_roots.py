@@ -115,3 +115,24 @@ def test_bad_input(kw, match):
         find_roots(**args)
     with pytest.raises(InputError, match="x \\(the root\\) must be a scalar"):
         root_gradient(lambda x, p: x - p, jnp.zeros(2), 1.0)
+
+
+def test_a_followed_root_stays_put_once_converged_on_a_noisy_function():
+    """`secant_root` on a function with rounding noise (1e-15, a Floquet margin's) from
+    a guess already at the root: a secant through two points 1e-14 apart is noise, and
+    threw such a root to the wrong side of the range (a Floquet threshold of model
+    001 from 1.0143 to -0.209, inside a vmapped design evaluation); it now stays."""
+    from rotorjax.analysis._roots import secant_root
+
+    def g(p, x):
+        return p * (x - 1.0143481980647313) + 1e-15 * jnp.sin(1e9 * x)
+
+    guesses = jnp.asarray(1.0143481980647313 + np.linspace(-1e-13, 1e-13, 41))
+    x, res, step = jax.vmap(lambda s: secant_root(g, jnp.float64(0.0376), s, with_step=True))(guesses)
+    np.testing.assert_allclose(np.asarray(x), 1.0143481980647313, atol=1e-12)
+    assert np.all(np.asarray(step) < 1e-12)
+    # far from the root the iterations still converge, and the derivative is the implicit function theorem's
+    x, _ = secant_root(g, jnp.float64(0.0376), 1.3)
+    assert float(x) == pytest.approx(1.0143481980647313, abs=1e-12)
+    dx = jax.grad(lambda p: secant_root(lambda q, y: q * (y - 1.0) - 0.01, p, 1.3)[0])(jnp.float64(0.5))
+    assert float(dx) == pytest.approx(-0.01 / 0.5**2, rel=1e-8)      # x* = 1 + 0.01 / p

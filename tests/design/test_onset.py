@@ -1,7 +1,8 @@
 """A fluid-film rotor's quantities (`journal_rig.toml`: ROSS's example rotor on two
 short plain journal bearings), against the file read again with other film
 viscosities: the `onset` design quantity (the oil-whirl threshold followed from the
-nominal one) equals a fresh scan-and-bisect, and so does its gradient; and
+nominal one) equals a fresh scan-and-bisect, and so does its gradient, and the stable
+speed range (`stable-range`) is the range below it; and
 uncertainty's critical speeds and log decrements are the linearised films'."""
 
 import equinox as eqx
@@ -36,12 +37,17 @@ def _scanned(values, lo=195.0, hi=225.0):
 
 def test_the_onset_follows_the_scanned_threshold_and_its_gradient():
     file = read_rotor_file(PATH)
-    p = rotor_problem(file, {n: (0.005, 0.05) for n in NAMES}, "onset", speed_range=(100.0, 400.0))
+    p = rotor_problem(file, {n: (0.005, 0.05) for n in NAMES}, "onset", [("stable-range", ">=", 0.0)],
+                      speed_range=(100.0, 400.0))
     x0 = p.nominal
     assert p.settings["onset"] == pytest.approx(_scanned(x0), rel=1e-9)
-    onset = jax.jit(lambda v: p.quantities(v)["onset"])
+    # the stable range (the same threshold, followed by `StableSpeeds`): stable from 100 rad/s up to the onset
+    assert p.settings["thresholds"] == [pytest.approx(p.settings["onset"], rel=1e-9)]
+    assert p.settings["stable_between_thresholds"] == [True, False]
     x = x0 * np.array([1.3, 0.8])
-    assert float(onset(jnp.asarray(x))) == pytest.approx(_scanned(x), rel=1e-8)
+    q = jax.jit(p.quantities)(jnp.asarray(x))
+    assert float(q["onset"]) == pytest.approx(_scanned(x), rel=1e-8)
+    assert float(q["stable-range"]) == pytest.approx(_scanned(x) - 100.0, rel=1e-8)
     g = np.asarray(jax.jit(jax.grad(lambda v: p.quantities(v)["onset"]))(jnp.asarray(x)))
     e = np.array([1e-3 * x[0], 0.0])
     fd = (_scanned(x + e) - _scanned(x - e)) / (2e-3 * x[0])
