@@ -248,3 +248,19 @@ def test_readme_uncertainty_and_design_numbers_are_the_json():
             f"{d['slsqp_fd']['seconds']:.2g} s ({d['ratios']['slsqp_fd_over_rotorjax']:.2g}x), with rotorjax's "
             f"exact gradient in {d['slsqp_exact']['seconds']:.2g} s") in readme
     assert f"(one gradient {d['gradient_eval_ms'] / d['objective_eval_ms']:.2g} objective evaluations" in readme
+
+
+def test_readme_auto_balancing_range_numbers_are_the_json():
+    """The README's auto-balancing-range design sentence quotes `auto_balancing_range.json`."""
+    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    d = json.loads((BENCH / "results" / "auto_balancing_range.json").read_text())
+    r, peer = d["rotorjax"], d["lbfgsb_fd"]
+    t = r["rescan"]["thresholds"]
+    assert (f"the stable range grows from {r['before']:.4g} to {r['after']:.4g} (`mu_xi` {r['x']['mu_xi']:.3g}, "
+            f"`mu_eta` at its bound {r['x']['mu_eta']:g}; thresholds {t[0]:.4g}, {t[1]:.4g} and {t[2]:.4g}, the "
+            f"fresh scan agreeing to {abs(r['rescan']['scanned'] - r['rescan']['followed']):.2g}) in "
+            f"{r['evaluations']} evaluations and {r['seconds']:.2g} s, the rescan included (the first call "
+            f"{r['first_call_s']:.3g} s, compiling); scipy's L-BFGS-B on the same compiled objective with "
+            f"finite-difference gradients reaches the same optimum in {peer['evaluations']} evaluations and "
+            f"{peer['seconds']:.2g} s ({d['ratio_lbfgsb_fd_over_rotorjax']:.2g}x)") in readme
+    assert r["rescan"]["agree"] and abs(peer["after"] - r["after"]) < 1e-6 * r["after"]

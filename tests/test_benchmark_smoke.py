@@ -15,10 +15,11 @@ import pytest
 
 HERE = Path(__file__).resolve().parent
 BENCH = HERE.parent / "benchmarks"
-SCRIPTS = ("auto07p", "balance_grid", "continuation", "design", "fe_identification", "flexible", "gpu_batch",
-           "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters", "peers_001",
-           "periodic_jaxcont", "ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup",
-           "step_cost", "stiff_defaults", "sweep_throughput", "uncertainty")
+SCRIPTS = ("auto07p", "auto_balancing_range", "balance_grid", "continuation", "design", "fe_identification",
+           "flexible", "gpu_batch", "harmonic_balance", "identification", "identification_coverage",
+           "journal_bearings", "limiters", "peers_001", "periodic_jaxcont", "ross_parity", "rotor_scene",
+           "solver_choice", "stability_map", "startup", "step_cost", "stiff_defaults", "sweep_throughput",
+           "uncertainty")
 #: modules that are not benchmarks: shared helpers, and the results page (tests/test_benchmark_pages.py)
 HELPERS = {"_common", "work_precision", "_ross_st_rotor"}
 

@@ -467,16 +467,19 @@ def build_parser():
         (("--n-scan",), dict(type=at_least(2), default=40, help="stable-range of a preset: the speeds scanned for "
                                                                 "its thresholds (over --range widened by a quarter)")),
     ], kinds="rotor files; presets with a reference motion (anisotropic-abb, elliptic-abb with rho1=rho2, "
-             "cantilever-limiters)", description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
+             "cantilever-limiters)",
+       description="A rotor file's parameters (--vary KEY=LO:HI, by their rotor-file names) "
        "chosen within their bounds to maximise or minimise one quantity (--objective) subject to limits on others "
        "(--constraint NAME>=V | NAME<=V): min-log-dec, a smooth lower bound on the least log decrement over --range "
        "of the first --modes modes; separation-margin, the least API 684 separation-margin slack (percent) of the "
        "forward 1x critical speeds from --operating; response, the largest unbalance response at the probes over "
-       "--range; onset, the stability threshold in --range; mass; stable-range, how much of --range the rotor is stable "
-       "over. A preset with a reference motion (--vary its --set keys): stable-range, the auto-balancing range of "
-       "an auto-balancer's main motion, its thresholds followed by the implicit function theorem. One augmented-Lagrangian search on exact "
-       "gradients from --starts starts at once; the convergence history, each constraint's value and multiplier, the "
-       "optimised rotor written as a rotor file, a plot of the history and the Campbell diagram before and after. "
+       "--range; onset, the stability threshold in --range; mass; stable-range, how much of --range the rotor is "
+       "stable over. A preset with a reference motion (--vary its --set keys): stable-range, the auto-balancing "
+       "range of an auto-balancer's main motion, its thresholds followed by the implicit function theorem. One "
+       "augmented-Lagrangian search on exact gradients from --starts starts at once; the convergence history, each "
+       "constraint's value and multiplier, the optimised rotor written as a rotor file (a preset's, its --set "
+       "values), a plot of the history and the Campbell diagram (a preset: its margin over the speed) before and "
+       "after. "
        "Robust design: with --scatter, every quantity is its mean less (or plus) --robust standard deviations over "
        "--robust-samples samples of the scattering parameters.")
     ph = sub.add_parser("phasors", help="1x phasors of raw vibration signals, written as a phasor file",

@@ -62,7 +62,8 @@ def cmd_optimize(args) -> int:
     stem = out_stem(args.out, preset, "optimize_")
     if is_rotor_file(preset):
         file = read_rotor_file(preset.name, overrides)
-        problem = rotor_problem(file, vary, args.objective or "min-log-dec", constraints, speed_range=args.range, n_modes=args.modes,
+        problem = rotor_problem(file, vary, args.objective or "min-log-dec", constraints, speed_range=args.range,
+                                n_modes=args.modes,
                                 operating=args.operating, probes=args.probe, sense=sense,
                                 max_frequency=args.max_frequency, **robust)
     else:
@@ -118,7 +119,8 @@ def _summary(args, preset, out, o, stem):
               f"({'met' if r['met'] else 'NOT met'}, multiplier {r['multiplier']:.3g})")
     if "rescan" in out:
         r = out["rescan"]
-        print(f"  checked by a fresh scan: stable range {r['scanned']:.6g} ({'agrees' if r['agree'] else 'DISAGREES'}), "
+        verdict = "agrees" if r["agree"] else "DISAGREES"
+        print(f"  checked by a fresh scan: stable range {r['scanned']:.6g} ({verdict}), "
               f"thresholds {', '.join(f'{t:.6g}' for t in r['thresholds']) or 'none'}")
     if "set" in out:
         print("  as --set values: " + " ".join(f"--set {k}={v:.6g}" for k, v in out["set"].items()))

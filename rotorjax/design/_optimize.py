@@ -217,8 +217,8 @@ def _solve(fn, U0, a, b, log, *, m, tol, max_outer, max_inner, mu0, progress=Fal
         k += running
         running &= ~(done | stuck)
         bar.update()
-        bar.set_postfix(running=int(running.sum()), best=float(np.min(np.where((viol <= tol) & np.isfinite(f), f, np.inf))),
-                        violation=float(np.min(viol)), refresh=False)
+        best = np.min(np.where((viol <= tol) & np.isfinite(f), f, np.inf))
+        bar.set_postfix(running=int(running.sum()), best=float(best), violation=float(np.min(viol)), refresh=False)
     bar.close()
     last = hist[np.arange(S), np.maximum(k - 1, 0)]
     done = (last[:, 1] <= tol) & ((last[:, 3] <= tol * np.maximum(1.0, np.abs(last[:, 0]))) | (last[:, 5] == FLAT))
@@ -253,6 +253,8 @@ def minimize(fn, lo, hi, starts, *, log=None, tol=1e-6, max_outer=30, max_inner=
         fn, _to_u(starts, a, b, log), a, b, log, m=m, tol=float(tol), max_outer=int(max_outer),
         max_inner=int(max_inner), mu0=float(mu0), progress=progress)
     c_end = c_end.reshape(len(ends), m)
+    # a bound held is the bound itself (its logarithm's round trip is not: 399.9999999999999 for 400)
+    ends = np.where(u >= 1.0, hi, np.where(u <= 0.0, lo, np.clip(ends, lo, hi)))
     viol = np.max(np.maximum(c_end, 0.0), axis=1, initial=0.0)
     finite = np.isfinite(f_end) & np.all(np.isfinite(c_end), axis=1)
     feasible = finite & (viol <= tol)

@@ -104,18 +104,55 @@ def test_the_optimum_is_the_best_of_a_brute_force_grid(problem, design, stable_r
     assert np.all(np.sign(before) == np.where(speeds > problem.settings["thresholds"][0], -1, 1))
 
 
-def test_the_monte_carlo_of_the_threshold_against_first_order():
+INPUTS = {"delta_n": LogNormal(0.18, 0.02), "delta_b": LogNormal(40.0, 4.0)}
+
+
+@pytest.fixture(scope="module")
+def quantities():
+    return preset_quantities(PRESET, PARAMS, INPUTS, RANGE, n_scan=24)
+
+
+def test_the_monte_carlo_of_the_threshold_against_first_order(quantities):
     """The threshold and the stable range under lognormal damping scatter: the sample
     mean and sd against the first-order moments (small scatter: they agree to a few
     standard errors), and the stable range is the range's top less the threshold."""
-    inputs = {"delta_n": LogNormal(0.18, 0.02), "delta_b": LogNormal(40.0, 4.0)}
-    q = preset_quantities(PRESET, PARAMS, inputs, RANGE, n_scan=24)
+    q = quantities
     assert q.outputs == ("stable-range", "threshold_0")
-    res = propagate(q.fn, inputs, samples=256, seed=3, names=q.outputs, chunk_size=64, reverse=True)
+    res = propagate(q.fn, INPUTS, samples=256, seed=3, names=q.outputs, chunk_size=16, reverse=True)
     assert res.n == 256
     np.testing.assert_allclose(res.samples[:, 0], RANGE[1] - res.samples[:, 1], atol=1e-12)
     assert abs(res.mean[1] - res.fosm_mean[1]) < 4 * res.sem[1] + 1e-9
     assert res.std[1] == pytest.approx(res.fosm_std[1], rel=0.15)
+
+
+def test_the_commands_present_the_design_and_the_distributions(problem, design, quantities, monkeypatch, capsys,
+                                                               tmp_path):
+    """`optimize` and `uncertainty` on the preset (the problem, the design and the
+    quantities above handed to them, so that nothing compiles again): the optimum as
+    --set values, the rescan, the plot; the thresholds' statistics."""
+    import json
+
+    import rotorjax.design
+    import rotorjax.uncertainty
+    from rotorjax.cli import main
+
+    monkeypatch.setattr(rotorjax.design, "preset_problem", lambda *a, **k: problem)
+    monkeypatch.setattr(rotorjax.design, "optimize_rotor", lambda *a, **k: design)
+    monkeypatch.setattr(rotorjax.uncertainty, "preset_quantities", lambda *a, **k: quantities)
+    common = ["--set", "rho1=1.2", "--range", "0.5", "6", "--out", str(tmp_path)]
+    assert main(["optimize", "elliptic-abb", "--vary", "delta_n=0.05:1", "--vary", "delta_b=5:400", *common]) == 0
+    text = capsys.readouterr().out
+    assert "maximise stable-range: 4.99773 -> 4.99" in text and "checked by a fresh scan" in text
+    assert "--set rho1=1.2 --set delta_n=1 --set delta_b=400" in text
+    out = json.loads((tmp_path / "optimize_elliptic-abb.json").read_text())
+    assert out["set"] == {"rho1": 1.2, "delta_n": 1.0, "delta_b": 400.0} and out["rescan"]["agree"]
+    assert (tmp_path / "optimize_elliptic-abb.png").exists()
+    assert main(["uncertainty", "elliptic-abb", "--dist", "delta_n=lognormal(0.18,0.02)", "--dist",
+                 "delta_b=lognormal(40,4)", "--samples", "64", "--json", *common]) == 0
+    out = json.loads(capsys.readouterr().out)
+    stats = out["outputs"]
+    assert list(stats) == ["stable-range", "threshold_0"] and out["settings"]["thresholds"]
+    assert stats["stable-range"]["mean"] == pytest.approx(RANGE[1] - stats["threshold_0"]["mean"], abs=1e-12)
 
 
 @pytest.mark.parametrize("vary, match", [
