@@ -13,8 +13,8 @@ optimises and constrains (`rotorjax.design`) and what uncertainty propagates
   `operating` (`separation_slack`);
 - `response`: the largest unbalance-response amplitude (m) at the probes over
   `speed_range` (the scene's `Unbalance`s): each probe's peak on `n_grid` speeds,
-  located between them by bisection on the amplitude's slope, and a soft maximum
-  over the probes;
+  located between them (33 finer speeds, then a parabola's vertex: `_response`), and
+  a soft maximum over the probes;
 - `onset`: the stability threshold in `speed_range` where the rotor turns unstable
   (`onset_speed`);
 - `mass`: the rotor's mass, kg;
