@@ -64,9 +64,11 @@ def main():
     t0 = time.perf_counter()
     d = optimize_rotor(p, n_starts=1, max_outer=max_outer)
     first = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    d = optimize_rotor(p, n_starts=1, max_outer=max_outer)
-    second = time.perf_counter() - t0
+    second = first
+    if not smoke:                                   # the search again, compiled: what a user's next call costs
+        t0 = time.perf_counter()
+        d = optimize_rotor(p, n_starts=1, max_outer=max_outer)
+        second = time.perf_counter() - t0
     o = d.optimum
 
     a, b = _ends(p.lo, p.hi, p.log)

@@ -3,7 +3,7 @@
 with `--smoke`, its output captured, its exit recorded; the imports (jax, rotorjax,
 scipy, numba, matplotlib) and the compilations the scripts share are paid once.
 Writes `{name: {"ok", "seconds", "tail"}}` to OUT.json. Used by
-tests/test_benchmark_smoke.py."""
+tests/test_benchmark_smoke*.py."""
 
 import contextlib
 import io

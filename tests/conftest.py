@@ -41,12 +41,20 @@ def _free_compiled_programs():
 #: file of more than about 20 s joins the list. The other files follow, those with more tests first (pytest-xdist's
 #: own order).
 LONGEST_FIRST = (
-    "test_benchmark_smoke.py",                 # 294 (every benchmark's --smoke run, one subprocess)
+    "test_benchmark_smoke_3.py",               # ~ 330 locally, 2026-11-28 (a third of the benchmarks' --smoke runs,
+    "test_benchmark_smoke.py",                 # ~ 320                    one subprocess each; more in CI, with ROSS
+    "test_benchmark_smoke_2.py",               # ~ 300                    and AUTO-07p installed)
     "test_cli.py",                             # >= 108
     "test_readme.py",                          # ~ 110
     "test_notebooks.py",                       # 105 (three subprocesses)
+    "analysis/test_floquet.py",                # ~ 260 (these seven: one file alone on a loaded machine, 2026-11-27)
+    "identify/test_fe_identify.py",            # ~ 260
+    "models/test_composition_voigt.py",        # ~ 200
+    "models/test_composition_balancer.py",     # ~ 200
+    "design/test_stable_range.py",             # ~ 180
+    "design/test_onset.py",                    # ~ 150
+    "design/test_design.py",                   # ~ 140
     "analysis/test_continuation.py",           # >= 57
-    "analysis/test_floquet.py",                # >= 51
     "solve/test_batch.py",                     # >= 50
     "validation/test_model004_whirl_cycle.py",  # >= 46
     "models/test_fe_building.py",              # ~ 48
@@ -56,7 +64,6 @@ LONGEST_FIRST = (
     "models/test_film_rotor.py",               # ~ 45
     "validation/test_oil_whirl_onset.py",      # ~ 40
     "models/test_composition_cubic.py",        # >= 37
-    "identify/test_fe_identify.py",            # >= 28
     "analysis/test_harmonic_balance.py",       # >= 23
     "models/test_seal.py",                     # 41 (ROSS live, once; the seal's cross coupling fitted)
     "validation/test_model_004.py",            # >= 22

@@ -26,3 +26,53 @@ def set_csv_field(line_no, field, value):
         lines[line_no - 1] = ",".join(parts)
         return lines
     return edit
+
+
+#: the benchmark scripts whose `--smoke` runs tests/test_benchmark_smoke*.py check, in three groups of about
+#: 5-6 minutes each on the CI machine (one interpreter per group, each group a file, so on its own worker; measured
+#: locally 2026-11-28: 317, 299 and about 330 s): one interpreter for all of them passed the 1200 s after which
+#: pytest ends a worker (pyproject.toml) once ROSS and AUTO-07p were installed
+SMOKE_GROUPS = (
+    ("auto07p", "auto_balancing_range", "balance_grid", "continuation", "design", "fe_identification", "flexible"),
+    ("gpu_batch", "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters",
+     "peers_001", "periodic_jaxcont"),
+    ("ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup", "step_cost", "stiff_defaults",
+     "sweep_throughput", "uncertainty"),
+)
+
+
+def run_benchmark_smokes(tmp, names):
+    """`python tests/benchmark_smoke_runner.py` on the benchmark scripts `names` (their
+    `--smoke` runs, one after another in one fresh interpreter, in the folder `tmp`):
+    `(runs, tail, untouched)`, `runs` the runner's report `{name: {"ok", "seconds",
+    "tail"}}`, `tail` the end of its output, `untouched` whether `benchmarks/results/`
+    is as it was."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parent
+    results = here.parent / "benchmarks" / "results"
+    env = dict(os.environ, MPLBACKEND="Agg")
+    # $ROTORJAX_ROSS_PYTHON passes through: the ROSS paths run where .ci/run installed ROSS
+    before = {p.name: p.stat().st_mtime for p in results.iterdir()}
+    report = Path(tmp) / "smoke.json"
+    try:   # within the 1200 s after which pytest's faulthandler ends the worker (pyproject.toml)
+        proc = subprocess.run([sys.executable, str(here / "benchmark_smoke_runner.py"), str(report), *names],
+                              cwd=tmp, env=env, capture_output=True, text=True, timeout=1000)
+        tail = f"{proc.stdout[-1500:]}{proc.stderr[-1500:]}"
+    except subprocess.TimeoutExpired as e:
+        tail = f"the smoke runs passed 1000 s: {str(e.stdout or '')[-1500:]}"
+    runs = json.loads(report.read_text()) if report.exists() else {}
+    after = {p.name: p.stat().st_mtime for p in results.iterdir()}
+    return runs, tail, before == after
+
+
+def check_benchmark_smoke(name, smoke_runs):
+    """The assertions on one script's smoke run (`run_benchmark_smokes`' result)."""
+    runs, tail, untouched = smoke_runs
+    assert name in runs, f"the runner stopped before {name}: {tail}"
+    assert runs[name]["ok"], runs[name]["tail"]
+    assert untouched, "a smoke run wrote into benchmarks/results/"

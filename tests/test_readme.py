@@ -34,7 +34,8 @@ README = os.path.join(os.path.dirname(__file__), "..", "README.md")
 
 #: caps on sizes: option -> (index of the value after the option, cap)
 QUICK = {"--x": (3, 3), "--y": (3, 3), "--param": (3, 3), "--n-scan": (0, 12), "--n-speeds": (0, 10),
-         "--n": (0, 200), "--max-points": (0, 4), "--t-end": (0, 100.0), "--n-save": (0, 400)}
+         "--n": (0, 200), "--max-points": (0, 4), "--t-end": (0, 100.0), "--n-save": (0, 400),
+         "--starts": (0, 1)}
 #: `--set` values capped the same way
 QUICK_SETS = {"revolutions": 20, "nu_end": 2.0}
 #: options added when absent, per command

@@ -148,7 +148,7 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
     if not vary:
         raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} bearing0.kxx=1e5:1e7")
     names, paths, lo, hi, nominal, log = _bounds(file, vary, option)
-    noise_paths, noise, robust = _scatter(lambda name: (file.parameter_path(name, "--scatter"), file.signed(name)),
+    noise_paths, noise, robust = _scatter(lambda name, _: (file.parameter_path(name, "--scatter"), file.signed(name)),
                                           names, scatter, robust_k, robust_samples, seed)
     wanted = _wanted(objective, constraints)
     parts = parts_of(file.scene)
@@ -177,7 +177,7 @@ def preset_problem(preset, params, vary, objective="stable-range", constraints=(
     `seed`: a robust design, as `rotor_problem`'s. `preset`: a `rotorjax.presets.Preset`
     (its `build`, `speed_key`, `domains`, `check`)."""
     from ..analysis import stability_margin
-    from ..uncertainty._preset import preset_key
+    from ..uncertainty._preset import preset_key, preset_scatter
 
     if not vary:
         raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} "
@@ -200,8 +200,12 @@ def preset_problem(preset, params, vary, objective="stable-range", constraints=(
         raise InputError(f"--range: give the speeds over which {preset.name}'s stable range is measured, --range LO "
                          f"HI ({preset.speed_key}, {preset.units.get(preset.speed_key, '')})")
     names = tuple(names)
-    noise_keys, noise, robust = _scatter(lambda name: (name, not preset_key(preset, params, name, "--scatter")), names,
-                                         scatter, robust_k, robust_samples, seed)
+
+    def resolve(name, dist):
+        preset_scatter(preset, params, name, dist, "--scatter")
+        return name, True                   # checked against the key's whole domain, its sign included
+
+    noise_keys, noise, robust = _scatter(resolve, names, scatter, robust_k, robust_samples, seed)
     keys = names + tuple(noise_keys)
 
     def margin(values, speed):
@@ -300,7 +304,8 @@ def _sd(v):
 
 def _scatter(resolve, varied, scatter, k, n, seed):
     """The scattered parameters' paths, their `(n, m)` samples and the robust settings
-    (or `(), None, None` without `scatter`); `resolve(name) -> (path, signed)`."""
+    (or `(), None, None` without `scatter`); `resolve(name, dist) -> (path, signed)` (having checked
+    `dist` against the parameter's domain where it knows more than its sign)."""
     if not scatter:
         if k is not None:
             raise InputError("--robust: give the parameters that scatter, --scatter KEY=lognormal(MEAN,SD) ...")
@@ -317,7 +322,7 @@ def _scatter(resolve, varied, scatter, k, n, seed):
         if name in varied:
             raise InputError(f"--scatter {name}: also given to --vary; a designed parameter cannot scatter (give "
                              "the scatter of another parameter)")
-        path, signed = resolve(name)
+        path, signed = resolve(name, dist)
         if not signed and reaches_zero(dist):
             raise InputError(f"--scatter {name}={dist.text()}: {name} is a positive quantity and this distribution "
                              "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")

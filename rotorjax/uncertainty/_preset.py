@@ -12,7 +12,7 @@ import numpy as np
 from .._errors import InputError, NumericalError
 from ..analysis import stability_margin
 from ..analysis._quantities import stable_speeds
-from ._distributions import reaches_zero
+from ._distributions import reaches_zero, support
 from ._rotor import RotorQuantities
 
 
@@ -32,19 +32,35 @@ def preset_key(preset, params, name, option) -> bool:
     return domain.startswith(">") or domain.startswith("(0") or domain.startswith("[0")
 
 
+def preset_scatter(preset, params, name, dist, option) -> None:
+    """Check that `name` may scatter (`preset_key`) as `dist` does: everything it draws
+    (`support`) inside the key's domain, or an `InputError` naming `option`, the key and
+    the value it would reach (`eps=normal(0.9, 0.1)` on a key in (0,1) reaches 1.4)."""
+    positive = preset_key(preset, params, name, option)
+    if positive and reaches_zero(dist):
+        raise InputError(f"{option} {name}={dist.text()}: {name} must be {preset.domains[name]} and this "
+                         "distribution reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
+    for end in support(dist):
+        try:
+            preset.check(name, end)
+        except InputError as e:
+            raise InputError(f"{option} {name}={dist.text()}: reaches {end:g} (within 5 standard deviations, or "
+                             f"the ends of a uniform one), and {name} {str(e).split(': ', 1)[1]}; give a narrower "
+                             "distribution, or uniform(LO, HI) inside the domain") from None
+
+
 def preset_quantities(preset, params, inputs, speed_range, *, n_scan=40, option="--dist") -> RotorQuantities:
     """The quantities of `preset` (a `rotorjax.presets.Preset` with a reference motion)
     at `params` as a function of the `--set` keys `inputs` (their names, or `{name:
-    distribution}`: a positive key's distribution must stay positive), over
+    distribution}`: what each draws must lie in the key's domain, `preset_scatter`), over
     `speed_range` `(lo, hi)` in the preset's speed unit (the thresholds set up on
     `n_scan` speeds)."""
     names = tuple(inputs)
     for name in names:
-        positive = preset_key(preset, params, name, option)
-        dist = inputs[name] if isinstance(inputs, dict) else None
-        if dist is not None and positive and reaches_zero(dist):
-            raise InputError(f"{option} {name}={dist.text()}: {name} must be {preset.domains[name]} and this "
-                             "distribution reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
+        if isinstance(inputs, dict):
+            preset_scatter(preset, params, name, inputs[name], option)
+        else:
+            preset_key(preset, params, name, option)
     if speed_range is None:
         raise InputError(f"--range: give the speeds over which {preset.name}'s thresholds are found, --range LO HI "
                          f"({preset.speed_key})")

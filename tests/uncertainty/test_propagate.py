@@ -11,7 +11,7 @@ from rotorjax._errors import InputError
 from rotorjax.analysis import critical_speeds_1x, modes
 from rotorjax.io import read_rotor_file, shipped_rotor
 from rotorjax.uncertainty import (LogNormal, Normal, Uniform, distribution, parse_distribution, propagate,
-                                  rotor_quantities, wilson)
+                                  rotor_quantities, support, wilson)
 
 M = 2.0
 K = LogNormal(1e6, 1e5)
@@ -174,6 +174,18 @@ def test_each_critical_speed_is_solved_from_far_and_differentiated_exactly():
             e = np.eye(3)[i] * h
             fd = (scan(values + e)[j] - scan(values - e)[j]) / (2 * h)
             assert grad[i] == pytest.approx(fd, rel=1e-4, abs=1e-8 * abs(float(w)) / values[i])
+
+
+def test_support_is_the_five_sigma_quantiles():
+    """What a distribution draws, checked against a key's domain (`--dist`, `--scatter`): scipy's quantiles at
+    5 standard deviations of the normal behind it (lognormal: scipy's `lognorm(s, scale=exp(mu))`)."""
+    p = norm.cdf([-5.0, 5.0])
+    d = LogNormal(0.3, 0.05)
+    np.testing.assert_allclose(support(d), lognorm(d.s, scale=np.exp(d.mu)).ppf(p), rtol=1e-9)
+    np.testing.assert_allclose(support(Normal(0.6, 0.1)), norm(0.6, 0.1).ppf(p), rtol=1e-9)
+    assert support(Uniform(0.2, 0.7)) == (0.2, 0.7)
+    draws = np.asarray(d.from_normal(np.random.default_rng(0).standard_normal(100_000)))
+    assert support(d)[0] < draws.min() and draws.max() < support(d)[1]
 
 
 def test_a_positive_parameter_needs_a_positive_distribution():
