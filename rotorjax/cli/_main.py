@@ -397,8 +397,8 @@ def build_parser():
              "preset's stability thresholds and stable speed range, as distributions of its parameters' scatter "
              "(vmapped Monte Carlo and first-order moments)", cmd_uncertainty, [
         (("--dist",), dict(action="append", default=None, metavar="KEY=DIST(A,B)",
-                           help="a parameter's distribution, by its rotor-file name (a preset: its --set key): "
-                                "normal(MEAN,SD), "
+                           help="a parameter's distribution, by its rotor-file name (a preset: its --set key; "
+                                "disk0.position: where the disk's node lies, m from node 0): normal(MEAN,SD), "
                                 "lognormal(MEAN,SD) (the quantity's own mean and sd) or uniform(LO,HI); repeatable")),
         (("--samples",), dict(type=int, default=10_000, help="Monte Carlo samples (>= 2)")),
         _range(required=False, help="the range of the forward 1x critical speeds followed, rad/s (default 0 to 1.5 "
@@ -433,8 +433,9 @@ def build_parser():
              "separation-margin, response, onset, mass, stable-range), written as a rotor file; a preset's against "
              "its stable speed range (an auto-balancer's auto-balancing range)", cmd_optimize, [
         (("--vary",), dict(action="append", default=None, metavar="KEY=LO:HI",
-                           help="a parameter to choose, by its rotor-file name (a preset: its --set key), and "
-                                "its bounds; repeatable")),
+                           help="a parameter to choose, by its rotor-file name (a preset: its --set key; "
+                                "disk0.position, bearing1.position: where the entry's node lies, m from node 0), "
+                                "and its bounds; repeatable")),
         (("--objective",), dict(default=None, choices=QUANTITIES,
                                 help="the quantity to optimise (maximised: min-log-dec, separation-margin, onset, "
                                      "stable-range; minimised: response, mass; --sense overrides); default "

@@ -74,7 +74,7 @@ def cmd_optimize(args) -> int:
     files = {"plot": stem + ".png", "json": stem + ".json"}
     if is_rotor_file(preset):
         files["rotor"] = stem + ".toml"
-        save_rotor(read_rotor_file(preset.name, {**overrides, **design.after}).scene, files["rotor"],
+        save_rotor(read_rotor_file(preset.name, {**overrides, **design.overrides()}).scene, files["rotor"],
                    name=f"{file.name}-optimized")
         span = problem.settings["range"] or problem.settings.get("critical_range")
         look = dict(campbell=design.campbell(np.linspace(span[0], span[1], 60)) if span else None)

@@ -9,6 +9,7 @@ from ._optimize import latin_starts as latin_starts
 from ._optimize import minimize as minimize
 from ._rotor import RotorDesign as RotorDesign
 from ._rotor import RotorProblem as RotorProblem
+from ._rotor import file_values as file_values
 from ._rotor import optimize_rotor as optimize_rotor
 from ._rotor import parse_constraint as parse_constraint
 from ._rotor import preset_problem as preset_problem

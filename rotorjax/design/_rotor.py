@@ -105,14 +105,19 @@ def _bounds(file, vary, option):
     for name, (a, b) in vary.items():
         path = file.parameter_path(name, option)
         _check_bounds(name, a, b, option)
-        domain = file.entries[name].domain if name in file.entries else (">=0" if file.signed(name) else ">0")
+        between = file.interval(name)
+        if between is not None and not between[0] < a < b < between[1]:
+            raise InputError(f"{option} {name}={a:g}:{b:g}: {name} (m from node 0) must stay between the nodes either "
+                             f"side of its own, at {between[0]:g} and {between[1]:g} m")
+        domain = file.entries[name].domain if name in file.entries else ("any" if file.signed(name) else ">0")
         if (domain == ">0" and a <= 0) or (domain == ">=0" and a < 0):
             raise InputError(f"{option} {name}={a:g}:{b:g}: {name} must be {domain}, so LO too")
         names.append(name)
         paths.append(path)
         lo.append(float(a))
         hi.append(float(b))
-        log.append(a > 0 and b / a >= 10)
+        log.append(a > 0 and b / a >= 10 and between is None)
+    file.check_together(names, option)
     parts = parts_of(file.scene)
     nominal = [float(value_of(parts, p)) for p in paths]
     return tuple(names), tuple(paths), np.array(lo), np.array(hi), np.array(nominal), np.array(log)
@@ -144,12 +149,15 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
       with `scatter`), `robust_samples`, `seed`: a robust design (see the module);
     - `overrides`: `--set` values; `option`: the option the names came with.
     """
+    from ..uncertainty._rotor import file_scatter
+
     file = read_rotor_file(rotor, overrides) if isinstance(rotor, str) else rotor
     if not vary:
         raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} bearing0.kxx=1e5:1e7")
     names, paths, lo, hi, nominal, log = _bounds(file, vary, option)
-    noise_paths, noise, robust = _scatter(lambda name, _: (file.parameter_path(name, "--scatter"), file.signed(name)),
+    noise_paths, noise, robust = _scatter(lambda name, dist: (file_scatter(file, name, dist, "--scatter"), True),
                                           names, scatter, robust_k, robust_samples, seed)
+    file.check_together(names + tuple(scatter or ()), "--vary/--scatter")
     wanted = _wanted(objective, constraints)
     parts = parts_of(file.scene)
     plan = scene_quantities(file.scene, wanted, label=file.label, speed=float(file.entries["speed"].value),
@@ -372,8 +380,11 @@ class RotorDesign:
                                              for v in (self.before, self.after))
 
     def overrides(self) -> dict:
-        """The optimum as `--set` values for the file."""
-        return dict(self.after)
+        """The optimum as `--set` values for the file (`file_values`)."""
+        p = self.problem
+        if p.file is None:
+            return dict(self.after)
+        return file_values(p.file, p.paths, [self.after[k] for k in p.names])
 
     def as_dict(self) -> dict:
         o, p = self.optimum, self.problem
@@ -398,6 +409,21 @@ class RotorDesign:
                 "steps": [{"objective": -p.sense * float(f) * p.scales[p.objective], "violation": float(v)}
                           for f, v in o.steps],
                 "settings": p.settings, "robust": p.robust, **({"rescan": self.rescan} if self.rescan else {})}
+
+
+def file_values(file, paths, values) -> dict:
+    """The parameters `paths` (of the `RotorFile` `file`) at `values` as `--set` values
+    for the file: each by its name, a position (`disk0.position`) as the lengths of the
+    elements either side of its node, as the parameter set them."""
+    parts = with_values(parts_of(file.scene), paths, jnp.asarray(values, dtype=jnp.float64))
+    out = {}
+    for path, v in zip(paths, values):
+        t = path.targets[0]
+        if t.rule == "node_position":
+            out.update({f"shaft{j}.L": float(parts.rotor.lengths[j]) for j in t.index[0]})
+        else:
+            out[path.name] = float(v)
+    return out
 
 
 def optimize_rotor(problem: RotorProblem, n_starts=8, seed=0, tol=1e-6, max_outer=30, progress=False) -> RotorDesign:

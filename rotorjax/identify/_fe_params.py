@@ -67,6 +67,10 @@ def parameter(name, file, parts, option="--fit"):
         raise InputError(f"{option} {name}: not a parameter of this rotor file{hint}")
     if path.refusal:
         raise InputError(f"{option} {name}: {path.refusal}")
+    if path.targets[0].rule == "node_position":
+        raise InputError(f"{option} {name}: a position is designed or scatters (optimize --vary, uncertainty --dist), "
+                         "not fitted: the fit does not hold it between the nodes either side of its own; give the "
+                         "measured one in the file")
     start = float(value_of(parts, path))
     signed = file.signed(name)
     if not signed and not start > 0:

@@ -93,7 +93,11 @@ numeric key of an entry resolves, here, where the file's meaning is known, to th
 leaves of the scene it sets (`rotorjax.models._parameters`), with the values that
 follow it where the file leaves them out (`kyy` after `kxx`, a material's `G` or
 `nu`, a clearance bearing's smoothing), so that setting it through the leaves builds
-the scene the override builds.
+the scene the override builds. One more name per entry at a node is a parameter and
+not a key: `<table><index>.position`, where that node lies (m from node 0), set
+through the lengths of the two elements either side of it (`RotorFile.interval`: the
+open interval it may take; `RotorFile.check_together`: two parameters setting one
+length refused).
 """
 
 from ._build import load_rotor as load_rotor

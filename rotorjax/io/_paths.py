@@ -68,6 +68,9 @@ class RotorFile:
         table, index, key = m.group(1), m.group(2), m.group(3)
         spec = SCHEMA[table]
         i = None if index is None else int(index)
+        if key == "position":
+            node = self.node_of(name)
+            return None if node is None else _position_path(name, table, i, node, self.spec["shaft"])
         if key not in spec.keys or spec.array != (i is not None) or spec.keys[key].kind not in (
                 "number", "number_or_numbers"):
             return None
@@ -75,6 +78,44 @@ class RotorFile:
         if i not in entries:
             return None
         return _parameter_path(name, table, i, key, entries[i], self.spec, self.placed, self.scene.full_rotor)
+
+    def node_of(self, name):
+        """The node of the entry `name` (`table<i>.key`) sits at, or None (no such entry,
+        or one not at a node)."""
+        m = OVERRIDE_KEY.match(name) if isinstance(name, str) else None
+        if not m or m.group(1) not in SCHEMA or m.group(2) is None or "node" not in SCHEMA[m.group(1)].keys:
+            return None
+        entry = dict(self.raw.get(m.group(1), [])).get(int(m.group(2)))
+        return None if entry is None or "node" not in entry else int(entry["node"])
+
+    def interval(self, name):
+        """The open interval `(lo, hi)` a position parameter (`bearing1.position`) may
+        take, in m: between the nodes either side of its own, where they stand in the
+        file; None for any other parameter."""
+        path = self.path(name)
+        if path is None or path.refusal or path.targets[0].rule != "node_position":
+            return None
+        z = np.concatenate([[0.0], np.cumsum([e["L"] for e in self.spec["shaft"]])])
+        a, b = path.targets[0].index[0]
+        return float(z[a]), float(z[b + 1])
+
+    def check_together(self, names, option):
+        """`InputError` naming `option` and two of `names` that set the same element
+        length (a position and its node's element's `L`, or two positions at one node or
+        at neighbouring nodes): applied one after the other, the second would move what
+        the first placed."""
+        seen = {}
+        for name in names:
+            path = self.path(name)
+            for t in () if path is None else path.targets:
+                if t.leaf != ("rotor", "lengths"):
+                    continue
+                for j in np.ravel(t.index[0]).tolist():
+                    if j in seen and seen[j] != name:
+                        raise InputError(f"{option} {seen[j]} and {name}: both set the length of shaft{j} (a "
+                                         "position moves its node, and so the lengths of the elements either side); "
+                                         "give one of them")
+                    seen[j] = name
 
     def parameter_path(self, name, option):
         """`path(name)`, or `InputError` naming `option` and `name` where the file has no
@@ -92,6 +133,8 @@ class RotorFile:
         if name == "speed":
             return True
         table, key = OVERRIDE_KEY.match(name).group(1), name.rpartition(".")[2]
+        if key == "position":
+            return False
         return SCHEMA[table].keys[key].sign == "any"
 
 
@@ -133,6 +176,26 @@ def read_rotor_file(path, overrides=None) -> RotorFile:
                                           meaning, domain, integer, where)
     raw = {table: entries_of(ctx, doc, table) for table in SCHEMA}
     return RotorFile(label, r["name"], out, scene, spec, raw, placed)
+
+
+def _position_path(name, table, i, node, shaft):
+    """`table<i>.position`: the axial position (m from node 0) of the node the entry
+    sits at, moved between its neighbours (`Target` rule `node_position`: the lengths of
+    the elements either side); refused at the shaft's ends (it would change the shaft's
+    length) and where the shaft is not uniform across the node (it would move a step in
+    diameter, a taper's end or a change of material with it)."""
+    n_el = len(shaft)
+    if node in (0, n_el):
+        return _refused(name, f"{table}{i} sits at node {node}, the shaft's end: moving it would change the shaft's "
+                              f"length (vary shaft{0 if node == 0 else n_el - 1}.L for that)")
+    left, right = shaft[node - 1], shaft[node]
+    uniform = all(np.ndim(e[k]) == 0 or e[k][0] == e[k][-1] for e in (left, right) for k in ("od", "id"))
+    if not (uniform and np.all(np.ravel(left["od"])[-1] == np.ravel(right["od"])[0])
+            and np.all(np.ravel(left["id"])[-1] == np.ravel(right["id"])[0]) and left["material"] == right["material"]):
+        return _refused(name, f"{table}{i} sits at node {node}, where shaft{node - 1} and shaft{node} differ (a step, "
+                              "a taper or another material): moving the node would move that too; split the shaft "
+                              "so that the node lies inside a uniform section")
+    return ParameterPath(name, (Target(("rotor", "lengths"), ((node - 1, node),), "node_position"),))
 
 
 def _speed_path(name):

@@ -16,8 +16,10 @@ components): `("rotor", "E")`, `("rotor", "bearing_tables", 0, 1)`,
 all of it). Its `rule` says what goes there: the value itself, or a quantity that
 follows others and is recomputed from the leaves as they stand after the value was
 set (`RULES`: a material's shear modulus from `E` and `nu`, or `nu` from `E` and
-`G`; a clearance bearing's default smoothing from its clearance). The targets of
-one parameter are applied in order.
+`G`; a clearance bearing's default smoothing from its clearance), or what the value
+places: a node's axial position (`node_position`, a bearing's or a disk's
+`position`) sets the lengths of the two elements either side of it, the nodes beyond
+them staying where they are. The targets of one parameter are applied in order.
 
 A scene's cached arrays (assembled matrices, a modal basis) are rebuilt from the
 new leaves by `set_parameters`, exactly as the scene's constructor builds them.
@@ -95,30 +97,40 @@ def _put(a, index, v):
     return a.at[_index(index)].set(v)
 
 
-def _shear_modulus(parts, leaf, index):
+def _node_position(parts, leaf, index, v):
+    """Node `n`'s position `v` (m from node 0; `index`: the elements `(n - 1, n)` either
+    side of it): their lengths, nodes `n - 1` and `n + 1` kept in place."""
+    lengths = jnp.asarray(_get(parts, leaf))
+    a, b = index[0]
+    return jnp.stack([v - jnp.sum(lengths[:a]), jnp.sum(lengths[:b + 1]) - v])
+
+
+def _shear_modulus(parts, leaf, index, v):
     """A material that gives `nu` and not `G`: `G` from `E` and `nu`."""
     r = parts.rotor
     return shear_modulus(_entries(r.E, index), _entries(r.nu, index))
 
 
-def _poisson(parts, leaf, index):
+def _poisson(parts, leaf, index, v):
     """A material that gives `G` and not `nu`: `nu` from `E` and `G`."""
     r = parts.rotor
     return poisson_ratio(_entries(r.E, index), _entries(r.G, index))
 
 
-def _smoothing(parts, leaf, index):
+def _smoothing(parts, leaf, index, v):
     """A clearance bearing that leaves its smoothing out: the default from its clearance."""
     return ClearanceBearing.default_smoothing(_get(parts, leaf[:-1] + ("clearance",)))
 
 
-#: the quantities that follow others (`Target.rule`), each computed by the function its owner builds it with
-RULES = {"shear_modulus": _shear_modulus, "poisson": _poisson, "smoothing": _smoothing}
+#: what goes where the value itself does not (`Target.rule`): the quantities that follow others, each computed
+#: by the function its owner builds it with, and what a position places; `(parts, leaf, index, value)`
+RULES = {"shear_modulus": _shear_modulus, "poisson": _poisson, "smoothing": _smoothing,
+         "node_position": _node_position}
 
 
 def _apply(parts, target, v):
     if target.rule != "value":
-        v = RULES[target.rule](parts, target.leaf, target.index)
+        v = RULES[target.rule](parts, target.leaf, target.index, v)
     new = _put(_get(parts, target.leaf), target.index, v)
     return eqx.tree_at(lambda p: _get(p, target.leaf), parts, new)
 
@@ -135,8 +147,11 @@ def with_values(parts: SceneParts, paths, values) -> SceneParts:
 
 
 def value_of(parts: SceneParts, path: ParameterPath):
-    """The parameter's value in `parts` (its first target's first entry)."""
+    """The parameter's value in `parts` (its first target's first entry; a position's:
+    its node's position)."""
     t = path.targets[0]
+    if t.rule == "node_position":
+        return jnp.sum(jnp.asarray(_get(parts, t.leaf))[:t.index[0][1]])
     return jnp.ravel(_entries(_get(parts, t.leaf), t.index))[0]
 
 

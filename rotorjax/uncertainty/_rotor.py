@@ -30,7 +30,7 @@ from ..analysis import critical_speed, critical_speeds_1x, damped_eigenvalues, s
 from ..io import read_rotor_file
 from ..models import SpinMatrices, Unbalance
 from ..models._parameters import parts_of, scene_from, value_of, with_values
-from ._distributions import reaches_zero
+from ._distributions import reaches_zero, support
 
 #: a fixed point whose residual exceeds this (relative to the speed) has not converged
 CRITICAL_TOLERANCE = 1e-8
@@ -52,6 +52,22 @@ class RotorQuantities:
     settings: dict = dataclasses.field(default_factory=dict)
 
 
+def file_scatter(file, name, dist, option):
+    """The `ParameterPath` of the rotor file's parameter `name`, checked to scatter as
+    `dist` does (`InputError` naming `option` otherwise): a positive quantity's draws
+    above 0, a position's between the nodes either side of its own (`support`)."""
+    path = file.parameter_path(name, option)
+    between, (a, b) = file.interval(name), support(dist)
+    if between is not None and not between[0] < a <= b < between[1]:
+        raise InputError(f"{option} {name}={dist.text()}: reaches {a:g} .. {b:g} m (within 5 standard deviations, or "
+                         f"the ends of a uniform one), and {name} must stay between the nodes either side of its own, "
+                         f"at {between[0]:g} and {between[1]:g} m")
+    if not file.signed(name) and reaches_zero(dist):
+        raise InputError(f"{option} {name}={dist.text()}: {name} is a positive quantity and this distribution "
+                         "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
+    return path
+
+
 def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, overrides=None, quantities=(),
                      operating=None, probes=None, option="--dist") -> RotorQuantities:
     """The quantities of the rotor file `rotor` (a path or a `RotorFile`) as a function
@@ -71,13 +87,9 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
     file = read_rotor_file(rotor, overrides) if isinstance(rotor, str) else rotor
     parts = parts_of(file.scene)
     names = tuple(inputs)
-    paths = []
-    for name in names:
-        paths.append(file.parameter_path(name, option))
-        dist = inputs[name] if isinstance(inputs, dict) else None
-        if dist is not None and not file.signed(name) and reaches_zero(dist):
-            raise InputError(f"{option} {name}={dist.text()}: {name} is a positive quantity and this distribution "
-                             "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
+    paths = [file_scatter(file, name, inputs[name], option) if isinstance(inputs, dict)
+             else file.parameter_path(name, option) for name in names]
+    file.check_together(names, option)
     speed = float(file.entries["speed"].value) if speed is None else float(speed)
     if hi is None and not speed > 0:
         raise InputError(f"--range: {file.label} has no operating speed ([rotor] speed) to take the critical "
