@@ -54,6 +54,7 @@ LONGEST_FIRST = (
     "design/test_stable_range.py",             # ~ 180
     "design/test_onset.py",                    # ~ 150
     "design/test_design.py",                   # ~ 140
+    "design/test_positions.py",                # ~ 35
     "analysis/test_continuation.py",           # >= 57
     "solve/test_batch.py",                     # >= 50
     "validation/test_model004_whirl_cycle.py",  # >= 46
