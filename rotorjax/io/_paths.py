@@ -80,7 +80,7 @@ class RotorFile:
         return _parameter_path(name, table, i, key, entries[i], self.spec, self.placed, self.scene.full_rotor)
 
     def node_of(self, name):
-        """The node of the entry `name` (`table<i>.key`) sits at, or None (no such entry,
+        """The node that the entry `name` (`table<i>.key`) sits at, or None (no such entry,
         or one not at a node)."""
         m = OVERRIDE_KEY.match(name) if isinstance(name, str) else None
         if not m or m.group(1) not in SCHEMA or m.group(2) is None or "node" not in SCHEMA[m.group(1)].keys:
