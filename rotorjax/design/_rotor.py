@@ -155,7 +155,7 @@ def rotor_problem(rotor, vary, objective, constraints=(), *, speed_range=None, n
     if not vary:
         raise InputError(f"{option}: give at least one parameter to vary, e.g. {option} bearing0.kxx=1e5:1e7")
     names, paths, lo, hi, nominal, log = _bounds(file, vary, option)
-    noise_paths, noise, robust = _scatter(lambda name, dist: (file_scatter(file, name, dist, "--scatter"), True),
+    noise_paths, noise, robust = _scatter(lambda name, dist: file_scatter(file, name, dist, "--scatter"),
                                           names, scatter, robust_k, robust_samples, seed)
     file.check_together(names + tuple(scatter or ()), "--vary/--scatter")
     wanted = _wanted(objective, constraints)
@@ -211,7 +211,7 @@ def preset_problem(preset, params, vary, objective="stable-range", constraints=(
 
     def resolve(name, dist):
         preset_scatter(preset, params, name, dist, "--scatter")
-        return name, True                   # checked against the key's whole domain, its sign included
+        return name
 
     noise_keys, noise, robust = _scatter(resolve, names, scatter, robust_k, robust_samples, seed)
     keys = names + tuple(noise_keys)
@@ -312,13 +312,13 @@ def _sd(v):
 
 def _scatter(resolve, varied, scatter, k, n, seed):
     """The scattered parameters' paths, their `(n, m)` samples and the robust settings
-    (or `(), None, None` without `scatter`); `resolve(name, dist) -> (path, signed)` (having checked
-    `dist` against the parameter's domain where it knows more than its sign)."""
+    (or `(), None, None` without `scatter`); `resolve(name, dist) -> path`, which checks `dist`
+    against the parameter's domain (`file_scatter`, `preset_scatter`)."""
     if not scatter:
         if k is not None:
             raise InputError("--robust: give the parameters that scatter, --scatter KEY=lognormal(MEAN,SD) ...")
         return (), None, None
-    from ..uncertainty import draw, reaches_zero
+    from ..uncertainty import draw
 
     k = 1.0 if k is None else float(k)
     if not (np.isfinite(k) and k >= 0):
@@ -330,11 +330,7 @@ def _scatter(resolve, varied, scatter, k, n, seed):
         if name in varied:
             raise InputError(f"--scatter {name}: also given to --vary; a designed parameter cannot scatter (give "
                              "the scatter of another parameter)")
-        path, signed = resolve(name, dist)
-        if not signed and reaches_zero(dist):
-            raise InputError(f"--scatter {name}={dist.text()}: {name} is a positive quantity and this distribution "
-                             "reaches 0 or below; give lognormal(MEAN, SD), or a narrower one")
-        paths.append(path)
+        paths.append(resolve(name, dist))
     samples = draw(scatter, int(n), seed=seed)
     return tuple(paths), samples, {"k": k, "samples": int(n), "seed": int(seed),
                                    "scatter": {name: d.text() for name, d in scatter.items()}}
