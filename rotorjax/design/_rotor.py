@@ -285,7 +285,10 @@ def _assemble(problem, label):
     q0 = jax.jit(p.quantities)(jnp.asarray(np.clip(p.nominal, p.lo, p.hi)))
     bad = [k for k, v in q0.items() if not np.isfinite(float(v)) and not k.endswith(" sd")]
     if bad:
-        raise NumericalError(f"{label}: {', '.join(bad)} not finite at the starting design")
+        where = "" if p.robust is None else (
+            f" (the mean over the {p.robust['samples']} samples of --scatter: not finite in at least one of them: a "
+            "sample without the motion or the threshold the quantity measures, say; give a narrower --scatter)")
+        raise NumericalError(f"{label}: {', '.join(bad)} not finite at the starting design{where}")
     scales = {k: max(abs(float(v)), 1e-12) for k, v in q0.items()}
     for name, op, limit in p.constraints:
         scales[name] = max(scales[name], abs(limit), 1e-3 if p.units[name] in ("", "%") else 1e-12)

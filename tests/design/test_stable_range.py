@@ -10,6 +10,7 @@ secant against found afresh), its gradient against finite differences, the optim
 against a vmapped brute-force grid, and the Monte Carlo's first-order moments against
 the samples'."""
 
+import jax
 import numpy as np
 import pytest
 
@@ -102,6 +103,53 @@ def test_the_optimum_is_the_best_of_a_brute_force_grid(problem, design, stable_r
     speeds, before, after = design.margins(np.linspace(0.6, 1.4, 9))
     assert np.all(np.sign(after) == np.where(speeds > RANGE[1] - best, -1, 1))
     assert np.all(np.sign(before) == np.where(speeds > problem.settings["thresholds"][0], -1, 1))
+
+
+def test_a_robust_design_sees_the_mean_less_k_sd_of_each_scattered_rotor():
+    """Robust design on a preset (`--scatter chi=lognormal(0.02,0.002) --robust 1.5`,
+    4 samples): the objective the search sees at (delta_n, delta_b) = (0.05, 5) is
+    the mean less 1.5 sample standard deviations of the stable range of the 4
+    scattered rotors, each found afresh (a scan of 60 speeds, then scipy's `brentq`),
+    independent of the followed thresholds. A scatter wide
+    enough that one sample has no balanced regime is refused (exit 3 at the CLI)."""
+    from rotorjax._errors import NumericalError
+    from rotorjax.uncertainty import draw
+
+    # a wider scatter: at chi = 0.0151 (its second sample) the balls cannot balance eps (n chi rho < eps), so
+    # that rotor has no balanced regime and no stable range: refused, not averaged
+    with pytest.raises(InputError, match="no balanced regime"):
+        stability_margin(PRESET.build(dict(PARAMS, chi=0.0151)).reference)
+    with pytest.raises(NumericalError, match=r"stable-range not finite .* the 4 samples of --scatter: not finite in "
+                                             r"at least one of them: .*give a narrower --scatter"):
+        preset_problem(PRESET, PARAMS, VARY, speed_range=RANGE, n_scan=24, scatter={"chi": LogNormal(0.02, 0.004)},
+                       robust_k=1.5, robust_samples=4, seed=5)
+    scatter = {"chi": LogNormal(0.02, 0.002)}
+    robust = preset_problem(PRESET, PARAMS, VARY, speed_range=RANGE, n_scan=24, scatter=scatter, robust_k=1.5,
+                            robust_samples=4, seed=5)
+    assert robust.robust == {"k": 1.5, "samples": 4, "seed": 5, "scatter": {"chi": "lognormal(0.02, 0.002)"}}
+    chi = draw(scatter, 4, seed=5)[:, 0]
+    assert np.ptp(chi) > 0.002          # the samples differ enough for the sd to matter
+
+    from scipy.optimize import brentq
+
+    margin = jax.jit(lambda c, nu: stability_margin(PRESET.build(dict(PARAMS, delta_n=0.05, delta_b=5.0, chi=c,
+                                                                      nu=nu)).reference))
+    scan = jax.jit(jax.vmap(margin, in_axes=(None, 0)))
+    speeds = np.linspace(0.25, 7.375, 60)
+
+    def fresh_range(c):
+        m = np.asarray(scan(c, speeds))
+        change = np.flatnonzero(np.sign(m[1:]) != np.sign(m[:-1]))
+        assert len(change) == 1 and m[0] > 0 > m[-1]     # one threshold, stable above it
+        i = change[0]
+        return RANGE[1] - brentq(lambda nu: float(margin(c, nu)), speeds[i], speeds[i + 1], xtol=1e-13)
+
+    ranges = np.array([fresh_range(c) for c in chi])
+    q = jax.jit(robust.quantities)(np.array([0.05, 5.0]))
+    assert float(q["stable-range"]) == pytest.approx(ranges.mean(), abs=1e-9)
+    assert float(q["stable-range sd"]) == pytest.approx(ranges.std(ddof=1), rel=1e-6)
+    seen = robust.value(q, "stable-range", -1)
+    assert float(seen) == pytest.approx(ranges.mean() - 1.5 * ranges.std(ddof=1), abs=1e-9)
 
 
 INPUTS = {"delta_n": LogNormal(0.18, 0.02), "delta_b": LogNormal(40.0, 4.0)}
