@@ -18,6 +18,8 @@ from rotorjax.identify._datasets import dataset_path
 
 #: the shipped rotor files
 ROTORS = os.path.join(os.path.dirname(rotorjax.__file__), "rotors")
+#: rotors saved by ROSS (tests/io/data/ross)
+ROSS_SAVED = os.path.join(os.path.dirname(os.path.abspath(__file__)), "io", "data", "ross")
 
 S, A, R, F, C, B = ("simulate", "elliptic-abb"), ("anisotropic-abb",), ("ross-compare",), ("flexible-abb",), \
     ("cantilever-limiters",), ("balancing-machine",)
@@ -532,6 +534,14 @@ CASES = [
     # --- issue 28, item 9: negative numbers reach the option's own check ---
     (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
     (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
+    # --- import-ross: a rotor saved by ROSS ---
+    (["import-ross", "{d}/nosuch.toml"], 2, r"nosuch.toml: no such file \(a rotor saved by ROSS's Rotor.save"),
+    (["import-ross", "{d}/rig_copy.toml"], 2, r"rig_copy.toml: not a rotor saved by ROSS"),
+    (["import-ross", "{d}/ross_bad.json"], 2, r"ross_bad.json: not valid JSON"),
+    (["import-ross", os.path.join(ROSS_SAVED, "axial_force.toml")], 2,
+     r"\[ShaftElement_Shaft Element 0\]: axial_force = 1000.0: a shaft axial force; rotorjax cannot represent it"),
+    (["import-ross", os.path.join(ROSS_SAVED, "linked.toml"), "--out", "/nonexistent-dir/r.toml"], 2,
+     r"--out /nonexistent-dir/r.toml: cannot be written"),
     # --- data, presets, the command line itself ---
     (["data", "path", "nosuch"], 2, r"nosuch"),
     (["data", "bogus"], 2, r"invalid choice: 'bogus'"),
@@ -617,6 +627,7 @@ def files(tmp_path_factory):
     again = [line.replace(",1,2,", ",3,2,") for line in run[1]]
     (d / "twotrial.csv").write_text("\n".join([head] + body + again) + "\n")
     shutil.copy(os.path.join(ROTORS, "flexible_rig.toml"), d / "rig_copy.toml")
+    (d / "ross_bad.json").write_text('{"ShaftElement_Shaft Element 0": {"n": 0,')
     ross = open(os.path.join(ROTORS, "ross_compare.toml")).read()
     (d / "damped.toml").write_text(ross + "\n[external_damping]\ncoefficient = 0.5\n\n[[disk_damping]]\nnode = 4\n"
                                    "translational = 10.0\n\n[[probe]]\nnode = 2\n")

@@ -20,6 +20,7 @@ from ._fe_analyses import cmd_modes, cmd_static
 from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
+from ._import import cmd_import_ross
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._periodic import cmd_periodic
 from ._phasors import cmd_phasors
@@ -500,6 +501,22 @@ def build_parser():
     ph.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
     _debug_flag(ph)
     ph.set_defaults(fn=cmd_phasors)
+    imp = sub.add_parser("import-ross", help="a rotor saved by ROSS (Rotor.save), as a rotor file",
+                         formatter_class=_Formatter,
+                         description="Reads a rotor saved by ROSS (`Rotor.save`: TOML, or JSON for .json; ROSS 1.x "
+                                     "to 3.x) and writes it as a rotorjax rotor file: shaft elements (tapered, "
+                                     "hollow), materials, disks, point masses, bearings and seals (their coefficients, "
+                                     "constant or over the speed), pedestals (a bearing linked to a node with a mass "
+                                     "and a bearing to the ground). What a rotor file cannot hold (axial or torsional "
+                                     "terms, axial force, couplings, gears, ...) is refused by the section's name, "
+                                     "not dropped.\n\nExit codes: 0 success, 2 bad input.")
+    imp.add_argument("file", metavar="FILE", help="the file ROSS saved (.toml or .json)")
+    imp.add_argument("--out", default=None, metavar="ROTOR.toml",
+                     help="the rotor file to write (default: FILE's stem + _rotorjax.toml, beside it)")
+    imp.add_argument("--name", default=None, help="the rotor's [rotor] name (default: FILE's stem)")
+    imp.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    _debug_flag(imp)
+    imp.set_defaults(fn=cmd_import_ross)
     data = sub.add_parser("data", help="the shipped measurement datasets", formatter_class=_Formatter,
                           description="`rotorjax data list` lists the shipped datasets; `rotorjax data path NAME` "
                                       "prints a dataset's file path. `--data NAME` / `--runs NAME` take the "

@@ -107,5 +107,7 @@ from ._paths import file_parameters as file_parameters
 from ._paths import file_parameters_and_scene as file_parameters_and_scene
 from ._paths import read_rotor_file as read_rotor_file
 from ._read import shipped_rotor as shipped_rotor
+from ._ross import import_ross as import_ross
+from ._ross import ross_rotor_text as ross_rotor_text
 from ._write import rotor_file_text as rotor_file_text
 from ._write import save_rotor as save_rotor
