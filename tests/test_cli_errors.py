@@ -534,6 +534,11 @@ CASES = [
     # --- issue 28, item 9: negative numbers reach the option's own check ---
     (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
     (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
+    # --- draw ---
+    (["draw", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
+    (["draw", *R, "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),
+    (["draw", *FR, "--set", "bearing0.kxx=-1"], 2, r"bearing0.kxx"),
+    (["draw", "{d}/probe9.toml"], 2, r"probe9.toml.*probe\[0\].node = 9"),
     # --- import-ross: a rotor saved by ROSS ---
     (["import-ross", "{d}/nosuch.toml"], 2, r"nosuch.toml: no such file \(a rotor saved by ROSS's Rotor.save"),
     (["import-ross", "{d}/rig_copy.toml"], 2, r"rig_copy.toml: not a rotor saved by ROSS"),

@@ -20,6 +20,7 @@ from ._fe_analyses import cmd_modes, cmd_static
 from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
+from ._draw import cmd_draw
 from ._import import cmd_import_ross
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._periodic import cmd_periodic
@@ -501,6 +502,15 @@ def build_parser():
     ph.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
     _debug_flag(ph)
     ph.set_defaults(fn=cmd_phasors)
+    _command(sub, "draw", "the rotor drawn: shaft elements to scale, disks, bearings, components, nodes", cmd_draw,
+             kinds="every preset and rotor file",
+             description="The rotor drawn: a shaft's elements to scale along each axis (tapers and bores as they "
+                         "are, materials coloured), disks (the solid disk with their mass and inertias), point "
+                         "masses, bearings and seals, pedestals, every other component at its node named by its "
+                         "rotor-file table (fluid films, limiters, probes, unbalances), and the node numbers; a "
+                         "planar rotor in its end view, the balancing machine's rotor on its supports. Writes "
+                         "draw_NAME.png and the layout as numbers (draw_NAME.json: node positions, elements, "
+                         "materials, disks, bearings, components, mass).")
     imp = sub.add_parser("import-ross", help="a rotor saved by ROSS (Rotor.save), as a rotor file",
                          formatter_class=_Formatter,
                          description="Reads a rotor saved by ROSS (`Rotor.save`: TOML, or JSON for .json; ROSS 1.x "

@@ -1234,3 +1234,7 @@ def plot_design(path=None, design=None, campbell=None, title="", *, margins=None
     if title:
         fig.suptitle(title, fontsize=10)
     return _finish(fig, axes, layout=layout)
+
+
+from ._rotor import layout as rotor_layout  # noqa: E402  (the drawing uses the helpers above)
+from ._rotor import rotor as rotor  # noqa: E402
