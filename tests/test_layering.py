@@ -5,8 +5,8 @@ written from them; each part's table is declared by its component, in `models`).
 Every module under `rotorjax/` is parsed (imports inside functions included) and each
 import of another part of rotorjax is checked against the part's rank. Where the
 loose modules sit, after reading them: `sweep.py` (a vmapped evaluator of any
-function over a grid, used by `analysis._critical`) with `solve/`; `plot.py` (figures
-from result objects, importing nothing of rotorjax) above the analyses and below the
+function over a grid, used by `analysis._critical`) with `solve/`; `plot/` (figures
+from result objects, and the rotor drawn from its scene's parts) above the analyses and below the
 presets, so that no analysis draws; `demo.py` with the CLI; the facade
 `rotorjax/__init__.py` on top: nothing inside the package imports it.
 """
