@@ -70,9 +70,10 @@ def number(text):
     return v
 
 
-def to_si(text, unit, where):
+def to_si(text, unit, where, joiner=" = "):
     """The value of `text` (a number, or a string `"VALUE UNIT"`) in the SI unit `unit`;
-    `InputError` naming `where` otherwise (see the module)."""
+    `InputError` naming `where` otherwise (see the module; `joiner` between `where` and
+    the text in the message: `" = "` for a file's key, `" "` for an option)."""
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         return float(text)
     bare = number(text)
@@ -91,20 +92,20 @@ def to_si(text, unit, where):
             ValueError, AttributeError, KeyError) as e:
         names = e.unit_names if isinstance(e, pint.errors.UndefinedUnitError) else (str(e),)
         name = ", ".join(names) if isinstance(names, (tuple, list)) else str(names)
-        raise InputError(f"{where} = {text!r}: not a quantity (unknown unit {name!r}); write a number in "
+        raise InputError(f"{where}{joiner}{text!r}: not a quantity (unknown unit {name!r}); write a number in "
                          f"{unit or 'SI'}, or a number and a unit, e.g. \"1.5e7 N/m\", \"3600 rpm\", \"2 in\"") \
             from None
     if not isinstance(q, ureg.Quantity):
         return float(q)
     if unit in DIMENSIONLESS:
         if not q.dimensionless:
-            raise InputError(f"{where} = {text!r}: {_what(q, ureg)}; this value has no unit")
+            raise InputError(f"{where}{joiner}{text!r}: {_what(q, ureg)}; this value has no unit")
         return float(q.to("dimensionless").magnitude)
     try:
         v = float(q.to(target).magnitude)
     except pint.errors.DimensionalityError:
         want = NAMES.get(unit, f"of dimension {ureg.parse_units(target).dimensionality}")
-        raise InputError(f"{where} = {text!r}: {_what(q, ureg)}, and this value is {want}, in {unit}") from None
+        raise InputError(f"{where}{joiner}{text!r}: {_what(q, ureg)}, and this value is {want}, in {unit}") from None
     if not math.isfinite(v):
-        raise InputError(f"{where} = {text!r}: not finite")
+        raise InputError(f"{where}{joiner}{text!r}: not finite")
     return v

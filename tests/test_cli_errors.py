@@ -534,6 +534,16 @@ CASES = [
     # --- issue 28, item 9: negative numbers reach the option's own check ---
     (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
     (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
+    # --- values with units (issue 35) ---
+    (["critical-speeds", *FR, "--range", "0", "12000", "kg"], 2, r"--range '0 kg': a mass \(kg\), and this value is a "
+                                                                r"speed, in rad/s"),
+    (["critical-speeds", "elliptic-abb", "--range", "0 5 rpm"], 2,
+     r"--range 0 rpm: this value has no unit here \(elliptic-abb's nu is dimensionless\); give a number"),
+    (["modes", *FR, "--speed", "3 furlongs"], 2, r"--speed '3 furlongs': a length \(m\), and this value is a speed"),
+    (["modes", *FR, "--speed", "3 foo"], 2, r"--speed '3 foo': not a quantity \(unknown unit 'foo'\)"),
+    (["critical-speeds", *FR, "--range", "0"], 2, r"--range: expected LO HI, optionally with a unit"),
+    (["critical-speeds", *FR, "--range", "0", "1", "2", "3"], 2, r"--range: expected LO HI"),
+    (["modes", *FR, "--speed=-3000 rpm"], 2, r"--speed -3000 rpm: must be >= 0 \(it is -314.159 rad/s\)"),
     # --- draw ---
     (["draw", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
     (["draw", *R, "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),

@@ -12,8 +12,8 @@ from ._balance import cmd_balance, cmd_identify
 from ._optimize import cmd_optimize
 from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
-from ._common import (InputError, NumericalError, at_least, collect_warnings, finite, mode_count, nonnegative,
-                      positive, tolerance)
+from ._common import (InputError, NumericalError, SpanAction, at_least, collect_warnings, finite, get_preset,
+                      mode_count, nonnegative, positive, resolve_units, tolerance)
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -90,8 +90,39 @@ def _command(sub, name, help, fn, flags=(), kinds="", description=None):
 
 
 def _range(required=True, help="speed range"):
-    return (("--range",), dict(type=finite, nargs=2, metavar=("LO", "HI"), required=required,
-                               default=None, help=help))
+    return (("--range",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), required=required,
+                               default=None, help=help + "; a unit may follow (0 12000 rpm)"))
+
+
+class _OptionUnits:
+    """The unit each option with a unit takes for the target on the command line: the
+    speed options the target's speed unit (rad/s for a rotor file), `--range` of
+    `continue` and `periodic` the unit of their `--param`."""
+
+    SPEED = ("speed", "operating", "range")
+
+    def __init__(self, args):
+        self.args = vars(args)
+        name = self.args.get("preset")
+        self.preset = None if name is None else get_preset(name)
+        self.command = self.args["fn"].__name__.removeprefix("cmd_")
+
+    def _key(self, dest):
+        if self.preset is None or dest not in self.SPEED:
+            return None
+        if dest == "range" and self.command in ("continue", "periodic"):
+            return self.args.get("param")
+        return self.preset.speed_key
+
+    def __call__(self, dest):
+        key = self._key(dest)
+        return None if key is None else self.preset.units.get(key)
+
+    def why(self, dest):
+        key = self._key(dest)
+        if key is None:
+            return f"--{dest.replace('_', '-')} takes a number"
+        return f"{self.preset.name}'s {key} is {self.preset.units.get(key) or 'without a unit'}"
 
 
 def _integration(max_steps):
@@ -413,7 +444,7 @@ def build_parser():
                              help="also a design quantity over --range: min-log-dec (the floor of the first --modes "
                                   "modes), separation-margin (API 684 slack, percent; needs --operating), response "
                                   "(largest unbalance response at the probes, m), onset (rad/s), mass; repeatable")),
-        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+        (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
                                 help="--output separation-margin: the operating speed range, rad/s")),
         (("--probe",), dict(type=int, action="append", default=None, help="--output response: a probe node "
                                                                            "(default: every node); repeatable")),
@@ -452,7 +483,7 @@ def build_parser():
                                                       "whole; see --max-frequency)")),
         (("--max-frequency",), dict(type=positive, default=None, help="min-log-dec: count the modes below this "
                                                                       "damped frequency, rad/s")),
-        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+        (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
                                 help="separation-margin: the operating speed range, rad/s")),
         (("--probe",), dict(type=int, action="append", default=None, help="response: a probe node (default: every "
                                                                            "node); repeatable")),
@@ -589,6 +620,7 @@ def main(argv=None) -> int:
     enable_compilation_cache()
     try:
         with collect_warnings():
+            resolve_units(args, _OptionUnits(args))
             return args.fn(args)
     except BrokenPipeError:  # `rotorjax presets | head -1`: the reader left; nothing more to say
         _silence_stdout()
