@@ -534,6 +534,11 @@ CASES = [
     # --- issue 28, item 9: negative numbers reach the option's own check ---
     (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
     (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
+    # --- report ---
+    (["report", "elliptic-abb"], 2, r"`report` does not apply to 'elliptic-abb': it needs a finite-element rotor"),
+    (["report", *FR, "--speed-range", "5", "1"], 2, r"--speed-range 5 1: needs 0 <= LO < HI"),
+    (["report", *FR, "--operating", "0", "10"], 2, r"--operating 0 10: the operating range must satisfy 0 < LO <= HI"),
+    (["report", *R, "--set", "bearing0.kxx=-1"], 2, r"bearing0.kxx"),
     # --- draw ---
     (["draw", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
     (["draw", *R, "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),
