@@ -544,6 +544,11 @@ CASES = [
     (["critical-speeds", *FR, "--range", "0"], 2, r"--range: expected LO HI, optionally with a unit"),
     (["critical-speeds", *FR, "--range", "0", "1", "2", "3"], 2, r"--range: expected LO HI"),
     (["modes", *FR, "--speed=-3000 rpm"], 2, r"--speed -3000 rpm: must be >= 0 \(it is -314.159 rad/s\)"),
+    # --- report ---
+    (["report", "elliptic-abb"], 2, r"`report` does not apply to 'elliptic-abb': it needs a finite-element rotor"),
+    (["report", *FR, "--speed-range", "5", "1"], 2, r"--speed-range 5 1: needs 0 <= LO < HI"),
+    (["report", *FR, "--operating", "0", "10"], 2, r"--operating 0 10: the operating range must satisfy 0 < LO <= HI"),
+    (["report", *R, "--set", "bearing0.kxx=-1"], 2, r"bearing0.kxx"),
     # --- draw ---
     (["draw", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
     (["draw", *R, "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),

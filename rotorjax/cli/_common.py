@@ -78,6 +78,7 @@ COMMAND_NEEDS = {
     "optimize": ("a rotor file, or a reference motion traceable in its parameters (a preset)",
                  lambda s, p: "rotor_file" in s.extras or _traceable(s, p)),
     "draw": ("a scene", lambda s, p: True),
+    "report": ("a finite-element rotor", _fe),
 }
 
 

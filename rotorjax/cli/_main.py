@@ -21,6 +21,7 @@ from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
 from ._draw import cmd_draw
+from ._report import cmd_report
 from ._import import cmd_import_ross
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._periodic import cmd_periodic
@@ -542,6 +543,20 @@ def build_parser():
                          "planar rotor in its end view, the balancing machine's rotor on its supports. Writes "
                          "draw_NAME.png and the layout as numbers (draw_NAME.json: node positions, elements, "
                          "materials, disks, bearings, components, mass).")
+    _command(sub, "report", "one self-contained HTML page of the everyday analyses, to hand on", cmd_report,
+             flags=[(("--speed-range",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+                                              help="the speeds of the Campbell diagram, critical speeds and "
+                                                   "response, rad/s (default 0 to 1.5 x the operating speed)")),
+                    (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+                                            help="the operating speed range, rad/s, for API 684's separation "
+                                                 "margins (default: the [rotor] speed)"))],
+             kinds="rotor files and presets with a finite-element rotor",
+             description="One self-contained HTML page (report_NAME.html): the rotor drawn and its model, static "
+                         "deflection and bearing loads, the undamped critical speed map, the Campbell diagram with "
+                         "log decrements, the 1x critical speeds with API 684's amplification factors and "
+                         "separation margins, the damped modes at the operating speed, the unbalance response and "
+                         "the level I screen; each section the command of its name, run into "
+                         "OUT/report_parts/, its numbers in tables and its figures embedded.")
     imp = sub.add_parser("import-ross", help="a rotor saved by ROSS (Rotor.save), as a rotor file",
                          formatter_class=_Formatter,
                          description="Reads a rotor saved by ROSS (`Rotor.save`: TOML, or JSON for .json; ROSS 1.x "

@@ -1,0 +1,170 @@
+"""`report`: one self-contained HTML page of a rotor's everyday analyses, to hand on.
+
+The page is the commands themselves, run on the same target into `OUT/report_parts/`
+(their JSON and their figures), put together: the drawing and the model (`draw`), the
+static deflection and bearing loads (`static`), the undamped critical speed map
+(`ucs`), the Campbell diagram with log decrements (`campbell`), the 1x critical speeds
+(`critical-speeds`) with API 684's amplification factors and separation margins against
+the operating range (`rotorjax.analysis.api684_margins`), the damped modes at the
+operating speed (`modes`), the unbalance response (`response`) and the level I
+stability screen (`level1`). Every number in a table is read from a command's JSON;
+every figure is embedded (base64 PNG), so the page needs nothing beside it."""
+
+import base64
+import contextlib
+import html
+import io
+import json
+import os
+import sys
+
+from ._common import InputError, NumericalError, build, out_stem, prepare_out, preset_and_params
+
+#: the sections, in the page's order: (command, title)
+SECTIONS = (("draw", "The rotor"), ("static", "Static deflection and bearing loads"),
+            ("ucs", "Undamped critical speed map"), ("campbell", "Campbell diagram and log decrements"),
+            ("critical-speeds", "Critical speeds and API 684 separation margins"),
+            ("modes", "Damped modes at the operating speed"), ("response", "Unbalance response"),
+            ("level1", "Level I stability screening (API 684)"))
+
+
+def _run(argv):
+    """A command run as the CLI runs it, its JSON printed to a buffer: its result."""
+    from ._main import build_parser
+
+    args = build_parser().parse_args([*argv, "--json"])
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        args.fn(args)
+    return json.loads(buf.getvalue())
+
+
+def _pngs(files):
+    """The PNG files a command wrote, embedded."""
+    out = []
+    for path in (v for v in (files or {}).values() if isinstance(v, str) and v.endswith(".png")):
+        with open(path, "rb") as f:
+            out.append(f'<img alt="{html.escape(os.path.basename(path))}" src="data:image/png;base64,'
+                       f'{base64.b64encode(f.read()).decode()}">')
+    return out
+
+
+def _table(header, rows):
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(_cell(c))}</td>" for c in row) + "</tr>" for row in rows)
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def _cell(c):
+    return f"{c:.6g}" if isinstance(c, float) else str(c)
+
+
+def _tables(command, out):
+    """The section's numbers, as tables."""
+    if command == "draw":
+        lay = out["layout"]
+        yield _table(["length (m)", "mass (kg)", "elements", "theory", "disks", "bearings and seals"],
+                     [[lay["length"], lay["mass"], len(lay["elements"]), lay["theory"], len(lay["disks"]),
+                       len(lay["bearings"])]])
+        yield _table(["disk", "node", "position (m)", "mass (kg)", "Id (kg m^2)", "Ip (kg m^2)"],
+                     [[i, d["node"], d["x"], d["m"], d["Id"], d["Ip"]] for i, d in enumerate(lay["disks"])])
+        yield _table(["bearing", "node", "position (m)", "kind"],
+                     [[b["index"], b["node"], b["x"], b["kind"]] for b in lay["bearings"]])
+    elif command == "static":
+        yield _table(["bearing", "node", "reaction x (N)", "reaction y (N)"],
+                     [[r["bearing"], r["node"], r["x"], r["y"]] for r in out["bearing_reactions"]])
+    elif command == "ucs":
+        yield _table(["mode", "bearing", "coefficient", "bearing stiffness (N/m)", "speed (rad/s)"],
+                     [[r["mode"], r["bearing"], r["coefficient"], r["k"], r["speed"]] for r in out["intersections"]])
+    elif command == "campbell":
+        yield _table(["1x critical speed (rad/s)"], [[w] for w in out["critical_speeds"]])
+        log_dec = list(zip(*out["log_dec"]))          # per mode (sorted), over the speeds
+        yield _table(["mode", "least log dec over the range", "at speed (rad/s)"],
+                     [[j, min(ld), out["speeds"][ld.index(min(ld))]] for j, ld in enumerate(log_dec)])
+    elif command == "critical-speeds":
+        yield _table(["critical speed (rad/s)", "mode", "AF", "margin (%)", "required (%)", "meets"],
+                     [[r["speed"], r["mode"], r["af"], r["margin"], r["required"], "yes" if r["meets"] else "NO"]
+                      for r in out["api684"]["rows"]])
+    elif command == "modes":
+        yield _table(["mode", "damped frequency (rad/s)", "log dec", "damping ratio", "whirl"],
+                     [[m["mode"], m["damped_frequency"], m["log_dec"], m["damping_ratio"], m["whirl"]]
+                      for m in out["modes"]])
+    elif command == "response":
+        yield _table(["peak speed (rad/s)", "amplitude (m)"], list(zip(out["peaks"], out["peak_amplitudes"])))
+    elif command == "level1":
+        yield _table(["quantity", "value"], [[k, v] for k, v in out.items()
+                                             if isinstance(v, (int, float)) and not isinstance(v, bool)])
+
+
+def page(title, results):
+    """The HTML page of the `results` (`{command: its JSON}`, in `SECTIONS`' order)."""
+    parts = [f"<h1>{html.escape(title)}</h1>", "<nav><ol>"]
+    parts += [f'<li><a href="#{c}">{html.escape(t)}</a></li>' for c, t in SECTIONS if c in results]
+    parts.append("</ol></nav>")
+    for command, heading in SECTIONS:
+        if command not in results:
+            continue
+        out = results[command]
+        parts.append(f'<section id="{command}"><h2>{html.escape(heading)}</h2>')
+        parts.append(f"<p class=\"cmd\">rotorjax {html.escape(command)}</p>")
+        if "failed" in out:
+            parts.append(f'<p class="failed">Not computed: {html.escape(out["failed"])}</p>')
+        else:
+            parts += list(_tables(command, out)) + _pngs(out.get("files"))
+        parts.append("</section>")
+    style = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+             "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 8px;"
+             "text-align:right}img{max-width:100%}.cmd{color:#777;font-family:monospace}.failed{color:#b00}")
+    return (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
+            f"<style>{style}</style></head><body>{''.join(parts)}</body></html>\n")
+
+
+def cmd_report(args) -> int:
+    from rotorjax.analysis import api684_margins
+
+    preset, params = preset_and_params(args, "report")
+    speed = float(params.get(preset.speed_key, 0.0))
+    op = args.operating or ((speed, speed) if speed > 0 else None)
+    if op is None:
+        raise InputError(f"--operating: {preset.name} has no operating speed ([rotor] speed); give --operating LO "
+                         "HI (rad/s)")
+    if not 0 < op[0] <= op[1]:
+        raise InputError(f"--operating {op[0]:g} {op[1]:g}: the operating range must satisfy 0 < LO <= HI (rad/s)")
+    lo, hi = args.speed_range or (0.0, 1.5 * max(op[1], speed))
+    if not 0 <= lo < hi:
+        raise InputError(f"--speed-range {lo:g} {hi:g}: needs 0 <= LO < HI (rad/s)")
+    scene = build(preset, params).scene     # bad input (a --set value) is refused here, before any section runs
+    prepare_out(args.out)
+    parts = os.path.join(args.out, "report_parts")
+    common = [preset.name, *sum((["--set", s] for s in args.set or []), []), "--out", parts]
+    span = ["--range", repr(lo), repr(hi)]
+    options = {"campbell": span, "critical-speeds": span, "modes": ["--speed", repr(op[1])],
+               "response": ["--range", repr(max(lo, 1e-3 * hi)), repr(hi)], "level1": ["--speed", repr(op[1])]}
+    results, failed, skipped = {}, {}, {}
+    for command, _ in SECTIONS:
+        try:
+            results[command] = _run([command, *common[:1], *options.get(command, []), *common[1:]])
+        except NumericalError as e:   # the page says so in its section; the command exits 3
+            results[command], failed[command] = {"failed": str(e)}, str(e)
+        except InputError as e:       # a section the rotor gives nothing to (no unbalance to respond to)
+            results[command], skipped[command] = {"failed": str(e)}, str(e)
+    rows = api684_margins(scene, lo, hi, *op)
+    results["critical-speeds"]["api684"] = {"operating": list(op), "rows": rows}
+    path = out_stem(args.out, preset, "report_") + ".html"
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(page(f"{preset.name}: rotordynamic report", results))
+    summary = {"target": preset.name, "report": path, "speed_range": [lo, hi], "operating": list(op),
+               "sections": [c for c, _ in SECTIONS], "failed": failed, "skipped": skipped,
+               "api684": rows}
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 3 if failed else 0
+    short = [r for r in rows if not r["meets"]]
+    print(f"{preset.name}: report of {len(SECTIONS)} sections -> {path}")
+    print(f"  API 684: {len(rows)} forward 1x critical speeds in {lo:g}..{hi:g} rad/s, "
+          + (f"{len(short)} short of their separation margin" if short else "every one meets its separation margin"))
+    for command, why in skipped.items():
+        print(f"  section {command} not computed: {why}")
+    for command, why in failed.items():
+        print(f"rotorjax: numerical failure: report section {command} not computed: {why}", file=sys.stderr)
+    return 3 if failed else 0

@@ -1,0 +1,138 @@
+"""Issue 35 item 4 (the page without its interactive figures, on a branch): `rotorjax
+report` writes one self-contained HTML page of the everyday analyses. Checked: every
+section is there with its figures embedded and nothing fetched from outside; the
+API 684 table against an independent computation (numpy's eigenvalues of the state
+matrix at each critical speed for the amplification factor, API 684's formula for
+the required margin); the tables' numbers are the commands' own; a section whose
+analysis fails says so on the page and the command exits 3."""
+
+import html.parser
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rotorjax.cli import main
+from rotorjax.cli._report import SECTIONS
+from rotorjax.io import read_rotor_file
+
+SETS = ["--set", "bearing0.cxx=500", "--set", "bearing1.cxx=500"]
+OPERATING = (300.0, 400.0)
+
+
+class _Page(html.parser.HTMLParser):
+    """Sections (by id), their images and their tables' cells."""
+
+    def __init__(self):
+        super().__init__()
+        self.sections, self.current, self.cell, self.external = {}, None, None, []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "section":
+            self.current = self.sections.setdefault(a["id"], {"images": 0, "cells": [], "text": ""})
+        if tag == "img" and self.current is not None:
+            self.current["images"] += 1
+            assert a["src"].startswith("data:image/png;base64,")
+        for key in ("src", "href"):
+            if key in a and not (a[key].startswith("data:") or a[key].startswith("#")):
+                self.external.append(a[key])
+        if tag == "td":
+            self.cell = ""
+
+    def handle_endtag(self, tag):
+        if tag == "td" and self.current is not None:
+            self.current["cells"].append(self.cell)
+            self.cell = None
+        if tag == "section":
+            self.current = None
+
+    def handle_data(self, data):
+        if self.cell is not None:
+            self.cell += data
+        if self.current is not None:
+            self.current["text"] += data
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("report")
+    argv = ["report", "ross_compare.toml", *SETS, "--operating", *map(str, OPERATING), "--out", str(out), "--json"]
+    import contextlib
+    import io
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(argv) == 0
+    summary = json.loads(buf.getvalue())
+    page = _Page()
+    page.feed(open(summary["report"], encoding="utf-8").read())
+    return summary, page, out
+
+
+def test_every_section_is_there_with_its_figures_and_nothing_from_outside(report):
+    summary, page, _ = report
+    assert list(page.sections) == [c for c, _ in SECTIONS] == summary["sections"]
+    for command, section in page.sections.items():
+        assert section["images"] >= 1, command
+        assert section["cells"], command
+    assert page.external == [] and summary["failed"] == {}
+
+
+def test_the_api684_table_against_an_independent_computation(report):
+    """Each critical speed's amplification factor `|lambda| / (-2 Re lambda)` from
+    numpy's eigenvalues of the state matrix assembled at that speed (the eigenvalue
+    whose imaginary part is the speed), and the margins from API 684's formula."""
+    summary, _, _ = report
+    rows = summary["api684"]
+    assert len(rows) == 2
+    scene = read_rotor_file("ross_compare.toml", {"bearing0.cxx": 500.0, "bearing1.cxx": 500.0}).scene
+    lo, hi = OPERATING
+    for r in rows:
+        lm = scene.linear_matrices(r["speed"])
+        M, C, K = (np.asarray(a) for a in (lm.M, lm.C + lm.G, lm.K))
+        n = M.shape[0]
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+        lam = np.linalg.eigvals(A)
+        lam = lam[np.argmin(np.abs(lam.imag - r["speed"]))]
+        assert abs(lam.imag - r["speed"]) < 1e-6 * r["speed"]
+        af = abs(lam) / (-2 * lam.real)
+        assert r["af"] == pytest.approx(af, rel=1e-9)
+        below = r["speed"] <= 0.5 * (lo + hi)
+        have = 100 * (lo - r["speed"]) / lo if below else 100 * (r["speed"] - hi) / hi
+        base = 17 * (1 - 1 / max(af - 1.5, 1.0))
+        need = 0.0 if af < 2.5 else (min(16.0, base) if below else min(26.0, 10 + base))
+        assert r["margin"] == pytest.approx(have, rel=1e-12) and r["required"] == pytest.approx(need, rel=1e-12)
+        assert r["meets"] == (have >= need)
+    assert [r["meets"] for r in rows] == [True, False]     # 96 rad/s clears 300..400; 300.8 rad/s is inside it
+
+
+def test_the_tables_are_the_commands_numbers(report, tmp_path, capsys):
+    """The modes table is `rotorjax modes --speed 400` (the operating range's top), the
+    static table `static`'s JSON; the bearings carry the weight; the mass is 88.18 kg."""
+    _, page, out = report
+    assert main(["modes", "ross_compare.toml", *SETS, "--speed", "400", "--json", "--out", str(tmp_path)]) == 0
+    modes = json.loads(capsys.readouterr().out)["modes"]
+    cells = page.sections["modes"]["cells"]
+    assert cells == [x for m in modes for x in (str(m["mode"]), f"{m['damped_frequency']:.6g}", f"{m['log_dec']:.6g}",
+                                                 f"{m['damping_ratio']:.6g}", m["whirl"])]
+    static = json.load(open(next((out / "report_parts").glob("static_*.json"))))
+    reactions = page.sections["static"]["cells"]
+    r0 = static["bearing_reactions"][0]
+    assert reactions[:4] == [str(r0["bearing"]), str(r0["node"]), f"{r0['x']:.6g}", f"{r0['y']:.6g}"]
+    # the two bearings carry the weight
+    weight = static["weight"][1]
+    assert sum(r["y"] for r in static["bearing_reactions"]) == pytest.approx(-weight, rel=1e-9)
+    assert math.isclose(float(page.sections["draw"]["cells"][1]), 88.1818, rel_tol=1e-5)
+
+
+def test_a_section_that_fails_is_said_on_the_page_and_exits_3(tmp_path, capsys):
+    """The undamped rotor has no level I threshold (its log decrement at Q = 0 is 0)."""
+    rc = main(["report", "ross_compare.toml", "--operating", "300", "400", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 3 and "report section level1 not computed: level1: no threshold Q0 found" in err
+    page = _Page()
+    page.feed(next(tmp_path.glob("report_*.html")).read_text())
+    assert "Not computed: level1: no threshold Q0 found" in page.sections["level1"]["text"]
+    assert page.sections["campbell"]["images"] >= 1
