@@ -18,8 +18,9 @@ def _files(folder):
 
 def test_every_out_option_defaults_to_rotorjax_out():
     """Each command that writes a folder of files takes `--out DIR`, by default
-    `rotorjax-out` (a relative path: in the current directory). `phasors --out`
-    names the one file it writes, and has no default."""
+    `rotorjax-out` (a relative path: in the current directory). `phasors --out` and
+    `import-ross --out` name the one file each writes: phasors' has no default,
+    import-ross's is beside the file it reads."""
     assert DEFAULT_OUT == "rotorjax-out"
     parser = build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
@@ -28,7 +29,7 @@ def test_every_out_option_defaults_to_rotorjax_out():
         for action in p._actions:
             if "--out" in action.option_strings:
                 with_out[name] = action.default
-    assert with_out.pop("phasors") is None
+    assert with_out.pop("phasors") is None and with_out.pop("import-ross") is None
     assert with_out and set(with_out.values()) == {DEFAULT_OUT}, with_out
     for command in ("static", "modes", "campbell", "simulate", "balance", "identify", "bench", "demo"):
         assert with_out.get(command) == DEFAULT_OUT, command
