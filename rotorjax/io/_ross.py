@@ -42,7 +42,7 @@ import tomllib
 import numpy as np
 
 from .._errors import InputError
-from ._write import _f, _s
+from ._write import _f, _s, _toml_value
 
 LATERAL = tuple(f"{k}{d}" for k in "kcm" for d in ("xx", "xy", "yx", "yy"))
 AXIAL = ("kzz", "czz", "mzz")
@@ -308,26 +308,16 @@ def ross_rotor_text(path, name=None):
         lines += ["", "[[material]]", f"name = {_s(mname)}", f"E = {_f(E)}", f"G = {_f(G)}", f"rho = {_f(rho)}"]
     for n, key, entry in shafts:
         lines += ["", f"[[shaft]]            # {key.split('_', 1)[1]}: nodes {n}, {n + 1}"]
-        lines += [f"{k} = {_value(v)}" for k, v in entry.items()]
+        lines += [f"{k} = {_toml_value(v)}" for k, v in entry.items()]
     for table, rows in (("disk", disks), ("point_mass", masses), ("bearing", [e for _, e in bearings]),
                         ("support", supports)):
         for row in rows:
-            lines += ["", f"[[{table}]]"] + [f"{k} = {_value(v)}" for k, v in row.items()]
+            lines += ["", f"[[{table}]]"] + [f"{k} = {_toml_value(v)}" for k, v in row.items()]
     summary = {"version": version, "theory": theory,
                "elements": {"shaft": len(shafts), "material": len(materials), "disk": len(disks),
                             "point_mass": len(masses), "bearing": len(bearings), "support": len(supports)},
                "speed": speed, "notes": notes}
     return "\n".join(lines) + "\n", summary
-
-
-def _value(v):
-    if isinstance(v, str):
-        return _s(v)
-    if isinstance(v, int) and not isinstance(v, bool):
-        return str(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_f(x) for x in v) + "]"
-    return _f(v)
 
 
 def import_ross(path, out=None, name=None):
