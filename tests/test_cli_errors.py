@@ -544,6 +544,19 @@ CASES = [
     (["critical-speeds", *FR, "--range", "0"], 2, r"--range: expected LO HI, optionally with a unit"),
     (["critical-speeds", *FR, "--range", "0", "1", "2", "3"], 2, r"--range: expected LO HI"),
     (["modes", *FR, "--speed=-3000 rpm"], 2, r"--speed -3000 rpm: must be >= 0 \(it is -314.159 rad/s\)"),
+    # --- output units (--units, issue 35) ---
+    (["modes", *FR, "--units", "furlongs"], 2, r"argument --units: invalid choice: 'furlongs' \(choose from "
+                                              r"'si', 'rpm-um', 'rpm-mil'\)"),
+    (["critical-speeds", "elliptic-abb", "--range", "0", "5", "--units", "rpm-um"], 2,
+     r"--units rpm-um: elliptic-abb's nu is dimensionless .*use --units si"),
+    (["critical-speeds", "flexible-abb", "--range", "0.5", "3", "--units", "rpm-mil"], 2,
+     r"--units rpm-mil: flexible-abb's omega is dimensionless"),
+    (["ucs", *FR, "--range", "1e5rpm", "1e9rpm"], 2, r"--range '1e5rpm': a speed \(rad/s\), and this value is a "
+                                                   r"stiffness, in N/m"),
+    (["report", *FR, "--operating", "3000", "3600", "N/m"], 2,
+     r"--operating '3000 N/m': a stiffness \(N/m\), and this value is a speed, in rad/s"),
+    (["report", *FR, "--speed-range", "0", "12000", "rpm", "--units", "rpm-foot"], 2,
+     r"argument --units: invalid choice: 'rpm-foot'"),
     # --- report ---
     (["report", "elliptic-abb"], 2, r"`report` does not apply to 'elliptic-abb': it needs a finite-element rotor"),
     (["report", *FR, "--speed-range", "5", "1"], 2, r"--speed-range 5 1: needs 0 <= LO < HI"),

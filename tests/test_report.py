@@ -136,3 +136,21 @@ def test_a_section_that_fails_is_said_on_the_page_and_exits_3(tmp_path, capsys):
     page.feed(next(tmp_path.glob("report_*.html")).read_text())
     assert "Not computed: level1: no threshold Q0 found" in page.sections["level1"]["text"]
     assert page.sections["campbell"]["images"] >= 1
+
+
+def test_the_tables_are_in_the_units_each_command_states():
+    """`--units`: each section's table heads name the units of its command's JSON, and
+    the API 684 table (computed in SI) is shown in the section's speed unit."""
+    from rotorjax.cli._report import page
+
+    rpm = 30 / math.pi
+    modes = {"units": {"system": "rpm-um", "speed": "rpm", "frequency": "cpm"}, "files": {},
+             "modes": [{"mode": 0, "damped_frequency": 1200.0, "log_dec": 0.1, "damping_ratio": 0.02,
+                        "whirl": "forward"}]}
+    crit = {"units": {"system": "rpm-um", "speed": "rpm"}, "files": {},
+            "api684": {"rows": [{"speed": 100.0, "mode": 1, "af": 3.0, "margin": 20.0, "required": 10.0,
+                                 "meets": True}]}}
+    text = page("t", {"modes": modes, "critical-speeds": crit})
+    assert "<th>damped frequency (cpm)</th>" in text and "<td>1200</td>" in text
+    assert "<th>critical speed (rpm)</th>" in text and f"<td>{100 * rpm:.6g}</td>" in text
+    assert "<th>damped frequency (rad/s)</th>" in page("t", {"modes": dict(modes, units={})})

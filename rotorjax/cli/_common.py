@@ -119,9 +119,6 @@ def positive(text):
     if isinstance(value, Given):
         value.check = positive
         return value
-    if isinstance(value, Given):
-        value.check = finite
-        return value
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
     return value

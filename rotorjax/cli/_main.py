@@ -12,6 +12,7 @@ from ._balance import cmd_balance, cmd_identify
 from ._optimize import cmd_optimize
 from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
+from ._output_units import UNITS_OPTION
 from ._common import (InputError, NumericalError, SpanAction, at_least, collect_warnings, finite, get_preset,
                       mode_count, nonnegative, positive, resolve_units, tolerance)
 from ._contact import cmd_bifurcation
@@ -100,7 +101,7 @@ class _OptionUnits:
     speed options the target's speed unit (rad/s for a rotor file), `--range` of
     `continue` and `periodic` the unit of their `--param`."""
 
-    SPEED = ("speed", "operating", "range")
+    SPEED = ("speed", "operating", "range", "speed_range", "shape_at")
 
     def __init__(self, args):
         self.args = vars(args)
@@ -116,14 +117,20 @@ class _OptionUnits:
         return self.preset.speed_key
 
     def __call__(self, dest):
+        if self.command == "ucs" and dest == "range":
+            return "N/m"   # ucs's --range is the bearing stiffness
         key = self._key(dest)
-        return None if key is None else self.preset.units.get(key)
+        return None if key is None else self._unit(key)
+
+    def _unit(self, key):
+        """`key`'s unit; a speed that is no --set key (ross-compare's) is in rad/s."""
+        return self.preset.units.get(key, "rad/s" if key == self.preset.speed_key else None)
 
     def why(self, dest):
         key = self._key(dest)
         if key is None:
             return f"--{dest.replace('_', '-')} takes a number"
-        return f"{self.preset.name}'s {key} is {self.preset.units.get(key) or 'without a unit'}"
+        return f"{self.preset.name}'s {key} is {self._unit(key) or 'without a unit'}"
 
 
 def _integration(max_steps):
@@ -175,6 +182,7 @@ def build_parser():
                  (("--modes",), dict(type=at_least(1), default=None,
                                      help="modes tracked (ross-compare, default 8) or shaft modes "
                                           "(flexible-abb)")),
+                 UNITS_OPTION,
                  (("--exact",), dict(action="store_true", help="flexible-abb: the closed-form equation (17)")),
              ], kinds="elliptic-abb, anisotropic-abb, ross-compare, flexible-abb, cantilever-limiters, rotor files")
     _command(sub, "stability-map", "stability margin over a 2-D parameter grid", cmd_stability_map, [
@@ -187,6 +195,7 @@ def build_parser():
     _command(sub, "campbell", "Campbell diagram of a flexible rotor", cmd_campbell, [
         _range(help="speed range, rad/s (LO >= 0)"),
         (("--n-speeds",), dict(type=at_least(2), default=100, help="speeds in the range")),
+        UNITS_OPTION,
         (("--modes",), dict(type=at_least(1), default=8, help="modes shown")),
         (("--reduce",), dict(type=int, default=None, metavar="N",
                              help="reduce to the N lowest undamped modes first (ReducedRotor)")),
@@ -204,6 +213,7 @@ def build_parser():
                                      "rad), repeatable: these unbalances act together (default: the rotor's own, "
                                      "a rotor file's [[unbalance]] tables)")),
         (("--phase",), dict(type=finite, default=None, help="phase of a bare --unbalance MAG, rad (default 0)")),
+        UNITS_OPTION,
         (("--shape-at",), dict(type=positive, default=None, metavar="W",
                                help="also plot the deflected shape (orbit major axis along the shaft) at "
                                     "speed W, rad/s")),
@@ -213,6 +223,7 @@ def build_parser():
     _command(sub, "static", "static deflection, bearing reactions, shear and moment under gravity", cmd_static, [
         (("--gravity",), dict(type=finite, default=9.80665, metavar="G",
                               help="gravitational acceleration, m/s^2, acting along -AXIS")),
+        UNITS_OPTION,
         (("--axis",), dict(default="y", choices=("x", "y"), help="the vertical axis")),
         (("--speed",), dict(type=positive, default=None, metavar="W",
                             help="running speed, rad/s, of a rotor on fluid-film bearings (default: the rotor "
@@ -225,11 +236,14 @@ def build_parser():
         (("--speed",), dict(type=nonnegative, default=None, metavar="W",
                             help="spin speed, rad/s (>= 0: the whirl labels refer to the positive spin; default: the "
                                  "rotor file's [rotor] speed, else 0)")),
+        UNITS_OPTION,
         (("--n-modes",), dict(type=at_least(1), default=6, metavar="N", help="modes shown, lowest first")),
     ], kinds="ross-compare, rotor files")
     _command(sub, "ucs", "undamped critical speed map against bearing stiffness", cmd_ucs, [
-        (("--range",), dict(type=finite, nargs=2, metavar=("KLO", "KHI"), default=(1e5, 1e10),
-                            help="bearing stiffness range, N/m (0 < KLO < KHI, log-spaced)")),
+        (("--range",), dict(nargs="+", action=SpanAction, metavar=("KLO", "KHI"), default=(1e5, 1e10),
+                            help="bearing stiffness range, N/m, or with a unit (1e5 1e10 N/m) (0 < KLO < KHI, "
+                                 "log-spaced)")),
+        UNITS_OPTION,
         (("--n",), dict(type=at_least(2), default=60, help="stiffness values")),
         (("--n-modes",), dict(type=at_least(1), default=4, metavar="M", help="critical speeds per stiffness")),
         (("--synchronous",), dict(action="store_true",
@@ -245,6 +259,7 @@ def build_parser():
         (("--output",), dict(type=point_spec, required=True, metavar="NODE,DIR",
                              help="the response: node and direction x or y")),
         _range(help="excitation frequency range, rad/s (0 <= LO < HI)"),
+        UNITS_OPTION,
         (("--n",), dict(type=at_least(2), default=1000, help="number of frequencies")),
         (("--kind",), dict(default="displacement", choices=("displacement", "velocity", "acceleration"),
                            help="response per unit force: displacement, velocity or acceleration")),
@@ -264,6 +279,7 @@ def build_parser():
                                      help="largest cross-coupled stiffness, N/m (default: the largest bearing "
                                           "stiffness)")),
                  (("--n",), dict(type=at_least(2), default=41, help="values of Q from 0 to --q-max")),
+                 UNITS_OPTION,
              ], kinds="ross-compare, rotor files",
              description="API 684 level I screening: cross-coupled stiffness kxy = +Q, kyx = -Q (destabilising "
                          "forward whirl) at a node, the log decrement of the first forward mode against Q at the "
@@ -544,12 +560,15 @@ def build_parser():
                          "draw_NAME.png and the layout as numbers (draw_NAME.json: node positions, elements, "
                          "materials, disks, bearings, components, mass).")
     _command(sub, "report", "one self-contained HTML page of the everyday analyses, to hand on", cmd_report,
-             flags=[(("--speed-range",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+             flags=[(("--speed-range",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
                                               help="the speeds of the Campbell diagram, critical speeds and "
-                                                   "response, rad/s (default 0 to 1.5 x the operating speed)")),
-                    (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
-                                            help="the operating speed range, rad/s, for API 684's separation "
-                                                 "margins (default: the [rotor] speed)"))],
+                                                   "response, rad/s, or with a unit (0 12000 rpm) (default 0 to "
+                                                   "1.5 x the operating speed)")),
+                    (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
+                                            help="the operating speed range, rad/s, or with a unit (3000 3600 "
+                                                 "rpm), for API 684's separation margins (default: the [rotor] "
+                                                 "speed)")),
+                    UNITS_OPTION],
              kinds="rotor files and presets with a finite-element rotor",
              description="One self-contained HTML page (report_NAME.html): the rotor drawn and its model, static "
                          "deflection and bearing loads, the undamped critical speed map, the Campbell diagram with "

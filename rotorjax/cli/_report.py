@@ -18,6 +18,7 @@ import json
 import os
 import sys
 
+from ._output_units import SYSTEMS, Units, units_for
 from ._common import InputError, NumericalError, build, out_stem, prepare_out, preset_and_params
 
 #: the sections, in the page's order: (command, title)
@@ -59,8 +60,14 @@ def _cell(c):
     return f"{c:.6g}" if isinstance(c, float) else str(c)
 
 
+def _unit(out, kind):
+    """The unit of `kind` in a command's JSON (its `"units"`, `--units`)."""
+    return out.get("units", {}).get(kind, SYSTEMS["si"][kind][0])
+
+
 def _tables(command, out):
-    """The section's numbers, as tables."""
+    """The section's numbers, as tables (in the units each command's JSON states)."""
+    speed, freq = _unit(out, "speed"), _unit(out, "frequency")
     if command == "draw":
         lay = out["layout"]
         yield _table(["length (m)", "mass (kg)", "elements", "theory", "disks", "bearings and seals"],
@@ -73,26 +80,32 @@ def _tables(command, out):
     elif command == "static":
         yield _table(["bearing", "node", "reaction x (N)", "reaction y (N)"],
                      [[r["bearing"], r["node"], r["x"], r["y"]] for r in out["bearing_reactions"]])
+        yield _table([f"largest deflection ({_unit(out, 'deflection')})", "at node"],
+                     [[out["max_deflection"]["value"], out["max_deflection"]["node"]]])
     elif command == "ucs":
-        yield _table(["mode", "bearing", "coefficient", "bearing stiffness (N/m)", "speed (rad/s)"],
+        yield _table(["mode", "bearing", "coefficient", "bearing stiffness (N/m)", f"speed ({speed})"],
                      [[r["mode"], r["bearing"], r["coefficient"], r["k"], r["speed"]] for r in out["intersections"]])
     elif command == "campbell":
-        yield _table(["1x critical speed (rad/s)"], [[w] for w in out["critical_speeds"]])
+        yield _table([f"1x critical speed ({speed})"], [[w] for w in out["critical_speeds"]])
         log_dec = list(zip(*out["log_dec"]))          # per mode (sorted), over the speeds
-        yield _table(["mode", "least log dec over the range", "at speed (rad/s)"],
+        yield _table(["mode", "least log dec over the range", f"at speed ({speed})"],
                      [[j, min(ld), out["speeds"][ld.index(min(ld))]] for j, ld in enumerate(log_dec)])
     elif command == "critical-speeds":
-        yield _table(["critical speed (rad/s)", "mode", "AF", "margin (%)", "required (%)", "meets"],
-                     [[r["speed"], r["mode"], r["af"], r["margin"], r["required"], "yes" if r["meets"] else "NO"]
+        shown = Units(out.get("units", {}).get("system", "si"))
+        yield _table([f"critical speed ({speed})", "mode", "AF", "margin (%)", "required (%)", "meets"],
+                     [[shown.value(r["speed"], "speed"), r["mode"], r["af"], r["margin"], r["required"],
+                       "yes" if r["meets"] else "NO"]
                       for r in out["api684"]["rows"]])
     elif command == "modes":
-        yield _table(["mode", "damped frequency (rad/s)", "log dec", "damping ratio", "whirl"],
+        yield _table(["mode", f"damped frequency ({freq})", "log dec", "damping ratio", "whirl"],
                      [[m["mode"], m["damped_frequency"], m["log_dec"], m["damping_ratio"], m["whirl"]]
                       for m in out["modes"]])
     elif command == "response":
-        yield _table(["peak speed (rad/s)", "amplitude (m)"], list(zip(out["peaks"], out["peak_amplitudes"])))
+        yield _table([f"peak speed ({speed})", f"amplitude ({_unit(out, 'amplitude')})"],
+                     list(zip(out["peaks"], out["peak_amplitudes"])))
     elif command == "level1":
-        yield _table(["quantity", "value"], [[k, v] for k, v in out.items()
+        named = {"speed": f"speed ({speed})", "q0": "q0 (N/m)"}
+        yield _table(["quantity", "value"], [[named.get(k, k), v] for k, v in out.items()
                                              if isinstance(v, (int, float)) and not isinstance(v, bool)])
 
 
@@ -123,6 +136,7 @@ def cmd_report(args) -> int:
     from rotorjax.analysis import api684_margins
 
     preset, params = preset_and_params(args, "report")
+    units = units_for(args, preset)
     speed = float(params.get(preset.speed_key, 0.0))
     op = args.operating or ((speed, speed) if speed > 0 else None)
     if op is None:
@@ -137,13 +151,15 @@ def cmd_report(args) -> int:
     prepare_out(args.out)
     parts = os.path.join(args.out, "report_parts")
     common = [preset.name, *sum((["--set", s] for s in args.set or []), []), "--out", parts]
+    shown = ["--units", units.system]
     span = ["--range", repr(lo), repr(hi)]
     options = {"campbell": span, "critical-speeds": span, "modes": ["--speed", repr(op[1])],
                "response": ["--range", repr(max(lo, 1e-3 * hi)), repr(hi)], "level1": ["--speed", repr(op[1])]}
     results, failed, skipped = {}, {}, {}
     for command, _ in SECTIONS:
         try:
-            results[command] = _run([command, *common[:1], *options.get(command, []), *common[1:]])
+            results[command] = _run([command, *common[:1], *options.get(command, []), *common[1:],
+                                     *(shown if command != "draw" else [])])
         except NumericalError as e:   # the page says so in its section; the command exits 3
             results[command], failed[command] = {"failed": str(e)}, str(e)
         except InputError as e:       # a section the rotor gives nothing to (no unbalance to respond to)
@@ -153,15 +169,17 @@ def cmd_report(args) -> int:
     path = out_stem(args.out, preset, "report_") + ".html"
     with open(path, "w", encoding="utf-8") as f:
         f.write(page(f"{preset.name}: rotordynamic report", results))
-    summary = {"target": preset.name, "report": path, "speed_range": [lo, hi], "operating": list(op),
-               "sections": [c for c, _ in SECTIONS], "failed": failed, "skipped": skipped,
-               "api684": rows}
+    summary = units.convert({"target": preset.name, "report": path, "speed_range": [lo, hi], "operating": list(op),
+                             "sections": [c for c, _ in SECTIONS], "failed": failed, "skipped": skipped,
+                             "api684": [dict(r) for r in rows]},
+                            {"speed_range": "speed", "operating": "speed", "api684.*.speed": "speed"})
     if args.json:
         print(json.dumps(summary, indent=2))
         return 3 if failed else 0
     short = [r for r in rows if not r["meets"]]
     print(f"{preset.name}: report of {len(SECTIONS)} sections -> {path}")
-    print(f"  API 684: {len(rows)} forward 1x critical speeds in {lo:g}..{hi:g} rad/s, "
+    print(f"  API 684: {len(rows)} forward 1x critical speeds in {summary['speed_range'][0]:g}.."
+          f"{summary['speed_range'][1]:g} {units.label('speed')}, "
           + (f"{len(short)} short of their separation margin" if short else "every one meets its separation margin"))
     for command, why in skipped.items():
         print(f"  section {command} not computed: {why}")
