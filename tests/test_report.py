@@ -154,3 +154,62 @@ def test_the_tables_are_in_the_units_each_command_states():
     assert "<th>damped frequency (cpm)</th>" in text and "<td>1200</td>" in text
     assert "<th>critical speed (rpm)</th>" in text and f"<td>{100 * rpm:.6g}</td>" in text
     assert "<th>damped frequency (rad/s)</th>" in page("t", {"modes": dict(modes, units={})})
+
+
+def _chromium():
+    """The system's Chromium (Debian's package; .ci/run installs it), or None."""
+    import shutil
+
+    return next((p for p in map(shutil.which, ("chromium", "chromium-browser", "google-chrome")) if p), None)
+
+
+#: the sections with an interactive figure (plotly), the others show their PNGs
+INTERACTIVE = ("static", "ucs", "campbell", "response", "level1")
+
+
+def test_the_page_opens_in_a_headless_browser_without_script_errors(report, tmp_path):
+    """Issue 35 item 4: the page in a real browser (headless Chromium, driven by
+    playwright): it loads with no script error or console error, every section is
+    there, every interactive figure is drawn by plotly.js (inlined: the page fetches
+    nothing), and a screenshot is taken."""
+    chromium = _chromium()
+    if chromium is None:
+        pytest.skip("no Chromium on this machine (.ci/run installs Debian's chromium package)")
+    sync_playwright = pytest.importorskip("playwright.sync_api", reason="playwright: the test extra").sync_playwright
+    summary, _, _ = report
+    errors, requests = [], []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox", "--disable-gpu"])
+        try:
+            view = browser.new_page(viewport={"width": 1200, "height": 900})
+            view.on("pageerror", lambda e: errors.append(f"page error: {e}"))
+            view.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
+            view.on("request", lambda r: requests.append(r.url))
+            view.goto(f"file://{summary['report']}")
+            view.wait_for_load_state("load")
+            sections = view.evaluate("[...document.querySelectorAll('section')].map(s => s.id)")
+            drawn = view.evaluate("[...document.querySelectorAll('.js-plotly-plot')]"
+                                  ".filter(d => d.querySelector('.main-svg')).map(d => d.id)")
+            shot = tmp_path / "report.png"
+            view.screenshot(path=str(shot), full_page=True)
+        finally:
+            browser.close()
+    assert errors == []
+    assert sections == [c for c, _ in SECTIONS]
+    assert sorted(drawn) == sorted(f"figure-{c}" for c in INTERACTIVE)
+    assert [u for u in requests if not u.startswith(("file:", "data:"))] == []
+    data = shot.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 50_000
+
+
+def test_without_plotly_the_page_shows_its_static_figures(report):
+    """The fallback: no script in the page, every section's PNGs shown."""
+    from rotorjax.cli._report import _pngs, page
+
+    out = {"files": {"plot": None}, "intersections": [], "critical_speeds": [[1.0]], "stiffness": [1.0],
+           "bearing_speeds": [1.0], "bearing_kxx": [[1.0]], "bearing_kyy": [[1.0]]}
+    text = page("t", {"ucs": out}, interactive=False)
+    assert "<script" not in text and 'id="ucs"' in text
+    assert _pngs({"plot": None}) == []
+    _, parsed, _ = report
+    assert parsed.sections["campbell"]["images"] >= 1     # the interactive page keeps them, in <noscript>

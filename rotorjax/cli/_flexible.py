@@ -193,7 +193,8 @@ def _unbalances(args, scene, n_nodes, name):
 #: amplitude (peak-to-peak where the system's convention is), the deflected shape's
 #: semi-axes and displacements deflections
 RESPONSE_UNITS = {"range": "speed", "peaks": "speed", "speed_at_max": "speed", "peak_amplitudes": "amplitude",
-                  "max_amplitude": "amplitude", "deflected_shape.speed": "speed",
+                  "max_amplitude": "amplitude", "deflected_shape.speed": "speed", "curve.speeds": "speed",
+                  **{f"curve.{k}": "amplitude" for k in ("amplitude", "x_abs", "y_abs")},
                   **{f"deflected_shape.{k}": "deflection" for k in ("major", "minor", "x_abs", "y_abs")}}
 
 
@@ -235,6 +236,8 @@ def cmd_response(args) -> int:
            "unit": f"{units.label('speed')}, {units.label('amplitude')}", "peaks": [p.x for p in curve.peaks],
            "peak_amplitudes": [p.y for p in curve.peaks],
            "max_amplitude": curve.max_amplitude, "speed_at_max": curve.speed_at_max,
+           "curve": {"speeds": np.asarray(curve.speeds).tolist(), "amplitude": np.asarray(curve.amplitude).tolist(),
+                     "x_abs": np.abs(curve.x).tolist(), "y_abs": np.abs(curve.y).tolist()},
            "files": {"plot": stem + ".png", "json": stem + ".json"}}
     if args.shape_at is not None:
         shape = deflected_shape(scene, triples, args.shape_at)

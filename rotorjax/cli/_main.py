@@ -576,6 +576,7 @@ def build_parser():
                          "separation margins, the damped modes at the operating speed, the unbalance response and "
                          "the level I screen; each section the command of its name, run into "
                          "OUT/report_parts/, its numbers in tables and its figures embedded.")
+    sub.choices["report"].set_defaults(cli_parser=build_parser)   # its sections run as the CLI runs them
     imp = sub.add_parser("import-ross", help="a rotor saved by ROSS (Rotor.save), as a rotor file",
                          formatter_class=_Formatter,
                          description="Reads a rotor saved by ROSS (`Rotor.save`: TOML, or JSON for .json; ROSS 1.x "

@@ -18,6 +18,8 @@ import json
 import os
 import sys
 
+import numpy as np
+
 from ._output_units import SYSTEMS, Units, units_for
 from ._common import InputError, NumericalError, build, out_stem, prepare_out, preset_and_params
 
@@ -29,11 +31,10 @@ SECTIONS = (("draw", "The rotor"), ("static", "Static deflection and bearing loa
             ("level1", "Level I stability screening (API 684)"))
 
 
-def _run(argv):
-    """A command run as the CLI runs it, its JSON printed to a buffer: its result."""
-    from ._main import build_parser
-
-    args = build_parser().parse_args([*argv, "--json"])
+def _run(parser, argv):
+    """A command run as the CLI runs it (`parser`: the CLI's), its JSON printed to a
+    buffer: its result."""
+    args = parser.parse_args([*argv, "--json"])
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
         args.fn(args)
@@ -109,8 +110,73 @@ def _tables(command, out):
                                              if isinstance(v, (int, float)) and not isinstance(v, bool)])
 
 
-def page(title, results):
-    """The HTML page of the `results` (`{command: its JSON}`, in `SECTIONS`' order)."""
+def _traces(command, out):
+    """`(traces, x label, y label, log x, log y)` of a section's interactive figure
+    (`rotorjax.plot.Trace`s from its command's JSON), or None where it has none."""
+    from rotorjax.plot import Trace
+
+    speed, freq = _unit(out, "speed"), _unit(out, "frequency")
+    if command == "campbell":
+        t = out["tracked"]
+        f, whirl = np.asarray(t["frequencies"], dtype=float), np.asarray(t["whirl"])
+        traces = [Trace(f"mode {k}", out["speeds"], f[:, k], mode="lines+markers",
+                        dash="dash" if np.mean(whirl[:, k] == "backward") > 0.5 else "solid",
+                        values=np.asarray(t["log_dec"])[:, k], values_label="log dec",
+                        labels=[f"{w} whirl" for w in whirl[:, k]]) for k in range(f.shape[1])]
+        traces += [Trace("1x", out["speeds"], out["speeds"], dash="dot", colour="black"),
+                   Trace("1x crossing", out["critical_speeds"], out["critical_speeds"], mode="markers",
+                         colour="red")]
+        return traces, f"speed ({speed})", f"damped natural frequency ({freq})", False, False
+    if command == "ucs":
+        f = np.asarray([[np.nan if v is None else v for v in row] for row in out["critical_speeds"]], dtype=float)
+        traces = [Trace(f"mode {j + 1}", out["stiffness"], f[:, j]) for j in range(f.shape[1])]
+        for name in ("kxx", "kyy"):
+            traces += [Trace(f"bearing {b} {name}", k, out["bearing_speeds"], dash="dash" if name == "kxx" else "dot",
+                             colour="black") for b, k in enumerate(out[f"bearing_{name}"])]
+        traces.append(Trace("critical speed on the bearings", [i["k"] for i in out["intersections"]],
+                            [i["speed"] for i in out["intersections"]], mode="markers", colour="red"))
+        return traces, "bearing stiffness (N/m)", f"critical speed ({speed})", True, True
+    if command == "response":
+        c = out["curve"]
+        traces = [Trace(f"node {out['probe']}: {name}", c["speeds"], c[key])
+                  for name, key in (("amplitude", "amplitude"), ("|x|", "x_abs"), ("|y|", "y_abs"))]
+        traces.append(Trace("peaks", out["peaks"], out["peak_amplitudes"], mode="markers", colour="red"))
+        return traces, f"speed ({speed})", f"amplitude ({_unit(out, 'amplitude')})", False, True
+    if command == "static":
+        p = ("x", "y").index(out["axis"])
+        return ([Trace(f"deflection {out['axis']}", out["positions"], np.asarray(out["displacement"])[:, p],
+                       mode="lines+markers")], "axial position (m)", f"deflection ({_unit(out, 'deflection')})",
+                False, False)
+    if command == "level1":
+        traces = [Trace("log dec of the least damped forward mode", out["q"], out["log_dec"], mode="lines+markers")]
+        if out["q0"] is not None:
+            traces.append(Trace("threshold Q0", [out["q0"]], [0.0], mode="markers", colour="red"))
+        return traces, "cross-coupled stiffness Q (N/m)", "log decrement", False, False
+    return None
+
+
+def _figures(command, out, interactive):
+    """The section's figures: an interactive one (plotly, where `interactive`) with its
+    static PNGs as the fallback without scripts, else the PNGs."""
+    pngs = _pngs(out.get("files"))
+    spec = _traces(command, out) if interactive else None
+    if spec is None:
+        return pngs
+    from rotorjax.plot import figure_html, lines_figure
+
+    traces, x_label, y_label, log_x, log_y = spec
+    fig = lines_figure(traces, x_label, y_label, log_x=log_x, log_y=log_y)
+    return [f'<div class="interactive">{figure_html(fig, f"figure-{command}")}</div>',
+            "<noscript>" + "".join(pngs) + "</noscript>"]
+
+
+def page(title, results, interactive=None):
+    """The HTML page of the `results` (`{command: its JSON}`, in `SECTIONS`' order):
+    interactive figures where plotly is installed (or `interactive` says), plotly.js
+    inlined once, so the page needs nothing beside it."""
+    from rotorjax.plot import interactive_available, plotly_js
+
+    interactive = interactive_available() if interactive is None else interactive
     parts = [f"<h1>{html.escape(title)}</h1>", "<nav><ol>"]
     parts += [f'<li><a href="#{c}">{html.escape(t)}</a></li>' for c, t in SECTIONS if c in results]
     parts.append("</ol></nav>")
@@ -123,13 +189,14 @@ def page(title, results):
         if "failed" in out:
             parts.append(f'<p class="failed">Not computed: {html.escape(out["failed"])}</p>')
         else:
-            parts += list(_tables(command, out)) + _pngs(out.get("files"))
+            parts += list(_tables(command, out)) + _figures(command, out, interactive)
         parts.append("</section>")
     style = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
              "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 8px;"
              "text-align:right}img{max-width:100%}.cmd{color:#777;font-family:monospace}.failed{color:#b00}")
+    script = f'<script type="text/javascript">{plotly_js()}</script>' if interactive else ""
     return (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
-            f"<style>{style}</style></head><body>{''.join(parts)}</body></html>\n")
+            f"<style>{style}</style>{script}</head><body>{''.join(parts)}</body></html>\n")
 
 
 def cmd_report(args) -> int:
@@ -156,10 +223,11 @@ def cmd_report(args) -> int:
     options = {"campbell": span, "critical-speeds": span, "modes": ["--speed", repr(op[1])],
                "response": ["--range", repr(max(lo, 1e-3 * hi)), repr(hi)], "level1": ["--speed", repr(op[1])]}
     results, failed, skipped = {}, {}, {}
+    cli = args.cli_parser()
     for command, _ in SECTIONS:
         try:
-            results[command] = _run([command, *common[:1], *options.get(command, []), *common[1:],
-                                     *(shown if command != "draw" else [])])
+            results[command] = _run(cli, [command, *common[:1], *options.get(command, []), *common[1:],
+                                          *(shown if command != "draw" else [])])
         except NumericalError as e:   # the page says so in its section; the command exits 3
             results[command], failed[command] = {"failed": str(e)}, str(e)
         except InputError as e:       # a section the rotor gives nothing to (no unbalance to respond to)

@@ -1244,3 +1244,5 @@ def plot_design(path=None, design=None, campbell=None, title="", *, margins=None
 
 from ._rotor import layout as rotor_layout  # noqa: E402  (the drawing uses the helpers above)
 from ._rotor import rotor as rotor  # noqa: E402
+from ._interactive import Trace, figure_html, lines_figure, plotly_js  # noqa: E402,F401  (a page's figures)
+from ._interactive import available as interactive_available  # noqa: E402,F401
