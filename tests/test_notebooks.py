@@ -19,6 +19,8 @@ from tests.notebook_run import NOTEBOOKS, execute, source
     ("parameter_study", ["parameter_study.png"]),
     ("identification", ["identification.png", "identification_flexible.png"]),
     ("stability_boundaries", ["boundary_001.png", "boundary_003.png"]),
+    ("everyday", ["everyday_rotor.png", "everyday_campbell.png", "everyday_response.png"]),
+    ("fluid_films", ["fluid_films_locus.png", "fluid_films_onset.png"]),
 ])
 def test_notebook_runs(name, figures, tmp_path):
     nb = execute(name, tmp_path)
@@ -33,7 +35,8 @@ def test_notebook_runs(name, figures, tmp_path):
         check.check(json.loads(claims_file.read_text()))
 
 
-@pytest.mark.parametrize("name", ["parameter_study", "identification", "stability_boundaries"])
+@pytest.mark.parametrize("name", ["parameter_study", "identification", "stability_boundaries", "everyday",
+                                  "fluid_films"])
 def test_the_committed_notebook_is_its_script_with_outputs(name):
     """The `.ipynb` holds the `.py`'s cells (sources equal, in order) and their outputs:
     figures inline, no error; refresh it with `python -m tests.notebook_run NAME`."""
