@@ -1,7 +1,7 @@
 # ---
 # jupyter:
 #   jupytext:
-#     formats: py:percent
+#     formats: ipynb,py:percent
 #   kernelspec:
 #     name: python3
 #     display_name: Python 3
@@ -28,9 +28,6 @@
 import json
 import os
 
-import matplotlib
-
-matplotlib.use("Agg")
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -207,7 +204,7 @@ ax.legend(fontsize=7, loc="upper right")
 ax.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(os.path.join(OUT, "boundary_001.png"), dpi=100)
-plt.close(fig)
+plt.show()
 
 # %% [markdown]
 # ## Model 003: the balanced regime in (d, omega)
@@ -271,7 +268,7 @@ ax.legend(fontsize=8)
 ax.grid(alpha=0.3, which="both")
 fig.tight_layout()
 fig.savefig(os.path.join(OUT, "boundary_003.png"), dpi=100)
-plt.close(fig)
+plt.show()
 
 # %%
 with open(os.path.join(OUT, "stability_boundaries_claims.json"), "w") as f:

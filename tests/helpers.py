@@ -76,3 +76,23 @@ def check_benchmark_smoke(name, smoke_runs):
     assert name in runs, f"the runner stopped before {name}: {tail}"
     assert runs[name]["ok"], runs[name]["tail"]
     assert untouched, "a smoke run wrote into benchmarks/results/"
+
+
+#: the documentation's pages, in the site's order: the README (the home page) and docs/*.md (its other pages);
+#: their commands and code blocks run in tests/test_readme.py, their stated numbers are checked where they are
+DOCS_PAGES = ("README.md", "docs/architecture.md", "docs/rotor-files.md", "docs/everyday.md", "docs/flexible.md",
+              "docs/stationary.md", "docs/continuation.md", "docs/periodic.md", "docs/fluid-films.md",
+              "docs/limiters.md", "docs/balancing.md", "docs/identification.md", "docs/uncertainty.md",
+              "docs/design.md", "docs/published-models.md", "docs/cli.md", "docs/speed.md")
+
+
+def documentation(page=None):
+    """The text of the documentation (every page of `DOCS_PAGES`, joined), or of one `page`."""
+    import os
+
+    root = os.path.join(os.path.dirname(__file__), "..")
+    texts = []
+    for p in DOCS_PAGES if page is None else (page,):
+        with open(os.path.join(root, p), encoding="utf-8") as f:
+            texts.append(f.read())
+    return "\n\n".join(texts)

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from .helpers import documentation
+
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 NAMES = ("sweep_throughput", "limiters", "stability_map", "ross_parity", "identification", "fe_identification",
          "harmonic_balance", "journal_bearings", "step_cost", "bench_quick")
@@ -69,7 +71,7 @@ def test_readme_startup_table_is_the_json():
     `benchmarks/results/startup.json`'s, as `python benchmarks/startup.py --table` prints it."""
     startup = _bench_module("startup")
     out = json.loads((BENCH / "results" / "startup.json").read_text())
-    readme = (BENCH.parent / "README.md").read_text()
+    readme = documentation()
     assert startup.table(out) in readme
     cached = [r["cached_s"] for r in out["commands"] if r["command"].split()[0] in out["targets"]["cached_commands"]]
     assert f"cached runs of `modes`, `campbell`, `critical-speeds` and `response`: {min(cached):.1f}-" \
@@ -85,7 +87,7 @@ def test_readme_stiff_defaults_table_is_the_json():
     quoted under it, are `benchmarks/results/stiff_defaults.json`'s."""
     stiff_defaults = _bench_module("stiff_defaults")
     out = json.loads((BENCH / "results" / "stiff_defaults.json").read_text())
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     assert " ".join(stiff_defaults.table(out).split()) in readme
     cases = {c["rotor"]: c for c in out["cases"]}
     reduced = [c for c in out["cases"] if c["plan"]["modes"]]
@@ -108,7 +110,7 @@ def test_readme_step_cost_table_and_fe_batch_are_the_json():
     readings under it hold there; the FE rotor's batch ratios are `rotor_scene.json`'s."""
     step_cost = _bench_module("step_cost")
     out = json.loads((BENCH / "results" / "step_cost.json").read_text())
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     assert " ".join(step_cost.table(out).split()) in readme
     c = out["cases"]
     small = [c["model 001"], c["FE rotor, 8 modes"]]
@@ -179,7 +181,7 @@ def test_readme_gpu_batch_numbers_are_the_json():
     """The accelerator benchmark's README numbers are `gpu_batch_cpu.json`'s, and no GPU
     figure is quoted: no `gpu_batch_gpu.json` has been measured."""
     out = json.loads((BENCH / "results" / "gpu_batch_cpu.json").read_text())
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     v, p = out["runs"]
     assert out["device"]["platform"] == "cpu" and out["gpu_figure"].startswith("none")
     assert not (BENCH / "results" / "gpu_batch_gpu.json").exists() and "No GPU figure exists yet" in readme
@@ -197,7 +199,7 @@ def test_readme_floquet_map_numbers_are_the_json():
     2 cores, the vmapped margin with and without the XLA option, the scipy loop; and
     the measured target holds as stated (at least 1x the C loop on one core)."""
     out = json.loads((BENCH / "results" / "stability_map.json").read_text())
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     for r in out["rows"]:
         t, c, v = r["target_c_dop853"], r["c_dop853"], r["variants"]
         row = (f"| {r['rtol']:.0e} | {v['floquet_batch, 1 device']['points_per_s']:.0f} points/s | "
@@ -219,7 +221,7 @@ def test_readme_fe_identification_row_is_the_json():
     alone from 1 and 32 starts against scipy's LM (one start, and from the same 32
     starts), the ratios, and the whole `identify` call."""
     fe = json.loads((BENCH / "results" / "fe_identification.json").read_text())
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     fit, sp, ratio = fe["rotorjax_fit_only"], fe["scipy"], fe["time_ratios_scipy_over_rotorjax"]
     eq = ratio["equal_work_fit_only"]
     assert (f"| {1e3 * fit['n_starts_1']['s']:.2g} ms / {fit['n_starts_32']['s']:.2g} s (LM, receptance coupling) | "
@@ -234,7 +236,7 @@ def test_readme_fe_identification_row_is_the_json():
 def test_readme_uncertainty_and_design_numbers_are_the_json():
     """The README's Monte Carlo and design benchmark sentences quote `uncertainty.json`
     and `design.json`."""
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     u = json.loads((BENCH / "results" / "uncertainty.json").read_text())
     assert (f"rotorjax {u['rotorjax_per_sample_ms']:.3g} ms a sample; a numpy/scipy loop doing the same fixed points "
             f"{u['peer_per_sample_ms']:.2g} ms ({u['ratio_peer_over_rotorjax']:.2f}x") in readme
@@ -252,7 +254,7 @@ def test_readme_uncertainty_and_design_numbers_are_the_json():
 
 def test_readme_auto_balancing_range_numbers_are_the_json():
     """The README's auto-balancing-range design sentence quotes `auto_balancing_range.json`."""
-    readme = " ".join((BENCH.parent / "README.md").read_text().split())
+    readme = " ".join(documentation().split())
     d = json.loads((BENCH / "results" / "auto_balancing_range.json").read_text())
     r, peer = d["rotorjax"], d["lbfgsb_fd"]
     t = r["rescan"]["thresholds"]

@@ -534,6 +534,34 @@ CASES = [
     # --- issue 28, item 9: negative numbers reach the option's own check ---
     (["modes", *R, "--speed", "-1e-3"], 2, r"argument --speed: must be >= 0"),
     (["campbell", *R, "--range", "-1e2", "100"], 2, r"--range -100 100: LO must be >= 0"),
+    # --- values with units (issue 35) ---
+    (["critical-speeds", *FR, "--range", "0", "12000", "kg"], 2, r"--range '0 kg': a mass \(kg\), and this value is a "
+                                                                r"speed, in rad/s"),
+    (["critical-speeds", "elliptic-abb", "--range", "0 5 rpm"], 2,
+     r"--range 0 rpm: this value has no unit here \(elliptic-abb's nu is dimensionless\); give a number"),
+    (["modes", *FR, "--speed", "3 furlongs"], 2, r"--speed '3 furlongs': a length \(m\), and this value is a speed"),
+    (["modes", *FR, "--speed", "3 foo"], 2, r"--speed '3 foo': not a quantity \(unknown unit 'foo'\)"),
+    (["critical-speeds", *FR, "--range", "0"], 2, r"--range: expected LO HI, optionally with a unit"),
+    (["critical-speeds", *FR, "--range", "0", "1", "2", "3"], 2, r"--range: expected LO HI"),
+    (["modes", *FR, "--speed=-3000 rpm"], 2, r"--speed -3000 rpm: must be >= 0 \(it is -314.159 rad/s\)"),
+    # --- output units (--units, issue 35) ---
+    (["modes", *FR, "--units", "furlongs"], 2, r"argument --units: invalid choice: 'furlongs' \(choose from "
+                                              r"'si', 'rpm-um', 'rpm-mil'\)"),
+    (["critical-speeds", "elliptic-abb", "--range", "0", "5", "--units", "rpm-um"], 2,
+     r"--units rpm-um: elliptic-abb's nu is dimensionless .*use --units si"),
+    (["critical-speeds", "flexible-abb", "--range", "0.5", "3", "--units", "rpm-mil"], 2,
+     r"--units rpm-mil: flexible-abb's omega is dimensionless"),
+    (["ucs", *FR, "--range", "1e5rpm", "1e9rpm"], 2, r"--range '1e5rpm': a speed \(rad/s\), and this value is a "
+                                                   r"stiffness, in N/m"),
+    (["report", *FR, "--operating", "3000", "3600", "N/m"], 2,
+     r"--operating '3000 N/m': a stiffness \(N/m\), and this value is a speed, in rad/s"),
+    (["report", *FR, "--speed-range", "0", "12000", "rpm", "--units", "rpm-foot"], 2,
+     r"argument --units: invalid choice: 'rpm-foot'"),
+    # --- report ---
+    (["report", "elliptic-abb"], 2, r"`report` does not apply to 'elliptic-abb': it needs a finite-element rotor"),
+    (["report", *FR, "--speed-range", "5", "1"], 2, r"--speed-range 5 1: needs 0 <= LO < HI"),
+    (["report", *FR, "--operating", "0", "10"], 2, r"--operating 0 10: the operating range must satisfy 0 < LO <= HI"),
+    (["report", *R, "--set", "bearing0.kxx=-1"], 2, r"bearing0.kxx"),
     # --- draw ---
     (["draw", "no-such-rotor"], 2, r"unknown preset 'no-such-rotor'"),
     (["draw", *R, "--set", "disk1_node=9"], 2, r"disk1_node=9: the shaft has nodes 0..6"),

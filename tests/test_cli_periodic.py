@@ -17,8 +17,9 @@ import rotorjax
 from rotorjax import presets
 from rotorjax.cli import main
 
+from .helpers import documentation
+
 ROTOR = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
-README = os.path.join(os.path.dirname(__file__), "..", "README.md")
 ARGV = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--harmonics", "1"]
 NODE = 1   # disk 1
 
@@ -128,8 +129,7 @@ def test_readme_states_the_folds(run):
     """The README's `periodic` entry: its command is this run's (without `--node`),
     and the fold speeds it states are this run's, to the digits stated."""
     d, _ = run
-    text = open(README).read()
-    cli = text[text.index("## CLI"):]
+    cli = documentation("docs/cli.md")
     assert " ".join(ARGV) in re.sub(r"\s+", " ", cli)
     m = re.search(r"folds at ([\d.]+) and ([\d.]+) rad/s", re.sub(r"\s+", " ", cli))
     assert m, "the README's CLI section no longer states the folds of `periodic`"

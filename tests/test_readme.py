@@ -30,7 +30,8 @@ import pytest
 
 from rotorjax.cli import main
 
-README = os.path.join(os.path.dirname(__file__), "..", "README.md")
+from .helpers import documentation
+
 
 #: caps on sizes: option -> (index of the value after the option, cap)
 QUICK = {"--x": (3, 3), "--y": (3, 3), "--param": (3, 3), "--n-scan": (0, 12), "--n-speeds": (0, 10),
@@ -45,8 +46,8 @@ QUICK_DEFAULTS = {"critical-speeds": ["--n-scan", "12"], "hopf": ["--n-scan", "1
 
 
 def _text():
-    with open(README) as f:
-        return f.read()
+    """The README and the documentation site's pages (`tests.helpers.DOCS_PAGES`)."""
+    return documentation()
 
 
 def _blocks(kind):

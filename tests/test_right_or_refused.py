@@ -206,7 +206,9 @@ def test_the_readme_documents_critical_speed_as_it_is():
 
     from rotorjax.flexible import critical_speed
 
-    readme = open(os.path.join(os.path.dirname(__file__), "..", "README.md")).read()
+    from .helpers import documentation
+
+    readme = documentation()
     documented = re.findall(r"`critical_speed\(([^)]*)\)`", readme)
     assert documented, "the README no longer documents critical_speed"
     params = ", ".join(str(p) for p in inspect.signature(critical_speed).parameters.values())

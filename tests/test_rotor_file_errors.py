@@ -127,8 +127,12 @@ CASES = [
      ["rotor.speeds: unknown key", "did you mean 'speed'"]),
     ("missing-required", delitem("disk", 0, "Id"), None, ["disk[0].Id is missing"]),
     ("missing-theory", delitem("rotor", None, "theory"), None, ["rotor.theory is missing"]),
-    ("string-for-number", setitem(("shaft", 1, "od"), "0.05"), None,
-     ['shaft[1].od must be a number, got a string ("0.05")']),
+    # a string is a value with a unit ("0.05 m", or "0.05": SI); one that is no quantity, or of another dimension, is
+    # refused
+    ("string-for-number", setitem(("shaft", 1, "od"), "fifty mm"), None,
+     ["shaft[1].od must be a number, or a number and a unit (\"1.5e7 N/m\", \"3600 rpm\", \"2 in\"), got 'fifty mm'"]),
+    ("wrong-unit", setitem(("shaft", 1, "od"), "0.05 kg"), None,
+     ["shaft[1].od = '0.05 kg': a mass (kg), and this value is a length, in m"]),
     ("list-for-number", setitem(("disk", 0, "m"), [1.0, 2.0]), None,
      ["disk[0].m must be a number, got a list ([1.0, 2.0])"]),
     ("bool-for-number", setitem(("bearing", 0, "kxx"), True), None,
@@ -274,7 +278,7 @@ CASES = [
     ("limiters-clearance-count", limiters_with(clearance=[1e-3, 1e-3]), None,
      ["limiters[0].clearance must be a number or one value per limiter (3), got 2 values"]),
     ("limiters-angle-string", limiters_with(angles=[0.0, "north", 4.0]), None,
-     ['limiters[0].angles[1] must be a number, got a string ("north")']),
+     ['limiters[0].angles[1] must be a number, or a number and a unit']),
     ("limiters-empty-angles", limiters_with(angles=[]), None, ["limiters[0].angles must be a non-empty list"]),
     ("limiters-negative-stiffness", limiters_with(stiffness=[1e7, -1.0, 1e7]), None,
      ["limiters[0].stiffness[1] must be >= 0 (got -1.0)"]),
@@ -296,8 +300,8 @@ CASES = [
     ("cubic-missing-k3", add("cubic_bearing", {"node": 0, "k": 1e6}), None, ["cubic_bearing[0].k3 is missing"]),
     ("internal-damping-negative", add("internal_damping", {"relaxation_time": -1e-5}, single=True), None,
      ["internal_damping.relaxation_time must be >= 0 (got -1e-05)"]),
-    ("gravity-string", add("gravity", {"g": "9.81"}, single=True), None,
-     ['gravity.g must be a number, got a string ("9.81")']),
+    ("gravity-string", add("gravity", {"g": "9.81 N"}, single=True), None,
+     ["gravity.g = '9.81 N': a force (N), and this value is an acceleration, in m/s^2"]),
     # external and disk damping, probes
     ("external-damping-negative", add("external_damping", {"coefficient": -0.5}, single=True), None,
      ["external_damping.coefficient must be >= 0 (got -0.5)"]),
@@ -375,12 +379,12 @@ CASES = [
     ("override-table", edit(lambda d: None), {"bearings0.kxx": 1.0},
      ["override bearings0.kxx: unknown table 'bearings'"]),
     ("override-not-a-number", edit(lambda d: None), {"bearing0.kxx": "abc"},
-     ["override bearing0.kxx=abc: must be a number"]),
+     ["override bearing0.kxx must be a number, or a number and a unit"]),
     ("override-absent-table", edit(lambda d: None), {"gravity.g": 1.0},
      ["override gravity.g: the file has no [gravity] table"]),
     ("override-no-index", edit(lambda d: None), {"bearing.kxx": 1.0},
      ["override bearing.kxx", "bearing<index>.kxx"]),
-    ("override-speed-string", edit(lambda d: None), {"speed": "fast"}, ["override speed=fast: must be a number"]),
+    ("override-speed-string", edit(lambda d: None), {"speed": "fast"}, ["override speed must be a number, or a number and a unit"]),
 ]
 
 

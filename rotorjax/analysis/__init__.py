@@ -80,6 +80,7 @@ from ._peaks import Peak as Peak
 from ._peaks import refine_maxima as refine_maxima
 from ._peaks import refined_grid as refined_grid
 from ._margins import amplification_factor as amplification_factor
+from ._margins import api684_margins as api684_margins
 from ._margins import log_dec_floor as log_dec_floor
 from ._margins import mode_cut as mode_cut
 from ._margins import onset_speed as onset_speed

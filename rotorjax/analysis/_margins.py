@@ -181,6 +181,29 @@ def separation_slack(critical, af, op_lo, op_hi):
     return have - required_separation_margin(af, below)
 
 
+def api684_margins(rotor, lo, hi, op_lo, op_hi):
+    """API 684's table of a linear rotor's forward 1x critical speeds in `[lo, hi]`
+    (rad/s) against the operating range `[op_lo, op_hi]`: per critical speed its
+    `speed`, `mode` (sorted by frequency), amplification factor `af`
+    (`amplification_factor` of the mode's eigenvalue at its critical speed), the
+    separation margin it has (`margin`, percent of the nearer end of the range,
+    negative inside it), the margin required (`required`), and whether it `meets` it.
+    A report's numbers (NumPy floats), not a design's smooth quantity."""
+    from ._linear import critical_speeds_1x
+
+    if not 0 < op_lo <= op_hi:
+        raise InputError(f"the operating range must satisfy 0 < LO <= HI (rad/s), got {op_lo:g} {op_hi:g}")
+    rows = []
+    for W, k in critical_speeds_1x(rotor, lo, hi, whirl="forward"):
+        af = float(amplification_factor(damped_eigenvalues(rotor, W, k + 1)[k]))
+        below = W <= 0.5 * (op_lo + op_hi)
+        have = 100 * (op_lo - W) / op_lo if below else 100 * (W - op_hi) / op_hi
+        need = float(required_separation_margin(af, below))
+        rows.append({"speed": float(W), "mode": int(k), "af": af, "below": bool(below), "margin": float(have),
+                     "required": need, "meets": bool(have >= need)})
+    return rows
+
+
 def onset_speed(rotor, guess, frequency, iters=8):
     """The speed near `guess` where the mode of damped frequency nearest `frequency`
     (rad/s) turns unstable (its eigenvalue's real part crosses zero), and that real

@@ -8,6 +8,7 @@ Every check raises `InputError` (exit 2) with one line that names the option,
 import argparse
 import math
 import os
+import re
 import sys
 from typing import NamedTuple
 
@@ -77,15 +78,30 @@ COMMAND_NEEDS = {
     "optimize": ("a rotor file, or a reference motion traceable in its parameters (a preset)",
                  lambda s, p: "rotor_file" in s.extras or _traceable(s, p)),
     "draw": ("a scene", lambda s, p: True),
+    "report": ("a finite-element rotor", _fe),
 }
 
 
 # ---- option types (argparse reports their errors with the option's name, exit 2) ----
 
+class Given:
+    """An option's value given with a unit (`--speed 3600rpm`): converted to the
+    target's unit once the target is known (`resolve_units`), then checked as the
+    option's bare numbers are (`check`: `finite`, `positive`, `nonnegative`)."""
+
+    def __init__(self, text, check=None):
+        self.text, self.check = text, check
+
+    def __repr__(self):
+        return f"Given({self.text!r})"
+
+
 def _number(text):
     try:
         value = float(text)
     except ValueError:
+        if re.match(r"\s*[-+]?(\d|\.\d)", str(text)):
+            return Given(str(text).strip())
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
@@ -100,6 +116,9 @@ def finite(text):
 def positive(text):
     """A finite float > 0."""
     value = _number(text)
+    if isinstance(value, Given):
+        value.check = positive
+        return value
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
     return value
@@ -108,9 +127,69 @@ def positive(text):
 def nonnegative(text):
     """A finite float >= 0."""
     value = _number(text)
+    if isinstance(value, Given):
+        value.check = nonnegative
+        return value
     if not value >= 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
     return value
+
+
+class SpanAction(argparse.Action):
+    """`LO HI`, with an optional unit for both (`--range 0 12000 rpm`, `--range "0
+    12000 rpm"`) or each (`--range 0rpm 12000rpm`): two values (`Given` where a unit is
+    given, else floats)."""
+
+    def __init__(self, *args, check=None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.check = finite if check is None else check
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        tokens = " ".join(values).split()
+        if len(tokens) == 3 and _bare(tokens[2]) is None and not re.match(r"[-+]?(\d|\.\d)", tokens[2]):
+            tokens = [f"{tokens[0]} {tokens[2]}", f"{tokens[1]} {tokens[2]}"]
+        if len(tokens) != 2:
+            raise argparse.ArgumentError(self, f"expected LO HI, optionally with a unit (e.g. {option_string} 0 12000 "
+                                               f"rpm), got {' '.join(values)!r}")
+        try:
+            setattr(namespace, self.dest, [self.check(t) for t in tokens])
+        except argparse.ArgumentTypeError as e:
+            raise argparse.ArgumentError(self, str(e)) from None
+
+
+def _bare(text):
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def resolve_units(args, units):
+    """Every option value given with a unit (`Given`) in `args`, converted in place to
+    the unit `units(dest)` names (None: the option takes no unit for this target, an
+    `InputError` naming it) and checked as a bare number would be."""
+    from rotorjax._units import to_si
+
+    for dest, value in vars(args).items():
+        values = value if isinstance(value, list) else [value]
+        if not any(isinstance(v, Given) for v in values):
+            continue
+        option = "--" + dest.replace("_", "-")
+        unit = units(dest)
+        out = []
+        for v in values:
+            if isinstance(v, Given):
+                if unit is None or unit in ("dimensionless", ""):
+                    raise InputError(f"{option} {v.text}: this value has no unit here ({units.why(dest)}); give a "
+                                     "number")
+                si = to_si(v.text, unit, option, joiner=" ")
+                try:
+                    v = v.check(repr(si)) if v.check is not None else si
+                except argparse.ArgumentTypeError as e:
+                    raise InputError(f"{option} {v.text}: {str(e).split(', got')[0]} (it is {si:g} {unit})") \
+                        from None
+            out.append(v)
+        setattr(args, dest, out if isinstance(value, list) else out[0])
 
 
 def tolerance(text):

@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 
+from ._output_units import units_for
 from ._common import (InputError, NumericalError, build, is_rotor_file, operating_speed, out_stem, prepare_out,
                       preset_and_params, speed_warnings, write_json)
 
@@ -29,6 +30,7 @@ def cmd_static(args) -> int:
     from ._common import save_figure
 
     preset, params = preset_and_params(args, "static")
+    units = units_for(args, preset)
     prepare_out(args.out)
     scene = _scene(preset, params)
     if has_films(scene):
@@ -41,10 +43,11 @@ def cmd_static(args) -> int:
         raise NumericalError("static: non-finite displacements")
     full = scene.full_rotor   # a reduced rotor's full one
     stem = out_stem(args.out, preset, "static_")
-    save_figure(plot_static(res, title=f"{preset.name}: static deflection under gravity ({args.axis})"),
-                stem + ".png")
+    save_figure(plot_static(res, title=f"{preset.name}: static deflection under gravity ({args.axis})",
+                            unit=units.label("deflection"), factor=units.factor("deflection")), stem + ".png")
     k_max = int(np.argmax(np.abs(disp[:, p])))
-    out = {"preset": preset.name, "unit": "m, N, N m", "gravity": args.gravity, "axis": args.axis,
+    out = {"preset": preset.name, "unit": f"{units.label('deflection')}, N, N m", "gravity": args.gravity,
+           "axis": args.axis,
            "positions": np.asarray(res.positions).tolist(), "displacement": disp.tolist(),
            "rotation": np.asarray(res.rotation).tolist(),
            "bearing_reactions": [{"bearing": i, "node": int(n), "x": float(r[0]), "y": float(r[1])}
@@ -58,13 +61,14 @@ def cmd_static(args) -> int:
            "max_deflection": {"node": k_max, "value": float(disp[k_max, p])},
            "max_moment": float(np.max(np.abs(moment[:, :, p]))),
            "residual": float(res.residual), "files": {"plot": stem + ".png"}}
+    units.convert(out, {"displacement": "deflection", "max_deflection.value": "deflection"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
         print(f"{preset.name}: static deflection under g = {args.gravity:g} m/s^2 along -{args.axis}")
-        print(f"  weight: {abs(out['weight'][p]):.6g} N; largest deflection {disp[k_max, p]:.6g} m at node "
-              f"{k_max}; largest bending moment {out['max_moment']:.6g} N m")
+        print(f"  weight: {abs(out['weight'][p]):.6g} N; largest deflection {out['max_deflection']['value']:.6g} "
+              f"{units.label('deflection')} at node {k_max}; largest bending moment {out['max_moment']:.6g} N m")
         for row in out["bearing_reactions"]:
             print(f"  bearing {row['bearing']} (node {row['node']}): reaction {row[args.axis]:.6g} N")
         print(f"wrote {stem}.png and .json")
@@ -107,6 +111,7 @@ def cmd_modes(args) -> int:
     from ._common import save_figure
 
     preset, params = preset_and_params(args, "modes")
+    units = units_for(args, preset)
     prepare_out(args.out)
     scene = _scene(preset, params)
     n = 2 * int(scene.n_shaft)
@@ -123,20 +128,23 @@ def cmd_modes(args) -> int:
     whirl = [str(w) for w in m.whirl]
     full = scene.full_rotor
     stem = out_stem(args.out, preset, "modes_")
-    title = f"{preset.name} at {speed:g} rad/s"
+    title = f"{preset.name} at {units.value(speed, 'speed'):g} {units.label('speed')}"
     save_figure(plot_mode_shapes(m, full, title=title), stem + "_shapes.png")
     save_figure(plot_mode_shapes_3d(m, full, title=title), stem + "_3d.png")
     rows = [{"mode": k, "damped_frequency": float(wd[k]), "damped_frequency_hz": float(wd[k] / (2 * np.pi)),
              "natural_frequency": float(wn[k]), "damping_ratio": float(zeta[k]), "log_dec": float(logdec[k]),
              "whirl": whirl[k]} for k in range(len(wd))]
-    out = {"preset": preset.name, "speed": speed, "speed_source": speed_source, "unit": "rad/s", "modes": rows,
-           "files": {"shapes": stem + "_shapes.png", "shapes_3d": stem + "_3d.png"}}
+    out = {"preset": preset.name, "speed": speed, "speed_source": speed_source, "unit": units.label("frequency"),
+           "modes": rows, "files": {"shapes": stem + "_shapes.png", "shapes_3d": stem + "_3d.png"}}
+    units.convert(out, {"speed": "speed", "modes.*.damped_frequency": "frequency",
+                        "modes.*.natural_frequency": "frequency"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"{preset.name}: damped modes at {speed:g} rad/s ({speed_source})")
-        print(f"{'mode':>4}  {'wd (rad/s)':>12}  {'wd (Hz)':>10}  {'wn (rad/s)':>12}  {'damping':>10}  "
+        f = units.label("frequency")
+        print(f"{preset.name}: damped modes at {out['speed']:g} {units.label('speed')} ({speed_source})")
+        print(f"{'mode':>4}  {f'wd ({f})':>12}  {'wd (Hz)':>10}  {f'wn ({f})':>12}  {'damping':>10}  "
               f"{'log dec':>10}  whirl")
         for r in rows:
             print(f"{r['mode']:>4}  {r['damped_frequency']:>12.4f}  {r['damped_frequency_hz']:>10.4f}  "
@@ -199,6 +207,7 @@ def cmd_ucs(args) -> int:
     from ._common import save_figure
 
     preset, params = preset_and_params(args, "ucs")
+    units = units_for(args, preset)
     lo, hi = args.range
     text = f"--range {lo:g} {hi:g}"
     if not lo > 0:
@@ -223,26 +232,27 @@ def cmd_ucs(args) -> int:
     stem = out_stem(args.out, preset, "ucs_")
     inter = [{"speed": i.speed, "k": i.k, "mode": i.mode, "bearing": i.bearing, "coefficient": i.coefficient,
               "residual": i.residual} for i in res.intersections]
-    save_figure(plot_ucs(k, f, None, np.asarray(res.bearing_speeds), np.asarray(res.bearing_k),
-                         [(i["k"], i["speed"]) for i in inter],
-                         title=f"{preset.name}: undamped critical speed map", synchronous=args.synchronous),
-                stem + ".png")
-    out = {"preset": preset.name, "unit": "rad/s, N/m", "synchronous": args.synchronous,
+    save_figure(plot_ucs(k, units.value(f, "speed"), None, units.value(np.asarray(res.bearing_speeds), "speed"),
+                         np.asarray(res.bearing_k), [(i["k"], units.value(i["speed"], "speed")) for i in inter],
+                         title=f"{preset.name}: undamped critical speed map", synchronous=args.synchronous,
+                         unit=units.label("speed")), stem + ".png")
+    out = {"preset": preset.name, "unit": f"{units.label('speed')}, N/m", "synchronous": args.synchronous,
            "stiffness": k.tolist(), "critical_speeds": [[v if math.isfinite(v) else None for v in row]
                                                          for row in f.tolist()],
            "bearing_speeds": np.asarray(res.bearing_speeds).tolist(),
            "bearing_kxx": np.asarray(res.bearing_k)[:, 0].tolist(),
            "bearing_kyy": np.asarray(res.bearing_k)[:, 1].tolist(),
            "intersections": inter, "files": {"plot": stem + ".png"}}
+    units.convert(out, {"critical_speeds": "speed", "bearing_speeds": "speed", "intersections.*.speed": "speed"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
         print(f"{preset.name}: undamped critical speed map, k = {lo:g} .. {hi:g} N/m, {args.n_modes} modes "
               + ("(forward synchronous)" if args.synchronous else "(at rest)"))
-        for i in inter:
+        for i in out["intersections"]:
             print(f"  mode {i['mode']} meets bearing {i['bearing']} {i['coefficient']} at {i['speed']:.4f} "
-                  f"rad/s (k = {i['k']:.6g} N/m)")
+                  f"{units.label('speed')} (k = {i['k']:.6g} N/m)")
         if not inter:
             print("  no intersection with the bearings' stiffness in the searched speed range")
         print(f"wrote {stem}.png and .json")
@@ -257,6 +267,7 @@ def cmd_frf(args) -> int:
     from ._common import check_range, save_figure
 
     preset, params = preset_and_params(args, "frf")
+    units = units_for(args, preset)
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     scene = _scene(preset, params)
@@ -276,23 +287,28 @@ def cmd_frf(args) -> int:
         raise NumericalError("frf: non-finite response (an undamped rotor exactly at a natural frequency?)")
     unit = {"displacement": "m/N", "velocity": "m/s/N", "acceleration": "m/s^2/N"}[args.kind]
     stem = out_stem(args.out, preset, "frf_")
-    running = "synchronous (speed = frequency)" if args.speed is None else f"at {args.speed:g} rad/s"
+    running = ("synchronous (speed = frequency)" if args.speed is None
+               else f"at {units.value(args.speed, 'speed'):g} {units.label('speed')}")
     title = (f"{preset.name}: {args.kind} at {args.output[0]}{args.output[1]} / force at "
              f"{args.input[0]}{args.input[1]}, {running}")
-    bode, polar = plot_frf(w, h, title=title, unit=unit)
+    bode, polar = plot_frf(units.value(w, "frequency"), h, title=title, unit=unit,
+                           frequency_unit=units.label("frequency"))
     save_figure(bode, stem + "_bode.png")
     save_figure(polar, stem + "_polar.png")
     mag = np.abs(h)
     out = {"preset": preset.name, "input": list(args.input), "output": list(args.output), "kind": args.kind,
-           "unit": f"rad/s, {unit}", "speed": args.speed, "frequencies": w.tolist(), "magnitude": mag.tolist(),
+           "unit": f"{units.label('frequency')}, {unit}", "speed": args.speed, "frequencies": w.tolist(),
+           "magnitude": mag.tolist(),
            "phase": np.angle(h).tolist(), "real": h.real.tolist(), "imag": h.imag.tolist(),
            "peaks": [p.x for p in res.peaks], "peak_magnitudes": [p.y for p in res.peaks],
            "files": {"bode": stem + "_bode.png", "polar": stem + "_polar.png"}}
+    units.convert(out, {"speed": "speed", "frequencies": "frequency", "peaks": "frequency"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"{title}: peaks at " + (", ".join(f"{p.x:.3f} rad/s ({p.y:.4g} {unit})" for p in res.peaks)
+        print(f"{title}: peaks at " + (", ".join(f"{x:.3f} {units.label('frequency')} ({y:.4g} {unit})"
+                                                 for x, y in zip(out["peaks"], out["peak_magnitudes"]))
                                        or "none inside the range"))
         print(f"wrote {stem}_bode.png, {stem}_polar.png and .json")
     return 0
@@ -306,6 +322,7 @@ def cmd_level1(args) -> int:
     from ._common import save_figure
 
     preset, params = preset_and_params(args, "level1")
+    units = units_for(args, preset)
     prepare_out(args.out)
     scene = _scene(preset, params)
     rotor = scene.rotor
@@ -327,19 +344,21 @@ def cmd_level1(args) -> int:
         raise NumericalError("level1: non-finite log decrements (no forward mode found?)")
     q0 = float(res.q0) if res.crossed else None
     stem = out_stem(args.out, preset, "level1_")
-    save_figure(plot_level1(q, ld, q0=q0, title=f"{preset.name}: API 684 level I at {args.speed:g} rad/s, "
-                                        f"Q at node {node}"), stem + ".png")
+    shown = f"{units.value(args.speed, 'speed'):g} {units.label('speed')}"
+    save_figure(plot_level1(q, ld, q0=q0, title=f"{preset.name}: API 684 level I at {shown}, Q at node {node}"),
+                stem + ".png")
     out = {"preset": preset.name, "speed": args.speed, "speed_source": speed_source, "node": node,
-           "unit": "N/m, rad/s",
+           "unit": f"N/m, {units.label('speed')}",
            "q0": q0, "check_at_q0": {"real_part": None if q0 is None else float(res.real_part_at_q0),
                                      "max_real_part": None if q0 is None else float(res.max_real_part_at_q0)},
            "log_dec_0": float(res.log_dec_0), "q": q.tolist(), "log_dec": ld.tolist(),
            "files": {"plot": stem + ".png"}}
+    units.convert(out, {"speed": "speed"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"{preset.name}: level I at {args.speed:g} rad/s, Q at node {node}: log dec at Q = 0 "
+        print(f"{preset.name}: level I at {shown}, Q at node {node}: log dec at Q = 0 "
               f"{float(res.log_dec_0):.4g}" + ("" if q0 is None else f"; threshold Q0 = {q0:.6g} N/m "
                                                 f"(max Re lambda there {float(res.max_real_part_at_q0):.2g} 1/s)"))
         print(f"wrote {stem}.png and .json")

@@ -45,8 +45,10 @@ def cmd_campbell(args) -> int:
     from rotorjax.sweep import check_grid_size, map_chunked
 
     from ._common import save_figure
+    from ._output_units import units_for
 
     preset, params = preset_and_params(args, "campbell")
+    units = units_for(args, preset)
     lo, hi = check_range("--range", *args.range)
     prepare_out(args.out)
     rotor = _rotor(preset, params, args.reduce, scene=True)
@@ -71,11 +73,13 @@ def cmd_campbell(args) -> int:
     # the crossings of the diagram's own branches (its speeds are the scan), bisected
     crit = critical_speeds_1x(rotor, lo, hi, n_modes=k, scan=(speeds, camp))
     stem = out_stem(args.out, preset, "campbell_")
-    save_figure(plot_campbell_tracked(speeds, t_freq, t_whirl, t_logdec, critical=[s for s, _ in crit],
+    save_figure(plot_campbell_tracked(units.value(speeds, "speed"), units.value(t_freq, "frequency"), t_whirl,
+                                      t_logdec, critical=units.value([s for s, _ in crit], "speed"),
                                       title=f"{preset.name}: Campbell diagram (tracked modes)"
-                                      + (f" (reduced to {args.reduce} modes)" if args.reduce else "")),
+                                      + (f" (reduced to {args.reduce} modes)" if args.reduce else ""),
+                                      unit=units.label("speed"), frequency_unit=units.label("frequency")),
                 stem + ".png")
-    out = {"preset": preset.name, "unit": "rad/s", "speeds": speeds.tolist(),
+    out = {"preset": preset.name, "unit": units.label("speed"), "speeds": speeds.tolist(),
            "frequencies": np.asarray(camp.frequencies).tolist(),
            "forward": np.asarray(camp.forward).tolist(),
            "log_dec": np.asarray(camp.log_dec).tolist(),
@@ -84,12 +88,15 @@ def cmd_campbell(args) -> int:
            "critical_speeds": [s for s, _ in crit], "files": {"plot": stem + ".png"}}
     if not np.all(np.isfinite(out["frequencies"])):
         raise NumericalError("campbell: non-finite natural frequencies")
+    units.convert(out, {"speeds": "speed", "critical_speeds": "speed", "frequencies": "frequency",
+                        "tracked.frequencies": "frequency"})
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out))
     else:
-        print(f"wrote {stem}.png and .json; critical speeds (rad/s): "
-              + (", ".join(f"{s:.3f}" for s, _ in crit) or f"none in [{lo:g}, {hi:g}]"))
+        print(f"wrote {stem}.png and .json; critical speeds ({units.label('speed')}): "
+              + (", ".join(f"{s:.3f}" for s in out["critical_speeds"])
+                 or f"none in [{units.value(lo, 'speed'):g}, {units.value(hi, 'speed'):g}]"))
     return 0
 
 
@@ -182,14 +189,25 @@ def _unbalances(args, scene, n_nodes, name):
     return [(node, own[0][1], phase)], "the rotor's unbalance, moved by --node/--phase"
 
 
+#: the kinds of `response`'s JSON numbers (`--units`): the response at the probe an
+#: amplitude (peak-to-peak where the system's convention is), the deflected shape's
+#: semi-axes and displacements deflections
+RESPONSE_UNITS = {"range": "speed", "peaks": "speed", "speed_at_max": "speed", "peak_amplitudes": "amplitude",
+                  "max_amplitude": "amplitude", "deflected_shape.speed": "speed", "curve.speeds": "speed",
+                  **{f"curve.{k}": "amplitude" for k in ("amplitude", "x_abs", "y_abs")},
+                  **{f"deflected_shape.{k}": "deflection" for k in ("major", "minor", "x_abs", "y_abs")}}
+
+
 def cmd_response(args) -> int:
     from rotorjax.analysis import check_supported, deflected_shape, response_curve
     from rotorjax.plot import plot_deflected_shape, plot_response
     from rotorjax.sweep import check_grid_size
 
     from ._common import save_figure
+    from ._output_units import units_for
 
     preset, params = preset_and_params(args, "response")
+    units = units_for(args, preset)
     lo, hi = check_range("--range", *args.range, positive_lo=True)
     prepare_out(args.out)
     scene = _rotor(preset, params, args.reduce, scene=True)
@@ -206,37 +224,48 @@ def cmd_response(args) -> int:
     what = ", ".join(f"{m:g} kg m at node {n} ({p:g} rad)" for n, m, p in triples)
     probe_source = "--probe" if not curve.probe_chosen else "largest response"
     stem = out_stem(args.out, preset, "response_")
-    save_figure(plot_response(curve.speeds, curve.x, curve.y, title=f"{preset.name}: unbalance response at "
-                              f"node {curve.probe} ({what})"), stem + ".png")
+    save_figure(plot_response(units.value(curve.speeds, "speed"), units.value(curve.x, "amplitude"),
+                              units.value(curve.y, "amplitude"), title=f"{preset.name}: unbalance response at "
+                              f"node {curve.probe} ({what})", speed_unit=units.label("speed"),
+                              amplitude_unit=units.label("amplitude")), stem + ".png")
     single = len(given := (args.unbalance or [])) == 1 and not isinstance(given[0], tuple)
     out = {"preset": preset.name, "node": triples[0][0], "probe": curve.probe, "probe_source": probe_source,
            "unbalance": triples[0][1] if single else None,
            "unbalances": [{"node": n, "magnitude": m, "phase": p} for n, m, p in triples],
            "unbalance_source": source, "range": [lo, hi], "n": args.n,
-           "unit": "rad/s, m", "peaks": [p.x for p in curve.peaks], "peak_amplitudes": [p.y for p in curve.peaks],
+           "unit": f"{units.label('speed')}, {units.label('amplitude')}", "peaks": [p.x for p in curve.peaks],
+           "peak_amplitudes": [p.y for p in curve.peaks],
            "max_amplitude": curve.max_amplitude, "speed_at_max": curve.speed_at_max,
+           "curve": {"speeds": np.asarray(curve.speeds).tolist(), "amplitude": np.asarray(curve.amplitude).tolist(),
+                     "x_abs": np.abs(curve.x).tolist(), "y_abs": np.abs(curve.y).tolist()},
            "files": {"plot": stem + ".png", "json": stem + ".json"}}
     if args.shape_at is not None:
         shape = deflected_shape(scene, triples, args.shape_at)
         major = np.asarray(shape.major)
         if not np.all(np.isfinite(major)):
             raise NumericalError(f"response: non-finite deflected shape at --shape-at {args.shape_at:g}")
-        save_figure(plot_deflected_shape(np.asarray(shape.positions), np.asarray(shape.x), np.asarray(shape.y),
-                                         major, title=f"{preset.name}: deflected shape at {args.shape_at:g} "
-                                         f"rad/s ({what})"), stem + "_shape.png")
+        save_figure(plot_deflected_shape(np.asarray(shape.positions), units.value(np.asarray(shape.x), "deflection"),
+                                         units.value(np.asarray(shape.y), "deflection"),
+                                         units.value(major, "deflection"),
+                                         title=f"{preset.name}: deflected shape at "
+                                         f"{units.value(args.shape_at, 'speed'):g} {units.label('speed')} ({what})",
+                                         unit=units.label("deflection")), stem + "_shape.png")
         out["deflected_shape"] = {"speed": args.shape_at, "positions": np.asarray(shape.positions).tolist(),
                                   "major": major.tolist(), "minor": np.asarray(shape.minor).tolist(),
                                   "angle": np.asarray(shape.angle).tolist(),
                                   "x_abs": np.abs(np.asarray(shape.x)).tolist(),
                                   "y_abs": np.abs(np.asarray(shape.y)).tolist()}
         out["files"]["shape"] = stem + "_shape.png"
+    units.convert(out, RESPONSE_UNITS)
     write_json(stem + ".json", out)
     if args.json:
         print(json.dumps(out, indent=2))
     else:
+        s, a = units.label("speed"), units.label("amplitude")
         print(f"{preset.name}: unbalance {what} (from {source}); response at node {curve.probe} ({probe_source})")
-        print("  peaks at " + (", ".join(f"{p.x:.3f} rad/s ({p.y:.4g} m)" for p in curve.peaks)
+        print("  peaks at " + (", ".join(f"{x:.3f} {s} ({y:.4g} {a})"
+                                         for x, y in zip(out["peaks"], out["peak_amplitudes"]))
                                or "none inside the range")
-              + f"; largest {curve.max_amplitude:.4g} m at {curve.speed_at_max:.3f} rad/s")
+              + f"; largest {out['max_amplitude']:.4g} {a} at {out['speed_at_max']:.3f} {s}")
         print(f"wrote {stem}.png and .json")
     return 0

@@ -12,8 +12,9 @@ from ._balance import cmd_balance, cmd_identify
 from ._optimize import cmd_optimize
 from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
-from ._common import (InputError, NumericalError, at_least, collect_warnings, finite, mode_count, nonnegative,
-                      positive, tolerance)
+from ._output_units import UNITS_OPTION
+from ._common import (InputError, NumericalError, SpanAction, at_least, collect_warnings, finite, get_preset,
+                      mode_count, nonnegative, positive, resolve_units, tolerance)
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -21,6 +22,7 @@ from ._fe_analyses import cmd_frf, cmd_level1, cmd_ucs, point_spec
 from ._flexible import unbalance_spec
 from ._flexible import cmd_campbell, cmd_response
 from ._draw import cmd_draw
+from ._report import cmd_report
 from ._import import cmd_import_ross
 from ._info import cmd_data, cmd_demo, cmd_presets
 from ._periodic import cmd_periodic
@@ -90,8 +92,45 @@ def _command(sub, name, help, fn, flags=(), kinds="", description=None):
 
 
 def _range(required=True, help="speed range"):
-    return (("--range",), dict(type=finite, nargs=2, metavar=("LO", "HI"), required=required,
-                               default=None, help=help))
+    return (("--range",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), required=required,
+                               default=None, help=help + "; a unit may follow (0 12000 rpm)"))
+
+
+class _OptionUnits:
+    """The unit each option with a unit takes for the target on the command line: the
+    speed options the target's speed unit (rad/s for a rotor file), `--range` of
+    `continue` and `periodic` the unit of their `--param`."""
+
+    SPEED = ("speed", "operating", "range", "speed_range", "shape_at")
+
+    def __init__(self, args):
+        self.args = vars(args)
+        name = self.args.get("preset")
+        self.preset = None if name is None else get_preset(name)
+        self.command = self.args["fn"].__name__.removeprefix("cmd_")
+
+    def _key(self, dest):
+        if self.preset is None or dest not in self.SPEED:
+            return None
+        if dest == "range" and self.command in ("continue", "periodic"):
+            return self.args.get("param")
+        return self.preset.speed_key
+
+    def __call__(self, dest):
+        if self.command == "ucs" and dest == "range":
+            return "N/m"   # ucs's --range is the bearing stiffness
+        key = self._key(dest)
+        return None if key is None else self._unit(key)
+
+    def _unit(self, key):
+        """`key`'s unit; a speed that is no --set key (ross-compare's) is in rad/s."""
+        return self.preset.units.get(key, "rad/s" if key == self.preset.speed_key else None)
+
+    def why(self, dest):
+        key = self._key(dest)
+        if key is None:
+            return f"--{dest.replace('_', '-')} takes a number"
+        return f"{self.preset.name}'s {key} is {self._unit(key) or 'without a unit'}"
 
 
 def _integration(max_steps):
@@ -143,6 +182,7 @@ def build_parser():
                  (("--modes",), dict(type=at_least(1), default=None,
                                      help="modes tracked (ross-compare, default 8) or shaft modes "
                                           "(flexible-abb)")),
+                 UNITS_OPTION,
                  (("--exact",), dict(action="store_true", help="flexible-abb: the closed-form equation (17)")),
              ], kinds="elliptic-abb, anisotropic-abb, ross-compare, flexible-abb, cantilever-limiters, rotor files")
     _command(sub, "stability-map", "stability margin over a 2-D parameter grid", cmd_stability_map, [
@@ -155,6 +195,7 @@ def build_parser():
     _command(sub, "campbell", "Campbell diagram of a flexible rotor", cmd_campbell, [
         _range(help="speed range, rad/s (LO >= 0)"),
         (("--n-speeds",), dict(type=at_least(2), default=100, help="speeds in the range")),
+        UNITS_OPTION,
         (("--modes",), dict(type=at_least(1), default=8, help="modes shown")),
         (("--reduce",), dict(type=int, default=None, metavar="N",
                              help="reduce to the N lowest undamped modes first (ReducedRotor)")),
@@ -172,6 +213,7 @@ def build_parser():
                                      "rad), repeatable: these unbalances act together (default: the rotor's own, "
                                      "a rotor file's [[unbalance]] tables)")),
         (("--phase",), dict(type=finite, default=None, help="phase of a bare --unbalance MAG, rad (default 0)")),
+        UNITS_OPTION,
         (("--shape-at",), dict(type=positive, default=None, metavar="W",
                                help="also plot the deflected shape (orbit major axis along the shaft) at "
                                     "speed W, rad/s")),
@@ -181,6 +223,7 @@ def build_parser():
     _command(sub, "static", "static deflection, bearing reactions, shear and moment under gravity", cmd_static, [
         (("--gravity",), dict(type=finite, default=9.80665, metavar="G",
                               help="gravitational acceleration, m/s^2, acting along -AXIS")),
+        UNITS_OPTION,
         (("--axis",), dict(default="y", choices=("x", "y"), help="the vertical axis")),
         (("--speed",), dict(type=positive, default=None, metavar="W",
                             help="running speed, rad/s, of a rotor on fluid-film bearings (default: the rotor "
@@ -193,11 +236,14 @@ def build_parser():
         (("--speed",), dict(type=nonnegative, default=None, metavar="W",
                             help="spin speed, rad/s (>= 0: the whirl labels refer to the positive spin; default: the "
                                  "rotor file's [rotor] speed, else 0)")),
+        UNITS_OPTION,
         (("--n-modes",), dict(type=at_least(1), default=6, metavar="N", help="modes shown, lowest first")),
     ], kinds="ross-compare, rotor files")
     _command(sub, "ucs", "undamped critical speed map against bearing stiffness", cmd_ucs, [
-        (("--range",), dict(type=finite, nargs=2, metavar=("KLO", "KHI"), default=(1e5, 1e10),
-                            help="bearing stiffness range, N/m (0 < KLO < KHI, log-spaced)")),
+        (("--range",), dict(nargs="+", action=SpanAction, metavar=("KLO", "KHI"), default=(1e5, 1e10),
+                            help="bearing stiffness range, N/m, or with a unit (1e5 1e10 N/m) (0 < KLO < KHI, "
+                                 "log-spaced)")),
+        UNITS_OPTION,
         (("--n",), dict(type=at_least(2), default=60, help="stiffness values")),
         (("--n-modes",), dict(type=at_least(1), default=4, metavar="M", help="critical speeds per stiffness")),
         (("--synchronous",), dict(action="store_true",
@@ -213,6 +259,7 @@ def build_parser():
         (("--output",), dict(type=point_spec, required=True, metavar="NODE,DIR",
                              help="the response: node and direction x or y")),
         _range(help="excitation frequency range, rad/s (0 <= LO < HI)"),
+        UNITS_OPTION,
         (("--n",), dict(type=at_least(2), default=1000, help="number of frequencies")),
         (("--kind",), dict(default="displacement", choices=("displacement", "velocity", "acceleration"),
                            help="response per unit force: displacement, velocity or acceleration")),
@@ -232,6 +279,7 @@ def build_parser():
                                      help="largest cross-coupled stiffness, N/m (default: the largest bearing "
                                           "stiffness)")),
                  (("--n",), dict(type=at_least(2), default=41, help="values of Q from 0 to --q-max")),
+                 UNITS_OPTION,
              ], kinds="ross-compare, rotor files",
              description="API 684 level I screening: cross-coupled stiffness kxy = +Q, kyx = -Q (destabilising "
                          "forward whirl) at a node, the log decrement of the first forward mode against Q at the "
@@ -413,7 +461,7 @@ def build_parser():
                              help="also a design quantity over --range: min-log-dec (the floor of the first --modes "
                                   "modes), separation-margin (API 684 slack, percent; needs --operating), response "
                                   "(largest unbalance response at the probes, m), onset (rad/s), mass; repeatable")),
-        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+        (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
                                 help="--output separation-margin: the operating speed range, rad/s")),
         (("--probe",), dict(type=int, action="append", default=None, help="--output response: a probe node "
                                                                            "(default: every node); repeatable")),
@@ -452,7 +500,7 @@ def build_parser():
                                                       "whole; see --max-frequency)")),
         (("--max-frequency",), dict(type=positive, default=None, help="min-log-dec: count the modes below this "
                                                                       "damped frequency, rad/s")),
-        (("--operating",), dict(type=finite, nargs=2, metavar=("LO", "HI"), default=None,
+        (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
                                 help="separation-margin: the operating speed range, rad/s")),
         (("--probe",), dict(type=int, action="append", default=None, help="response: a probe node (default: every "
                                                                            "node); repeatable")),
@@ -511,6 +559,24 @@ def build_parser():
                          "planar rotor in its end view, the balancing machine's rotor on its supports. Writes "
                          "draw_NAME.png and the layout as numbers (draw_NAME.json: node positions, elements, "
                          "materials, disks, bearings, components, mass).")
+    _command(sub, "report", "one self-contained HTML page of the everyday analyses, to hand on", cmd_report,
+             flags=[(("--speed-range",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
+                                              help="the speeds of the Campbell diagram, critical speeds and "
+                                                   "response, rad/s, or with a unit (0 12000 rpm) (default 0 to "
+                                                   "1.5 x the operating speed)")),
+                    (("--operating",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
+                                            help="the operating speed range, rad/s, or with a unit (3000 3600 "
+                                                 "rpm), for API 684's separation margins (default: the [rotor] "
+                                                 "speed)")),
+                    UNITS_OPTION],
+             kinds="rotor files and presets with a finite-element rotor",
+             description="One self-contained HTML page (report_NAME.html): the rotor drawn and its model, static "
+                         "deflection and bearing loads, the undamped critical speed map, the Campbell diagram with "
+                         "log decrements, the 1x critical speeds with API 684's amplification factors and "
+                         "separation margins, the damped modes at the operating speed, the unbalance response and "
+                         "the level I screen; each section the command of its name, run into "
+                         "OUT/report_parts/, its numbers in tables and its figures embedded.")
+    sub.choices["report"].set_defaults(cli_parser=build_parser)   # its sections run as the CLI runs them
     imp = sub.add_parser("import-ross", help="a rotor saved by ROSS (Rotor.save), as a rotor file",
                          formatter_class=_Formatter,
                          description="Reads a rotor saved by ROSS (`Rotor.save`: TOML, or JSON for .json; ROSS 1.x "
@@ -589,6 +655,7 @@ def main(argv=None) -> int:
     enable_compilation_cache()
     try:
         with collect_warnings():
+            resolve_units(args, _OptionUnits(args))
             return args.fn(args)
     except BrokenPipeError:  # `rotorjax presets | head -1`: the reader left; nothing more to say
         _silence_stdout()

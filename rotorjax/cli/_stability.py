@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 
+from ._output_units import Units, units_for
 from ._common import (InputError, NumericalError, Stages, build, check_range, grid_spec, is_rotor_file, out_stem,
                       prepare_out, preset_and_params, stability_study, wrong_kind)
 
@@ -88,6 +89,9 @@ def cmd_critical_speeds(args) -> int:
         raise InputError(f"--exact: the closed form (17) is model 003's (flexible-abb), not {preset.name}'s")
     if not (shaft or modal) and study is None:
         raise wrong_kind(preset, "critical-speeds")
+    if units_for(args, preset).system != "si" and not shaft:
+        raise InputError(f"--units {args.units}: {preset.name}'s critical speeds are in its own speed unit "
+                         f"({preset.speed_key}); use --units si")
     lo, hi = check_range("--range", *args.range, positive_lo=study is not None)
     prepare_out(args.out)
     if shaft:
@@ -188,9 +192,18 @@ def _crossings(preset, params, lo, hi, args, found) -> int:
     crit = [c["speed"] if isinstance(c, dict) else c for c in out["critical_speeds"]]
     stem = out_stem(args.out, preset, "critical_speeds_")
     what = out.get("method", "1x crossings")
-    save_figure(plot_campbell(speeds, freqs, forward, critical=crit, unit=look["unit"],
+    units = Units(args.units)   # not si only for a shaft model's speeds in rad/s (`cmd_critical_speeds`)
+    plotted = look["unit"] if units.system == "si" else units.label("speed")
+    save_figure(plot_campbell(units.value(speeds, "speed"), units.value(freqs, "frequency"), forward,
+                              critical=units.value(crit, "speed"), unit=plotted,
+                              frequency_unit=None if units.system == "si" else units.label("frequency"),
                               title=f"{preset.name}: {look['title']}"), stem + ".png")
     out["files"] = {"plot": stem + ".png"}
+    if look["unit"] == "rad/s":   # a shaft model's (model 003's are in its omega_1)
+        out["unit"] = units.label("speed")
+        lo, hi = units.value(lo, "speed"), units.value(hi, "speed")
+        units.convert(out, {"range": "speed", "critical_speeds.*.speed": "speed",
+                            "synchronous_determinant_roots": "speed"})
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
@@ -198,9 +211,11 @@ def _crossings(preset, params, lo, hi, args, found) -> int:
     if not crit:
         print("  none in the range")
     for c in out["critical_speeds"]:
-        if isinstance(c, dict):
+        if isinstance(c, dict) and units.system == "si":
             print(f"  {c['speed']:.4f} rad/s  ({c['speed'] * 30 / np.pi:.1f} rpm)  mode {c['mode']}, "
                   f"{c['whirl']} whirl")
+        elif isinstance(c, dict):
+            print(f"  {c['speed']:.1f} {out['unit']}  mode {c['mode']}, {c['whirl']} whirl")
         else:
             print(f"  {c:.6f}")
     if out.get("synchronous_determinant_roots"):

@@ -5,6 +5,8 @@ import json
 import math
 import pathlib
 
+from .._errors import InputError
+from .._units import to_si
 from ..models._fe_rotor import (BEARING_COEFFICIENTS, DOFS_PER_NODE, SUPPORT_FOLLOWS, check_speed_table,
                                 complete_coefficients, follow)
 from ..models._fluid_film import SFD_FOLLOWS
@@ -21,8 +23,15 @@ _DOMAINS = {"(-1,0.5]": (lambda v: -1 < v <= 0.5, "in (-1, 0.5]"), ">=1": (lambd
 _SIGN_TEST = {"positive": (lambda v: v > 0, "> 0"), "nonnegative": (lambda v: v >= 0, ">= 0")}
 
 
-def _number(ctx, where, value, sign="any", loc=None):
+def _number(ctx, where, value, sign="any", loc=None, unit=None):
+    """A number (or, with `unit`, a string with a unit, converted to `unit`: `"1.5e7
+    N/m"`), finite and of the sign asked."""
     loc = where if loc is None else loc
+    if isinstance(value, str) and unit is not None:
+        try:
+            value = to_si(value, unit, where)
+        except InputError as e:
+            ctx.fail(str(e), loc)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         ctx.fail(f"{where} must be a number, got {describe_value(value)}", loc)
     try:
@@ -41,7 +50,7 @@ def _value(ctx, table, index, key, spec, value, n_nodes):
     where = location(table, index, key)
     kind = spec.kind
     if kind == "number":
-        v = _number(ctx, where, value, spec.sign)
+        v = _number(ctx, where, value, spec.sign, unit=spec.unit)
         if spec.domain in _DOMAINS and not _DOMAINS[spec.domain][0](v):
             ctx.fail(f"{where} must be {_DOMAINS[spec.domain][1]} (got {toml_repr(value)})", where)
         return v
@@ -64,12 +73,12 @@ def _value(ctx, table, index, key, spec, value, n_nodes):
         return value
     if kind in ("numbers", "number_or_numbers"):
         if kind == "number_or_numbers" and not isinstance(value, list):
-            return _number(ctx, where, value, spec.sign)
+            return _number(ctx, where, value, spec.sign, unit=spec.unit)
         if not isinstance(value, list):
             ctx.fail(f"{where} must be a list of numbers, got {describe_value(value)}", where)
         if not value:
             ctx.fail(f"{where} must be a non-empty list of numbers, got []", where)
-        return [_number(ctx, f"{where}[{j}]", v, spec.sign, loc=where) for j, v in enumerate(value)]
+        return [_number(ctx, f"{where}[{j}]", v, spec.sign, loc=where, unit=spec.unit) for j, v in enumerate(value)]
     if kind == "strings":
         if not isinstance(value, list) or not value:
             ctx.fail(f"{where} must be a non-empty list of strings, got {describe_value(value)}", where)

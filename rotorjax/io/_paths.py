@@ -6,6 +6,7 @@ import dataclasses
 import numpy as np
 
 from .._errors import InputError
+from .._units import to_si
 from ..models._fe_rotor import BEARING_COEFFICIENTS, BEARING_FOLLOWS, SUPPORT_FOLLOWS, SUPPORT_KEYS
 from ..models._parameters import ParameterPath, Target
 from ..models._registry import TABLES
@@ -152,7 +153,7 @@ def read_rotor_file(path, overrides=None) -> RotorFile:
     out = {"speed": FileParameter(float(r["speed"]), "rad/s", "operating speed ([rotor] speed)", "any", False,
                                   _speed_path("speed"))}
     for table, t in SCHEMA.items():
-        for index, entry in entries_of(ctx, doc, table):
+        for index, entry in _entries_in_si(ctx, doc, table):
             for key, value in entry.items():
                 k = t.keys[key]
                 scalar = k.kind in ("number", "count", "node", "index") or (k.kind == "number_or_numbers"
@@ -174,8 +175,23 @@ def read_rotor_file(path, overrides=None) -> RotorFile:
                 where = _parameter_path(name, table, index, key, entry, spec, placed, scene.full_rotor)
                 out[name] = FileParameter(int(value) if integer else float(value), k.unit or "dimensionless",
                                           meaning, domain, integer, where)
-    raw = {table: entries_of(ctx, doc, table) for table in SCHEMA}
+    raw = {table: _entries_in_si(ctx, doc, table) for table in SCHEMA}
     return RotorFile(label, r["name"], out, scene, spec, raw, placed)
+
+
+def _entries_in_si(ctx, doc, table):
+    """`entries_of` with every value given with a unit (`"1.5e7 N/m"`) in SI (the file
+    is valid: `validate` has converted each the same way)."""
+    keys = SCHEMA[table].keys
+
+    def si(index, key, v):
+        k = keys.get(key)
+        if k is None or k.kind not in ("number", "numbers", "number_or_numbers"):
+            return v
+        where = location(table, index, key)
+        return [to_si(x, k.unit, where) for x in v] if isinstance(v, list) else to_si(v, k.unit, where)
+
+    return [(i, {key: si(i, key, v) for key, v in e.items()}) for i, e in entries_of(ctx, doc, table)]
 
 
 def _position_path(name, table, i, node, shaft):

@@ -13,6 +13,7 @@ import jax
 import numpy as np
 
 from .._errors import InputError
+from .._units import to_si
 from ..models._plausibility import warn
 from ..models._validate import is_concrete
 from ._schema import SCHEMA, SINGLE_KEY_ALIASES
@@ -184,7 +185,12 @@ def _override_value(ctx, okey, spec, value):
             try:
                 value = float(text)
             except ValueError:
-                ctx.fail(f"override {okey}={value}: must be a number")
+                if spec.kind in ("count", "node", "index"):
+                    ctx.fail(f"override {okey}={value}: must be a number")
+                try:   # a number with a unit, "1.5e7 N/m": in SI, or the reason it is not
+                    value = to_si(text, spec.unit, f"override {okey}")
+                except InputError as e:
+                    ctx.fail(str(e))
     if spec.kind in ("count", "node", "index") and isinstance(value, float) and value.is_integer():
         value = int(value)
     return value

@@ -229,10 +229,12 @@ def plot_stability_map(x, y, margin, path=None, x_label="", y_label="", title=""
     return _finish(fig, layout=layout)
 
 
-def plot_campbell(speeds, frequencies, forward, path=None, critical=(), title="", unit="rad/s", *, ax=None):
+def plot_campbell(speeds, frequencies, forward, path=None, critical=(), title="", unit="rad/s", *, ax=None,
+                  frequency_unit=None):
     """Campbell diagram: damped natural frequencies against speed, forward whirl
     solid red, backward dashed blue, with the 1x line and the critical speeds
-    (`unit`: of both axes), on `ax` or a new figure. Returns the `Figure`."""
+    (`unit`: of the speeds, and of the frequencies unless `frequency_unit` names
+    theirs: rpm and cpm, say), on `ax` or a new figure. Returns the `Figure`."""
     fig, ax, layout = _on_axes(ax, (8, 5), path, "plot_campbell")
     f, fw = np.asarray(frequencies), np.asarray(forward)
     for k in range(f.shape[1]):
@@ -244,23 +246,24 @@ def plot_campbell(speeds, frequencies, forward, path=None, critical=(), title=""
     for i, c in enumerate(critical):
         ax.plot([c], [c], "ko", ms=4, label="critical speed (1x crossing)" if i == 0 else None)
     ax.set_xlabel(f"speed ({unit})")
-    ax.set_ylabel(f"damped natural frequency ({unit})")
+    ax.set_ylabel(f"damped natural frequency ({frequency_unit or unit})")
     ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
     ax.set_title(title)
     return _finish(fig, [ax], layout=layout)
 
 
-def plot_response(speeds, X, Y, path=None, title="", *, fig=None):
+def plot_response(speeds, X, Y, path=None, title="", *, fig=None, speed_unit="rad/s", amplitude_unit="m"):
     """Unbalance response amplitude (log) and phase of x and y against speed, two
-    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
+    panels on `fig` (empty) or a new figure (the axes labelled in `speed_unit` and
+    `amplitude_unit`: the numbers are given in them). Returns the `Figure`."""
     fig, layout = _on_figure(fig, (8, 6), path, "plot_response")
     a1, a2 = fig.subplots(2, 1, sharex=True)
     for z, label in ((X, "x"), (Y, "y")):
         a1.semilogy(speeds, np.abs(z), label=label)
         a2.plot(speeds, np.degrees(np.angle(z)), label=label)
-    a1.set_ylabel("amplitude (m)")
+    a1.set_ylabel(f"amplitude ({amplitude_unit})")
     a2.set_ylabel("phase (deg)")
-    a2.set_xlabel("speed (rad/s)")
+    a2.set_xlabel(f"speed ({speed_unit})")
     a1.set_title(title)
     return _finish(fig, [a1, a2], layout=layout)
 
@@ -726,17 +729,18 @@ def plot_periodic_branch(p, amplitude, stable, bifurcations=(), path=None, x_lab
 
 # ---- finite-element rotor: static deflection, mode shapes, tracked Campbell diagram ----
 
-def plot_static(result, path=None, title="", *, fig=None):
-    """A `StaticResult`: deflection, shear force and bending moment along the shaft
-    in the plane of gravity (shear and moment at both ends of every element), three
-    panels on `fig` (empty) or a new figure. Returns the `Figure`."""
+def plot_static(result, path=None, title="", *, fig=None, unit="µm", factor=1e6):
+    """A `StaticResult`: deflection (in `unit`, `factor` of them to the metre), shear
+    force and bending moment along the shaft in the plane of gravity (shear and moment
+    at both ends of every element), three panels on `fig` (empty) or a new figure.
+    Returns the `Figure`."""
     p = ("x", "y").index(result.axis)
     z = np.asarray(result.positions)
     ends = np.asarray(result.element_ends)
     fig, layout = _on_figure(fig, (8, 8), path, "plot_static")
     a1, a2, a3 = fig.subplots(3, 1, sharex=True)
-    a1.plot(z, 1e6 * np.asarray(result.displacement)[:, p], "o-", ms=3, label=f"{result.axis} (µm)")
-    a1.set_ylabel("deflection (µm)")
+    a1.plot(z, factor * np.asarray(result.displacement)[:, p], "o-", ms=3, label=f"{result.axis} ({unit})")
+    a1.set_ylabel(f"deflection ({unit})")
     a2.plot(ends.ravel(), np.asarray(result.shear)[:, :, p].ravel(), "-", color="tab:green", label="shear force")
     a2.set_ylabel("shear force (N)")
     a3.plot(ends.ravel(), np.asarray(result.moment)[:, :, p].ravel(), "-", color="tab:purple",
@@ -859,12 +863,13 @@ def plot_mode_shapes_3d(modes, rotor, path=None, title="", n_orbit=60, *, fig=No
 
 
 def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path=None, critical=(), title="", unit="rad/s", *,
-                          ax=None):
+                          ax=None, frequency_unit=None):
     """Campbell diagram of tracked branches (`frequencies` speeds x branches):
     forward whirl solid red, backward dashed blue, mixed dotted grey, drawn over
     dots coloured by the logarithmic decrement (a colorbar; at most about 40 dots
     per branch, so the line styles show between them); the 1x line and its
-    crossings. The legend names the line styles with proxy lines (no marker) and
+    crossings (`unit`: of the speeds, and of the frequencies unless `frequency_unit`
+    names theirs). The legend names the line styles with proxy lines (no marker) and
     only the whirl directions present. On `ax` (its colorbar beside it) or a new
     figure; returns the `Figure`."""
     from matplotlib.lines import Line2D
@@ -897,7 +902,7 @@ def plot_campbell_tracked(speeds, frequencies, whirl, log_dec, path=None, critic
         handles.append(Line2D([], [], ls="none", marker="x", color="r", ms=7, mew=2))
         labels.append("1x crossing")
     ax.set_xlabel(f"speed ({unit})")
-    ax.set_ylabel(f"damped natural frequency ({unit})")
+    ax.set_ylabel(f"damped natural frequency ({frequency_unit or unit})")
     ax.set_ylim(0, max(np.nanmax(f), np.max(speeds)) * 1.05)
     ax.set_title(title)
     ax.grid(alpha=0.3)
@@ -921,7 +926,7 @@ def _bearing_label(members):
 
 
 def plot_ucs(stiffness, frequencies, path=None, bearing_speeds=None, bearing_k=None, intersections=(), title="",
-             synchronous=False, *, ax=None):
+             synchronous=False, *, ax=None, unit="rad/s"):
     """Undamped critical speed map (log-log): critical speed against bearing
     stiffness, one curve per mode, with each bearing's `kxx` (dashed) and `kyy`
     (dotted) against speed in the bearing's own colour (`bearing_k` (n_b, 2, n_s)
@@ -952,7 +957,7 @@ def plot_ucs(stiffness, frequencies, path=None, bearing_speeds=None, bearing_k=N
     if finite.size:
         ax.set_ylim(finite.min() / 2, finite.max() * 2)
     ax.set_xlabel("bearing stiffness (N/m)")
-    ax.set_ylabel("critical speed (rad/s)" + (" (forward synchronous)" if synchronous else " (at rest)"))
+    ax.set_ylabel(f"critical speed ({unit})" + (" (forward synchronous)" if synchronous else " (at rest)"))
     ax.set_title(title)
     return _finish(fig, [ax], layout=layout)
 
@@ -963,7 +968,7 @@ def _frf_points(frequencies, values):
     return w[order], h[order]
 
 
-def plot_bode(frequencies, values, title="", unit="m/N", *, fig=None):
+def plot_bode(frequencies, values, title="", unit="m/N", *, fig=None, frequency_unit="rad/s"):
     """A frequency-response function's Bode plot: magnitude (log) above, phase
     (degrees, with a gap where it wraps past +-180) below, on `fig` (empty) or a new
     figure. The frequencies may be uneven and in any order (joined in order of
@@ -977,7 +982,7 @@ def plot_bode(frequencies, values, title="", unit="m/N", *, fig=None):
     a2.set_yticks(np.arange(-180, 181, 90))
     a1.set_ylabel(f"magnitude ({unit})")
     a2.set_ylabel("phase (deg)")
-    a2.set_xlabel("frequency (rad/s)")
+    a2.set_xlabel(f"frequency ({frequency_unit})")
     a1.set_title(title)
     return _finish(fig, [a1, a2], legend=False, layout=layout)
 
@@ -998,7 +1003,8 @@ def plot_nyquist(frequencies, values, title="", unit="m/N", *, ax=None):
     return _finish(fig, [ax], layout=layout)
 
 
-def plot_frf(frequencies, values, path_bode=None, path_polar=None, title="", unit="m/N", *, fig=None, ax=None):
+def plot_frf(frequencies, values, path_bode=None, path_polar=None, title="", unit="m/N", *, fig=None, ax=None,
+             frequency_unit="rad/s"):
     """A frequency-response function: Bode (`plot_bode`, on `fig`) and polar
     (`plot_nyquist`, on `ax`), each on a new figure by default. The frequencies may
     be spaced unevenly (refined near the resonances, so that the polar curve is
@@ -1010,21 +1016,21 @@ def plot_frf(frequencies, values, path_bode=None, path_polar=None, title="", uni
     """
     _unwritten(path_bode, "plot_frf", 3)
     _unwritten(path_polar, "plot_frf", 3)
-    return (plot_bode(frequencies, values, title, unit, fig=fig),
+    return (plot_bode(frequencies, values, title, unit, fig=fig, frequency_unit=frequency_unit),
             plot_nyquist(frequencies, values, title, unit, ax=ax))
 
 
-def plot_deflected_shape(positions, x, y, major, path=None, title="", *, ax=None):
+def plot_deflected_shape(positions, x, y, major, path=None, title="", *, ax=None, unit="m"):
     """Deflected shape at one speed: the orbit's major semi-axis along the shaft and
-    the `x`, `y` displacements at the instant `t = 0` (real parts), on `ax` or a new
-    figure. Returns the `Figure`."""
+    the `x`, `y` displacements at the instant `t = 0` (real parts; all in `unit`), on
+    `ax` or a new figure. Returns the `Figure`."""
     fig, ax, layout = _on_axes(ax, (8, 4), path, "plot_deflected_shape")
     z = np.asarray(positions)
     ax.plot(z, np.asarray(major), "k-o", ms=3, lw=1.4, label="major semi-axis")
     ax.plot(z, np.real(np.asarray(x)), "--", lw=1.0, label="x (t = 0)")
     ax.plot(z, np.real(np.asarray(y)), ":", lw=1.0, label="y (t = 0)")
     ax.set_xlabel("axial position (m)")
-    ax.set_ylabel("displacement (m)")
+    ax.set_ylabel(f"displacement ({unit})")
     ax.set_title(title)
     return _finish(fig, [ax], layout=layout)
 
@@ -1238,3 +1244,5 @@ def plot_design(path=None, design=None, campbell=None, title="", *, margins=None
 
 from ._rotor import layout as rotor_layout  # noqa: E402  (the drawing uses the helpers above)
 from ._rotor import rotor as rotor  # noqa: E402
+from ._interactive import Trace, figure_html, lines_figure, plotly_js  # noqa: E402,F401  (a page's figures)
+from ._interactive import available as interactive_available  # noqa: E402,F401
