@@ -71,8 +71,10 @@ class Units(NamedTuple):
         """`x` (SI; a number, a list, an array) in this system's unit of `kind`."""
         import numpy as np
 
-        if isinstance(x, (list, tuple)) or np.ndim(x) == 0:
-            return _scaled(x, self.factor(kind)) if isinstance(x, (list, tuple)) else float(x) * self.factor(kind)
+        if isinstance(x, (list, tuple)):
+            return _scaled(x, self.factor(kind))
+        if np.ndim(x) == 0:
+            return float(x) * self.factor(kind)
         return np.asarray(x) * self.factor(kind)
 
     def stated(self, kinds):
