@@ -21,6 +21,7 @@ from tests.notebook_run import NOTEBOOKS, execute, source
     ("stability_boundaries", ["boundary_001.png", "boundary_003.png"]),
     ("everyday", ["everyday_rotor.png", "everyday_campbell.png", "everyday_response.png"]),
     ("fluid_films", ["fluid_films_locus.png", "fluid_films_onset.png"]),
+    ("periodic", ["periodic_branch.png"]),
 ])
 def test_notebook_runs(name, figures, tmp_path):
     nb = execute(name, tmp_path)
@@ -36,7 +37,7 @@ def test_notebook_runs(name, figures, tmp_path):
 
 
 @pytest.mark.parametrize("name", ["parameter_study", "identification", "stability_boundaries", "everyday",
-                                  "fluid_films"])
+                                  "fluid_films", "periodic"])
 def test_the_committed_notebook_is_its_script_with_outputs(name):
     """The `.ipynb` holds the `.py`'s cells (sources equal, in order) and their outputs:
     figures inline, no error; refresh it with `python -m tests.notebook_run NAME`."""
