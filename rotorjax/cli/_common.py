@@ -89,8 +89,8 @@ class Given:
     target's unit once the target is known (`resolve_units`), then checked as the
     option's bare numbers are (`check`: `finite`, `positive`, `nonnegative`)."""
 
-    def __init__(self, text, check=None):
-        self.text, self.check = text, check
+    def __init__(self, text, check=None, unit=None):
+        self.text, self.check, self.unit = text, check, unit
 
     def __repr__(self):
         return f"Given({self.text!r})"
@@ -138,11 +138,13 @@ def nonnegative(text):
 class SpanAction(argparse.Action):
     """`LO HI`, with an optional unit for both (`--range 0 12000 rpm`, `--range "0
     12000 rpm"`) or each (`--range 0rpm 12000rpm`): two values (`Given` where a unit is
-    given, else floats)."""
+    given, else floats). `unit`: the option's own unit, where it is not the target's
+    speed unit (`ucs --range`, a stiffness)."""
 
-    def __init__(self, *args, check=None, **kwargs):
+    def __init__(self, *args, check=None, unit=None, **kwargs):
         super().__init__(*args, **kwargs)
         self.check = finite if check is None else check
+        self.unit = unit
 
     def __call__(self, parser, namespace, values, option_string=None):
         tokens = " ".join(values).split()
@@ -152,9 +154,13 @@ class SpanAction(argparse.Action):
             raise argparse.ArgumentError(self, f"expected LO HI, optionally with a unit (e.g. {option_string} 0 12000 "
                                                f"rpm), got {' '.join(values)!r}")
         try:
-            setattr(namespace, self.dest, [self.check(t) for t in tokens])
+            values = [self.check(t) for t in tokens]
         except argparse.ArgumentTypeError as e:
             raise argparse.ArgumentError(self, str(e)) from None
+        for v in values:
+            if isinstance(v, Given):
+                v.unit = self.unit
+        setattr(namespace, self.dest, values)
 
 
 def _bare(text):
@@ -166,8 +172,9 @@ def _bare(text):
 
 def resolve_units(args, units):
     """Every option value given with a unit (`Given`) in `args`, converted in place to
-    the unit `units(dest)` names (None: the option takes no unit for this target, an
-    `InputError` naming it) and checked as a bare number would be."""
+    the option's own unit (`Given.unit`) or else the one `units(dest)` names (None: the
+    option takes no unit for this target, an `InputError` naming it) and checked as a
+    bare number would be."""
     from rotorjax._units import to_si
 
     for dest, value in vars(args).items():
@@ -175,10 +182,10 @@ def resolve_units(args, units):
         if not any(isinstance(v, Given) for v in values):
             continue
         option = "--" + dest.replace("_", "-")
-        unit = units(dest)
         out = []
         for v in values:
             if isinstance(v, Given):
+                unit = v.unit or units(dest)
                 if unit is None or unit in ("dimensionless", ""):
                     raise InputError(f"{option} {v.text}: this value has no unit here ({units.why(dest)}); give a "
                                      "number")

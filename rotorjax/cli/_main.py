@@ -117,8 +117,6 @@ class _OptionUnits:
         return self.preset.speed_key
 
     def __call__(self, dest):
-        if self.command == "ucs" and dest == "range":
-            return "N/m"   # ucs's --range is the bearing stiffness
         key = self._key(dest)
         return None if key is None else self._unit(key)
 
@@ -240,7 +238,7 @@ def build_parser():
         (("--n-modes",), dict(type=at_least(1), default=6, metavar="N", help="modes shown, lowest first")),
     ], kinds="ross-compare, rotor files")
     _command(sub, "ucs", "undamped critical speed map against bearing stiffness", cmd_ucs, [
-        (("--range",), dict(nargs="+", action=SpanAction, metavar=("KLO", "KHI"), default=(1e5, 1e10),
+        (("--range",), dict(nargs="+", action=SpanAction, unit="N/m", metavar=("KLO", "KHI"), default=(1e5, 1e10),
                             help="bearing stiffness range, N/m, or with a unit (1e5 1e10 N/m) (0 < KLO < KHI, "
                                  "log-spaced)")),
         UNITS_OPTION,
