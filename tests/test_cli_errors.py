@@ -5,6 +5,7 @@ exit 3; an unexpected internal error is one line with a `--debug` hint.
 One table: (argv, exit code, a regex the error line must match). Files are made in
 a temporary folder; `{d}` in an argument is that folder."""
 
+import json
 import os
 import re
 import shutil
@@ -573,6 +574,10 @@ CASES = [
     (["import-ross", "{d}/ross_bad.json"], 2, r"ross_bad.json: not valid JSON"),
     (["import-ross", os.path.join(ROSS_SAVED, "axial_force.toml")], 2,
      r"\[ShaftElement_Shaft Element 0\]: axial_force = 1000.0: a shaft axial force; rotorjax cannot represent it"),
+    (["import-ross", os.path.join(ROSS_SAVED, "v3", "frequency_table.toml")], 2,
+     r"frequency_table.toml: \[BearingElement_Bearing 0\]: coefficients over the excitation frequency"),
+    (["import-ross", "{d}/ross3_damped.json"], 2,
+     r"ross3_damped.json: \[parameters\]: default_damping_ratio = 0.01: modal damping of the whole rotor"),
     (["import-ross", os.path.join(ROSS_SAVED, "linked.toml"), "--out", "/nonexistent-dir/r.toml"], 2,
      r"--out /nonexistent-dir/r.toml: cannot be written"),
     # --- data, presets, the command line itself ---
@@ -661,6 +666,9 @@ def files(tmp_path_factory):
     (d / "twotrial.csv").write_text("\n".join([head] + body + again) + "\n")
     shutil.copy(os.path.join(ROTORS, "flexible_rig.toml"), d / "rig_copy.toml")
     (d / "ross_bad.json").write_text('{"ShaftElement_Shaft Element 0": {"n": 0,')
+    damped = json.load(open(os.path.join(ROSS_SAVED, "v3", "rotor_example.json")))
+    damped["parameters"]["default_damping_ratio"] = 0.01
+    (d / "ross3_damped.json").write_text(json.dumps(damped))
     ross = open(os.path.join(ROTORS, "ross_compare.toml")).read()
     (d / "damped.toml").write_text(ross + "\n[external_damping]\ncoefficient = 0.5\n\n[[disk_damping]]\nnode = 4\n"
                                    "translational = 10.0\n\n[[probe]]\nnode = 2\n")

@@ -73,7 +73,7 @@ def test_the_api_reference_is_the_docstrings_of_every_exported_name(site):
 
 def test_the_notebooks_are_rendered_with_their_figures(site):
     for name in ("everyday", "parameter_study", "identification", "stability_boundaries", "fluid_films",
-                 "periodic"):
+                 "periodic", "design_uncertainty"):
         page = open(os.path.join(site, "notebooks", name, "index.html"), encoding="utf-8").read()
         assert "data:image/png;base64," in page, name   # the committed outputs, figures inline
 

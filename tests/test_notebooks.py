@@ -22,6 +22,7 @@ from tests.notebook_run import NOTEBOOKS, execute, source
     ("everyday", ["everyday_rotor.png", "everyday_campbell.png", "everyday_response.png"]),
     ("fluid_films", ["fluid_films_locus.png", "fluid_films_onset.png"]),
     ("periodic", ["periodic_branch.png"]),
+    ("design_uncertainty", ["design_uncertainty_scatter.png", "design_uncertainty_design.png"]),
 ])
 def test_notebook_runs(name, figures, tmp_path):
     nb = execute(name, tmp_path)
@@ -37,7 +38,7 @@ def test_notebook_runs(name, figures, tmp_path):
 
 
 @pytest.mark.parametrize("name", ["parameter_study", "identification", "stability_boundaries", "everyday",
-                                  "fluid_films", "periodic"])
+                                  "fluid_films", "periodic", "design_uncertainty"])
 def test_the_committed_notebook_is_its_script_with_outputs(name):
     """The `.ipynb` holds the `.py`'s cells (sources equal, in order) and their outputs:
     figures inline, no error; refresh it with `python -m tests.notebook_run NAME`."""

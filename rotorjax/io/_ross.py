@@ -22,13 +22,14 @@ ROSS writes one section per element, `"ClassName_tag"`, each in SI base units, a
 
 Refused, by the section's name and why (`InputError`), rather than dropped: what a
 lateral rotor file cannot hold: axial or torsional terms (`kzz`, `czz`, `mzz`, a point
-mass's `mz` different from zero), shaft axial force or torque, the element's
-proportional damping (`alpha`, `beta`), gyroscopic effects switched off, Hutchinson's
-shear coefficient, concentric shaft layers on one node, a theory that differs between
-elements, bearings linked to another node (`n_link`), coefficients tabulated over the
-excitation frequency (ROSS 3.x's `frequency`, a magnetic bearing's or a squeeze-film
-damper's) or over speed and frequency at once, and any other element class (couplings,
-gears, thrust pads, ...).
+mass's `mz` different from zero), shaft axial force or torque, an element's
+proportional damping (`alpha`, `beta`) and the whole rotor's damping (3.x's
+`[parameters]` `alpha`, `beta`, `default_damping_ratio`, `modal_damping_ratio`, where
+not zero), gyroscopic effects switched off, Hutchinson's shear coefficient, concentric
+shaft layers on one node, a theory that differs between elements, bearings linked to
+another node (`n_link`), coefficients tabulated over the excitation frequency (ROSS
+3.x's `frequency`, a magnetic bearing's or a squeeze-film damper's) or over speed and
+frequency at once, and any other element class (couplings, gears, thrust pads, ...).
 
 Every value ROSS wrote is SI already (it converts pint quantities when it saves).
 `notes` says what the translation chose where the two tools differ: ROSS interpolates
@@ -101,6 +102,21 @@ def _numbers(where, key, value, label):
 def _refuse(label, where, why):
     raise InputError(f"{label}: [{where}]: {why}; rotorjax cannot represent it (remove it, or change it in ROSS "
                      "and save again)")
+
+
+#: ROSS 3.x's damping of the whole rotor (`Rotor(modal_damping_ratio=, default_damping_ratio=, alpha=, beta=)`)
+ROTOR_DAMPING = {"alpha": "proportional damping of the whole rotor (alpha M)",
+                 "beta": "proportional damping of the whole rotor (beta K)",
+                 "default_damping_ratio": "modal damping of the whole rotor",
+                 "modal_damping_ratio": "modal damping of the rotor's first modes"}
+
+
+def _rotor_damping(label, params):
+    for key, what in ROTOR_DAMPING.items():
+        v = params.get(key)
+        values = v if isinstance(v, list) else [] if v is None else [v]
+        if any(_number("parameters", key, x, label) != 0 for x in values):
+            _refuse(label, "parameters", f"{key} = {v}: {what}")
 
 
 def _shaft(label, where, s, materials):
@@ -296,7 +312,9 @@ def ross_rotor_text(path, name=None):
         notes.append(f"ROSS interpolates the bearing tables by {' and '.join(sorted(interpolations))}, rotorjax with "
                      "a not-a-knot cubic through the points: they agree at the table's speeds")
     params = data.get("parameters") or {}
-    rated = params.get("rated_w") if isinstance(params, dict) else None
+    params = params if isinstance(params, dict) else {}
+    _rotor_damping(label, params)
+    rated = params.get("rated_w")
     speed = None if rated is None else _number("parameters", "rated_w", rated, label)
     stem, theory = pathlib.Path(label).stem, theories.pop()
     lines = [f"# Imported from {pathlib.Path(label).name} (a rotor saved by ROSS {data.get('ross_version', version)})"

@@ -1,17 +1,18 @@
 """Issue 35 item 5: rotors saved by ROSS (`Rotor.save`) brought over as rotor files
 (`rotorjax.io.import_ross`, `rotorjax import-ross`).
 
-The files in `data/ross/` were written by ROSS 2.3.0 itself (`ross_saved.py`, run in
-ROSS's interpreter), with ROSS's modes of each (`ross_modes.json`): its example rotor
-(TOML and JSON), a tapered hollow two-material rotor with a speed-tabulated
-cross-coupled bearing, and a bearing on a pedestal (`n_link`). Two more forms, derived
-from those because ROSS 3.x and 1.x cannot be installed here (the registry has 2.x):
-`tapered_rig_v3.json` (3.x's `speed` table axis and `interpolation` key, its version),
-`rotor_example_v1.toml` (no version, no axial terms, 1.x's tags). Checked: every
-imported rotor's damped natural frequencies equal ROSS's to 1e-8 and its log
-decrements to 1e-9 (at 0 and 400 rad/s: a speed of the table, where the two
-interpolations agree); the forms of one rotor give one rotor file; what a rotor file
-cannot hold is refused by the section's name; live ROSS writes the committed files."""
+The files in `data/ross/` were written by ROSS 2.3.0 itself, those in `data/ross/v3/`
+by ROSS 3.1.0 (`ross_saved.py`, run in ROSS's interpreter; 3.x in a Python 3.13
+chroot, as its docstring shows), with ROSS's modes of each (`ross_modes.json`): its
+example rotor (TOML and JSON), a tapered hollow two-material rotor with a
+speed-tabulated cross-coupled bearing, and a bearing on a pedestal (`n_link`); and
+one form derived by hand: `rotor_example_v1.toml` (1.x's: no version, no axial terms,
+1.x's tags).
+Checked: every imported rotor's damped natural frequencies equal ROSS's (the version
+that wrote it) to 1e-8 and its log decrements to 1e-9 (at 0 and 400 rad/s: a speed of
+the table, where the two interpolations agree); the forms and versions of one rotor
+give one rotor file; what a rotor file cannot hold is refused by the section's name;
+live ROSS 2.3 writes the committed files."""
 
 import copy
 import json
@@ -29,6 +30,7 @@ from rotorjax.io import import_ross, load_rotor, ross_rotor_text
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "data", "ross")
 REF = json.load(open(os.path.join(DATA, "ross_modes.json")))
+REF3 = json.load(open(os.path.join(DATA, "v3", "ross_modes.json")))
 
 
 def data(name):
@@ -41,21 +43,23 @@ def _body(text):
     return "\n".join(line.split("#")[0].rstrip() for line in text.splitlines() if not line.startswith("name = "))
 
 
-@pytest.mark.parametrize("name", ["rotor_example", "tapered_rig", "linked"])
-def test_the_imported_rotor_has_ross_s_modes(name, tmp_path):
+@pytest.mark.parametrize("version, name", [(v, n) for v in (2, 3) for n in ("rotor_example", "tapered_rig", "linked")])
+def test_the_imported_rotor_has_ross_s_modes(version, name, tmp_path):
     """The first 10 modes at 0 and 400 rad/s: each rotorjax frequency is one of ROSS's
     (ROSS's 6-dof rotor also has axial and torsional modes, so each is matched to the
-    nearest) to 1e-8, with its log decrement to 1e-9."""
-    out = import_ross(data(f"{name}.toml"), tmp_path / "r.toml")
+    nearest) to 1e-8, with its log decrement to 1e-9; ROSS 2.3.0's and 3.1.0's."""
+    ref = {2: REF, 3: REF3}[version]
+    assert ref["ross_version"] == {2: "2.3.0", 3: "3.1.0"}[version]
+    out = import_ross(data(f"{'v3/' if version == 3 else ''}{name}.toml"), tmp_path / "r.toml")
     scene = load_rotor(str(tmp_path / "r.toml"))
     for speed in ("0.0", "400.0"):
         lam = np.asarray(modes(scene, float(speed), 10).eigenvalues)
         wd, log_dec = np.imag(lam), -2 * np.pi * np.real(lam) / np.imag(lam)
-        ross_wd, ross_ld = np.array(REF[name][speed]["wd"]), np.array(REF[name][speed]["log_dec"])
+        ross_wd, ross_ld = np.array(ref[name][speed]["wd"]), np.array(ref[name][speed]["log_dec"])
         nearest = np.array([np.argmin(np.abs(ross_wd - w)) for w in wd])
         np.testing.assert_allclose(ross_wd[nearest], wd, rtol=1e-8)
         np.testing.assert_allclose(ross_ld[nearest], log_dec, atol=1e-9)
-    assert out["version"] == 2 and out["theory"] == "timoshenko"
+    assert out["version"] == version and out["theory"] == "timoshenko"
 
 
 def test_what_each_rotor_file_holds(tmp_path):
@@ -74,15 +78,19 @@ def test_what_each_rotor_file_holds(tmp_path):
 
 
 def test_each_form_of_a_rotor_gives_the_same_rotor_file():
-    """TOML and JSON (ROSS 2.x), the 3.x JSON form, and the 1.x TOML form."""
+    """TOML and JSON of ROSS 2.3 and of 3.1, and the 1.x TOML form; 3.x's notes name its
+    PCHIP."""
     example = _body(ross_rotor_text(data("rotor_example.toml"))[0])
     assert _body(ross_rotor_text(data("rotor_example.json"))[0]) == example
     text, summary = ross_rotor_text(data("rotor_example_v1.toml"))
     assert _body(text) == example and summary["version"] == 1
     tapered = _body(ross_rotor_text(data("tapered_rig.toml"))[0])
     assert _body(ross_rotor_text(data("tapered_rig.json"))[0]) == tapered
-    text, summary = ross_rotor_text(data("tapered_rig_v3.json"))
-    assert _body(text) == tapered and summary["version"] == 3 and "pchip" in summary["notes"][0]
+    for form in ("toml", "json"):
+        assert _body(ross_rotor_text(data(f"v3/rotor_example.{form}"))[0]) == example
+        text, summary = ross_rotor_text(data(f"v3/tapered_rig.{form}"))
+        assert _body(text) == tapered and summary["version"] == 3 and "pchip" in summary["notes"][0]
+    assert _body(ross_rotor_text(data("v3/linked.json"))[0]) == _body(ross_rotor_text(data("linked.toml"))[0])
 
 
 def _edited(tmp_path, edit, source="rotor_example.json"):
@@ -145,12 +153,35 @@ def test_what_a_rotor_file_cannot_hold_is_refused_by_name(edit, match, tmp_path)
         ross_rotor_text(_edited(tmp_path, edit))
 
 
-def test_a_3x_table_over_the_excitation_frequency_is_refused(tmp_path):
+def test_a_3x_table_over_the_excitation_frequency_is_refused():
+    """ROSS 3.1 wrote `tapered_rig` with its table over the excitation frequency."""
+    with pytest.raises(InputError, match=r"frequency_table.toml: \[BearingElement_Bearing 0\]: coefficients over the "
+                                         r"excitation frequency \(ROSS 3.x"):
+        ross_rotor_text(data("v3/frequency_table.toml"))
+
+
+def _parameters(key, value):
     def edit(d):
-        b = d["BearingElement_Bearing 0"]
-        b["frequency"] = b.pop("speed")
-    with pytest.raises(InputError, match=r"coefficients over the excitation frequency \(ROSS 3.x"):
-        ross_rotor_text(_edited(tmp_path, edit, "tapered_rig_v3.json"))
+        d["parameters"][key] = value
+    return edit
+
+
+REFUSED_3X = [
+    (_parameters("alpha", 0.5), r"\[parameters\]: alpha = 0.5: proportional damping of the whole rotor \(alpha M\)"),
+    (_parameters("beta", 1e-5), r"\[parameters\]: beta = 1e-05: proportional damping of the whole rotor \(beta K\)"),
+    (_parameters("default_damping_ratio", 0.02), r"default_damping_ratio = 0.02: modal damping of the whole rotor"),
+    (_parameters("modal_damping_ratio", [0.01, 0.02]), r"modal_damping_ratio = \[0.01, 0.02\]: modal damping of"),
+    (_parameters("alpha", "x"), r"\[parameters\] alpha = 'x': expected a finite number"),
+]
+
+
+@pytest.mark.parametrize("edit, match", REFUSED_3X, ids=[m[:40] for _, m in REFUSED_3X])
+def test_the_whole_rotor_s_damping_of_3x_is_refused_by_name(edit, match, tmp_path):
+    """ROSS 3.x saves the rotor's own damping in `[parameters]` (zero in the files it
+    wrote here, which import); any of it not zero is refused, not dropped."""
+    assert ross_rotor_text(data("v3/rotor_example.json"))[1]["version"] == 3
+    with pytest.raises(InputError, match=match):
+        ross_rotor_text(_edited(tmp_path, edit, "v3/rotor_example.json"))
 
 
 def test_the_command_writes_the_file_and_says_what_it_holds(tmp_path, capsys):
