@@ -9,13 +9,17 @@ below 1000 rad/s and the log decrements of the first three modes at 500 rad/s.
 
 - rotorjax: `rotor_quantities` + `propagate` (vmapped through `rotorjax.sweep`:
   each sample's rotor set through the parameters' leaves, each critical speed the
-  fixed point `Omega = omega_k(Omega)` from the nominal one, 6 iterations and a
-  residual check, eigenvalues only).
+  fixed point `Omega = omega_k(Omega)` from the nominal one by 4 Newton steps on
+  the nominal eigenpair (linear solves) and one eigenvalue problem, its residual;
+  the samples where the followed mode changed rank among the sorted frequencies
+  again by the secant path (`fallback`); the first-order moments included).
 - the peer: the strongest plain loop a user could write for the same numbers: the
   full matrices assembled once by rotorjax and the bearings' coefficients added to
   them in numpy (they enter affinely: one unit matrix per coefficient), then per
-  sample the same fixed points with `scipy.linalg.eigvals` on the first-order
-  matrix. Its outputs equal rotorjax's to 1e-8 (checked on the first samples).
+  sample the same Newton steps (`scipy.linalg.solve`) and residual
+  (`scipy.linalg.eigvals` on the first-order matrix), a sample whose residual is
+  large by 6 fixed-point iterations. Its outputs equal rotorjax's to 1e-8 (checked
+  on the first samples).
 - ROSS (`_ross_st_rotor.run_ross_mc`, in ROSS's own interpreter: `--ross-python`,
   else `$ROTORJAX_ROSS_PYTHON`, else this one when it has `ross`; skipped with a
   note when there is none, or with `--no-ross`): the first `--ross-samples` (16) of
@@ -146,6 +150,7 @@ class NumpyPeer:
         import jax.numpy as jnp
 
         from rotorjax.models._parameters import parts_of, with_values
+        from rotorjax.uncertainty._rotor import NEWTON_STEPS
 
         parts = parts_of(file.scene)
         paths = [file.path(n) for n in names]
@@ -165,26 +170,58 @@ class NumpyPeer:
         self.dC, self.dK = np.stack(self.dC), np.stack(self.dK)
         self.nominal, self.critical = np.asarray(nominal, dtype=float), critical
         self.Minv = np.linalg.inv(self.M)
+        self.steps = NEWTON_STEPS
+
+        n = self.M.shape[0]
+        self.dA = np.zeros((2 * n, 2 * n))   # d(state matrix)/d(speed)
+        self.dA[n:, n:] = -self.Minv @ self.G1
+        self.pairs = []
+        for W, k in critical:
+            lam, vec = np.linalg.eig(self._state(self.C0, self.K0, W))
+            up = np.flatnonzero(lam.imag > 0)
+            i = up[np.argsort(lam.imag[up])][k]
+            self.pairs.append((lam[i], vec[:, i] / np.linalg.norm(vec[:, i])))
+
+    def _state(self, C, K, speed):
+        n = self.M.shape[0]
+        return np.block([[np.zeros((n, n)), np.eye(n)], [-self.Minv @ K, -self.Minv @ (C + speed * self.G1)]])
 
     def _freqs(self, C, K, speed):
         import scipy.linalg
 
-        n = self.M.shape[0]
-        A = np.block([[np.zeros((n, n)), np.eye(n)], [-self.Minv @ K, -self.Minv @ (C + speed * self.G1)]])
-        lam = scipy.linalg.eigvals(A, check_finite=False)
+        lam = scipy.linalg.eigvals(self._state(C, K, speed), check_finite=False)
         lam = lam[np.imag(lam) > 0]
         return lam[np.argsort(np.imag(lam))]
+
+    def _newton(self, C, K, W, pair):
+        """rotorjax's eigenpair Newton (`critical_speed(..., pair=)`), in numpy/scipy."""
+        import scipy.linalg
+
+        lam, x = pair
+        c, n, w = np.conj(x), x.size, W
+        for _ in range(self.steps):
+            border = np.zeros((n + 1, n + 1), complex)
+            a = self._state(C, K, w)
+            border[:n, :n], border[:n, n], border[n, :n] = a - lam * np.eye(n), -x, c
+            rhs = np.stack([np.append(lam * x - a @ x, 1.0 - c @ x), np.append(-(self.dA @ x), 0.0)], axis=1)
+            s = scipy.linalg.solve(border, rhs, check_finite=False)
+            dw = (w - np.imag(lam + s[n, 0])) / (np.imag(s[n, 1]) - 1.0)
+            x, lam, w = x + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
+        return w
 
     def __call__(self, values):
         d = np.asarray(values, dtype=float) - self.nominal
         C = self.C0 + np.tensordot(d, self.dC, 1)
         K = self.K0 + np.tensordot(d, self.dK, 1)
         out = []
-        for W, k in self.critical:
-            w = W
-            for _ in range(6):
-                w = float(np.imag(self._freqs(C, K, w)[k]))
+        for (W, k), pair in zip(self.critical, self.pairs):
+            w = self._newton(C, K, W, pair)
             res = float(np.imag(self._freqs(C, K, w)[k])) - w
+            if not abs(res) <= 1e-8 * abs(w):   # the followed mode changed rank: the secant path's fixed point
+                w = W
+                for _ in range(6):
+                    w = float(np.imag(self._freqs(C, K, w)[k]))
+                res = float(np.imag(self._freqs(C, K, w)[k])) - w
             out.append(w if abs(res) <= 1e-8 * abs(w) else np.nan)
         lam = self._freqs(C, K, SPEED)[:N_MODES]
         out.extend(-2 * np.pi * np.real(lam) / np.imag(lam))
@@ -216,7 +253,8 @@ def main():
     t0 = time.perf_counter()
     q = rotor_quantities(file, inputs, hi=HI, speed=SPEED, n_modes=N_MODES)
     setup = time.perf_counter() - t0
-    t_rj, first, res = timed_first(lambda: propagate(q.fn, inputs, samples=n_rj, seed=0, names=q.outputs), repeats)
+    t_rj, first, res = timed_first(lambda: propagate(q.fn, inputs, samples=n_rj, seed=0, names=q.outputs,
+                                                     fallback=q.fallback), repeats)
     peer = NumpyPeer(file, names, q.nominal, q.critical)
     X = res.input_samples
     parity = max(float(np.max(np.abs(peer(X[i]) / res.samples[i] - 1))) for i in range(min(4, n_rj)))
@@ -236,8 +274,10 @@ def main():
            "mean": dict(zip(q.outputs, res.mean.tolist())), "std": dict(zip(q.outputs, res.std.tolist())),
            "first_order_std": dict(zip(q.outputs, res.fosm_std.tolist())),
            "finite_samples": int(np.sum(res.finite)), "cpu_while_rotorjax_and_peer_ran": cpu, "ross": ross,
-           "note": "peer: numpy affine bearing matrices + scipy.linalg.eigvals per fixed-point iteration, in a "
-                   "Python loop. ROSS (its own interpreter, BLAS pinned to 1 thread: OPENBLAS/OMP/MKL_NUM_THREADS=1) "
+           "retried_samples": res.retried,
+           "note": "peer: numpy affine bearing matrices, rotorjax's Newton steps on the nominal eigenpair "
+                   "(scipy.linalg.solve) and scipy.linalg.eigvals for the residual, in a Python loop. ROSS (its own "
+                   "interpreter, BLAS pinned to 1 thread: OPENBLAS/OMP/MKL_NUM_THREADS=1) "
                    "on the first `ross.samples` of rotorjax's input samples (the same values): (a) "
                    "ST_Rotor.run_campbell over `ross.scan_speeds_a` speeds 0..1000 rad/s, 1x crossings "
                    "interpolated linearly; (b) a loop of Rotor.run_critical_speed + run_modal; each timed once "

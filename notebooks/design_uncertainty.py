@@ -59,7 +59,7 @@ print(f"{file.label}: " + ", ".join(f"{k} = {file.entries[k].value:.3g}" for k i
 # %%
 STIFF = {f"bearing{i}.k{a}": LogNormal(k, 0.1 * k) for i in (0, 1) for a, k in (("xx", 1e6), ("yy", 8e5))}
 q = rotor_quantities(file, STIFF, lo=0.0, hi=1000.0, speed=500.0, n_modes=3)
-res = propagate(q.fn, STIFF, samples=1000, seed=1, names=q.outputs)
+res = propagate(q.fn, STIFF, samples=1000, seed=1, names=q.outputs, fallback=q.fallback)
 short = [k.replace("bearing", "b") for k in STIFF]
 print(f"{'output':>16} {'mean':>9} {'sd':>8} {'1st-order mean':>15} {'sd':>8}   share of the variance: "
       + " ".join(f"{k:>6}" for k in short))

@@ -95,6 +95,7 @@ from ._linear import CampbellCriticalSpeed as CampbellCriticalSpeed
 from ._linear import CampbellCriticalSpeeds as CampbellCriticalSpeeds
 from ._linear import campbell_critical_speeds as campbell_critical_speeds
 from ._linear import critical_speed as critical_speed
+from ._linear import critical_pair as critical_pair
 from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
 from ._linear import damped_eigenvalues as damped_eigenvalues

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..models._validate import (InputError, as_count, as_numpy, as_param, check_choice, check_node,
                                check_span, is_concrete)
-from ._roots import bisect_batched, secant_root, sign_changes
+from ._roots import bisect_batched, frozen_tree, secant_root, sign_changes
 from ..models._fe_rotor import DOFS_PER_NODE
 from ..models._contract import AbstractShaftModel, require
 from ..models._frequency import frequency_response
@@ -264,18 +264,68 @@ def _crossing_residual(speed, k, rotor, n_modes):
     return damped_frequencies(rotor, speed, n_modes)[k] - speed
 
 
-def critical_speed(rotor, k, guess, iters=6):
+def critical_speed(rotor, k, guess, iters=6, pair=None):
     """The speed where the `k`-th damped natural frequency (sorted, all whirl
     directions) equals the speed, near `guess`: the root of `g(Omega) = omega_k(Omega)
-    - Omega` by `secant_root` (`iters` evaluations of `g`, eigenvalues only; the
-    first step a fixed-point step, `g' = d omega / d Omega - 1 ~ -1`), and the
-    residual there (to check it). Pure JAX, vmappable over designs; its derivative
-    with respect to the rotor's parameters is the implicit function theorem's."""
+    - Omega`, and the residual `g` there (to check it). Pure JAX, vmappable over
+    designs; its derivative with respect to the rotor's parameters is the implicit
+    function theorem's.
+
+    - Without `pair`: by `secant_root` (`iters` evaluations of `g`, eigenvalues only;
+      the first step a fixed-point step, `g' = d omega / d Omega - 1 ~ -1`).
+    - With `pair = (lam, vec)` (`critical_pair`: a nearby rotor's eigenpair at
+      `guess`, e.g. the nominal design's): `iters` Newton steps on the eigenpair and
+      the speed together (`_eigenpair_newton`: linear solves, no eigenvalue
+      problem), then one evaluation of `g` at the speed found, which is the residual:
+      the speed is this rotor's `k`-th frequency's fixed point only where it is
+      small. The followed mode can change rank among the sorted frequencies (a close
+      pair crossing, the nominal's `k`-th becoming the sample's `k-1`-th): the
+      residual is then large, and the caller asks the secant path.
+    """
     n = _check_rotor(rotor, "critical_speed", "linear_system")
     k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
-    iters = as_count("iters", iters, minimum=2)
+    iters = as_count("iters", iters, minimum=2 if pair is None else 1)
     _check_speed("guess", guess)
-    return secant_root(lambda r, w: damped_frequencies(r, w, k + 1)[k] - w, rotor, guess, iters, slope0=-1.0)
+    g = lambda r, w: damped_frequencies(r, w, k + 1)[k] - w  # noqa: E731
+    if pair is None:
+        return secant_root(g, rotor, guess, iters, slope0=-1.0)
+    w, slope = _eigenpair_newton(frozen_tree(rotor), guess, pair, iters)
+    g1 = g(rotor, w)
+    return w - g1 / slope, g1
+
+
+def critical_pair(rotor, k, speed):
+    """`(lam, vec)`: the `k`-th damped mode (sorted by frequency, upper half-plane) of
+    the linear system `rotor` at `speed`, its state-space vector of unit norm; the
+    start of `critical_speed(..., pair=)` for designs near this one (concrete:
+    numpy)."""
+    lam, vec = np.linalg.eig(np.asarray(state_matrix(rotor, jnp.float64(speed))))
+    up = np.flatnonzero(lam.imag > 0)
+    i = up[np.argsort(lam.imag[up])][as_count("k (mode index)", k, minimum=0, maximum=up.size - 1)]
+    return complex(lam[i]), vec[:, i] / np.linalg.norm(vec[:, i])
+
+
+def _eigenpair_newton(rotor, speed, pair, iters):
+    """`iters` Newton steps on `(A(Omega) - lam) x = 0`, `c^H x = 1` (`c` the start
+    vector), `Im lam = Omega`, from `pair` at `speed`: each step one complex bordered
+    solve with two right-hand sides, its second column the speed's direction
+    (`dA/dOmega x`, by a JVP of the state matrix), from which the step in `Omega`
+    that keeps `Im lam = Omega` follows. Returns `(Omega, dg/dOmega)`, the slope of
+    `g = Im lam(Omega) - Omega` at the last iterate (for the implicit function
+    theorem), both without derivatives."""
+    lam, x = jnp.asarray(pair[0], dtype=jnp.complex128), jnp.asarray(pair[1], dtype=jnp.complex128)
+    c, n, w = jnp.conj(x), x.shape[0], jnp.float64(speed)
+    slope = jnp.float64(-1.0)
+    for _ in range(iters):
+        a, da = jax.jvp(lambda s: state_matrix(rotor, s), (w,), (jnp.float64(1.0),))
+        border = jnp.zeros((n + 1, n + 1), jnp.complex128)
+        border = border.at[:n, :n].set(a - lam * jnp.eye(n)).at[:n, n].set(-x).at[n, :n].set(c)
+        rhs = jnp.stack([jnp.append(lam * x - a @ x, 1.0 - c @ x), jnp.append(-(da @ x), 0.0)], axis=1)
+        s = jnp.linalg.solve(border, rhs)
+        slope = jnp.imag(s[n, 1]) - 1.0
+        dw = (w - jnp.imag(lam + s[n, 0])) / slope
+        x, lam, w = x + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
+    return jax.lax.stop_gradient(w), jax.lax.stop_gradient(slope)
 
 
 def _asymmetry(a):

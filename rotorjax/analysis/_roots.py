@@ -163,6 +163,12 @@ def root_gradient(g2: Callable, x, p):
     return jax.tree_util.tree_map(lambda d: -d / gx, gp)
 
 
+def frozen_tree(params):
+    """`params` (a pytree) with every array's derivative stopped: the iterations of a
+    root found by the implicit function theorem run on these."""
+    return jax.tree_util.tree_map(lambda v: jax.lax.stop_gradient(v) if isinstance(v, jax.Array) else v, params)
+
+
 def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_step=False, rolled=False):
     """The root near `guess` of `g(params, x)` (a scalar function, pure JAX), followed
     as `params` (a pytree) change, and the residual there: `(x*, g(params, x_n))`.
@@ -181,7 +187,7 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
     stops once converged, for a `g` that integrates in time). A slope of the wrong sign or a root that has
     gone leaves the residual large: the caller checks it (`with_step`: also the
     last step's size, `|g / slope|`, which measures it in `x`'s units)."""
-    frozen = jax.tree_util.tree_map(lambda v: jax.lax.stop_gradient(v) if isinstance(v, jax.Array) else v, params)
+    frozen = frozen_tree(params)
 
     def step_size(x):
         return 1e-6 * jnp.maximum(jnp.abs(x), 1.0)

@@ -82,5 +82,5 @@ def preset_quantities(preset, params, inputs, speed_range, *, n_scan=40, option=
     if not np.all(np.isfinite(f0)):
         raise NumericalError(f"{preset.name}: the nominal quantities are not finite "
                              f"({', '.join(n for n, v in zip(outputs, f0) if not np.isfinite(v))})")
-    return RotorQuantities(fn, outputs, names, nominal, (), float(params[preset.speed_key]), preset.name,
+    return RotorQuantities(fn, None, outputs, names, nominal, (), float(params[preset.speed_key]), preset.name,
                            {"range": list(stable.speed_range), "speed_key": preset.speed_key, **stable.settings()})

@@ -8,7 +8,9 @@ output's variance.
   copula), the outputs evaluated in vmapped chunks; mean, standard deviation
   (with the mean's standard error `sd / sqrt(n)`) and quantiles of each output.
   Samples whose outputs are not finite (a solver that did not converge there) are
-  counted and left out of the statistics, and named in the result.
+  evaluated again with `fallback` where one is given (a slower path to the same
+  outputs: `RotorQuantities.fallback`), in vmapped chunks of 16; those still not
+  finite are counted and left out of the statistics, and named in the result.
 - First order (FOSM): `mean ~ f(mu)`, `var ~ g^T Sigma g` with `g = df/dp` at the
   parameters' means (`jax.jacfwd`, or `jax.jacrev`) and `Sigma_ij = rho_ij sd_i sd_j` (`rho` the
   copula's correlation, exact for normal parameters); the share of parameter `i`
@@ -19,6 +21,7 @@ output's variance.
 
 import dataclasses
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -41,7 +44,8 @@ class Propagation:
     - Monte Carlo: `mean`, `std`, `sem` (standard error of the mean), `quantiles`
       `{q: (n_outputs,)}`;
     - first order: `fosm_mean`, `fosm_std`, `gradient` `(n_outputs, n_inputs)`,
-      `shares` `(n_outputs, n_inputs)`.
+      `shares` `(n_outputs, n_inputs)`;
+    - `retried`: how many samples `fallback` evaluated again.
     """
 
     inputs: dict
@@ -57,6 +61,7 @@ class Propagation:
     fosm_std: np.ndarray
     gradient: np.ndarray
     shares: np.ndarray
+    retried: int = 0
 
     @property
     def n(self) -> int:
@@ -81,7 +86,7 @@ class Propagation:
                          "first_order": {"mean": float(self.fosm_mean[j]), "std": float(self.fosm_std[j])},
                          "shares": {k: float(self.shares[j, i]) for i, k in enumerate(self.inputs)}}
         return {"inputs": {k: d.text() for k, d in self.inputs.items()}, "samples": int(self.samples.shape[0]),
-                "finite_samples": self.n, "outputs": out}
+                "finite_samples": self.n, "retried_samples": self.retried, "outputs": out}
 
 
 def wilson(k, n, z=1.959963984540054):
@@ -105,7 +110,7 @@ def draw(inputs, n, correlation=None, seed=0):
 
 
 def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1024, names=None,
-              progress=False, reverse=False) -> Propagation:
+              progress=False, reverse=False, fallback=None) -> Propagation:
     """Outputs of `fn` as distributions (see the module).
 
     **Arguments:**
@@ -120,6 +125,8 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     - `reverse`: the first-order gradient in reverse mode (`jax.jacrev`), for an `fn`
       that integrates in time (diffrax's adjoint is reverse-mode only); else forward
       (`jax.jacfwd`).
+    - `fallback`: `fallback(values) -> outputs`, as `fn`, for the samples (and the
+      first-order point) where `fn`'s outputs are not all finite.
 
     **Returns:** a `Propagation`. **Raises:** `InputError` for bad input;
     `NumericalError` when no sample gives finite outputs.
@@ -130,10 +137,11 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
         raise InputError(f"samples must be an integer >= 2, got {samples!r}")
     keys = list(inputs)
     X = draw(inputs, int(samples), correlation, seed)
-    res = sweep(lambda p: jnp.atleast_1d(fn(jnp.stack([p[f"p{i}"] for i in range(len(keys))]))),
-                {f"p{i}": X[:, i] for i in range(len(keys))}, mode="zip", chunk_size=chunk_size,
-                progress=bool(progress))
-    Y = np.asarray(res.values).reshape(X.shape[0], -1)
+    Y = _evaluate(fn, X, chunk_size, progress)
+    again = np.flatnonzero(~np.all(np.isfinite(Y), axis=1)) if fallback is not None else np.zeros(0, int)
+    if again.size:  # padded to whole chunks of 16 (repeating the last): one compilation for any count
+        rows = again[np.minimum(np.arange(-(-again.size // 16) * 16), again.size - 1)]
+        Y[again] = _evaluate(fallback, X[rows], 16, False)[:again.size]
     names = tuple(names) if names is not None else tuple(f"y{j}" for j in range(Y.shape[1]))
     if len(names) != Y.shape[1]:
         raise InputError(f"names: {len(names)} names for {Y.shape[1]} outputs")
@@ -147,6 +155,9 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     L = correlation_factor(keys, correlation)
     cov = (L @ L.T) * np.outer(sd, sd)
     f0 = np.asarray(jnp.atleast_1d(fn(jnp.asarray(mu))))
+    if fallback is not None and not np.all(np.isfinite(f0)):
+        fn = fallback
+        f0 = np.asarray(jnp.atleast_1d(fn(jnp.asarray(mu))))
     jacobian = jax.jacrev if reverse else jax.jacfwd
     g = np.asarray(jacobian(lambda v: jnp.atleast_1d(fn(v)))(jnp.asarray(mu))).reshape(f0.size, len(keys))
     var = np.einsum("oi,ij,oj->o", g, cov, g)
@@ -155,5 +166,18 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
     return Propagation(inputs=dict(inputs), outputs=names, samples=Y, input_samples=X, finite=finite, mean=mean,
                        std=std, sem=std / np.sqrt(Yf.shape[0]),
                        quantiles={q: np.quantile(Yf, q, axis=0) for q in QUANTILES}, fosm_mean=f0,
-                       fosm_std=np.sqrt(np.maximum(var, 0.0)), gradient=g, shares=shares)
+                       fosm_std=np.sqrt(np.maximum(var, 0.0)), gradient=g, shares=shares, retried=int(again.size))
+
+
+def _evaluate(fn, X, chunk_size, progress):
+    """`fn` on each row of `X`, in vmapped chunks (`rotorjax.sweep`): `(n, n_outputs)`.
+    A `Partial` of `fn`, not a fresh lambda: the same `fn` again (another draw, more
+    samples, the fallback's next chunk count) finds its vmapped program compiled."""
+    res = sweep(eqx.Partial(_row, fn), {f"p{i}": X[:, i] for i in range(X.shape[1])}, mode="zip",
+                chunk_size=chunk_size, progress=bool(progress))
+    return np.array(res.values).reshape(X.shape[0], -1)
+
+
+def _row(fn, point):
+    return jnp.atleast_1d(fn(jnp.stack([point[f"p{i}"] for i in range(len(point))])))
 

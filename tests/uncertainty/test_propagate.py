@@ -137,43 +137,75 @@ def test_first_order_agrees_with_monte_carlo_for_small_scatter(rig):
     assert np.allclose(r.shares.sum(axis=1), 1.0)
 
 
-def test_each_critical_speed_is_solved_from_far_and_differentiated_exactly():
-    """`critical_speed` from 30 % off each nominal critical speed, on a sample 20 %
-    stiffer and 20 % heavier: the residual is at roundoff and the speed equals the
-    scan-and-bisect `critical_speeds_1x` of the file read again with those values;
-    its gradient equals central differences of the independent bisection.
-    (A plain fixed point needs `|d omega / d Omega|^n` small: with 6 iterations it
-    left the highest one unconverged, and a Monte Carlo at 10 % scatter dropped the
-    samples far from the nominal.)"""
+@pytest.mark.parametrize("path", ["secant", "newton"])
+def test_each_critical_speed_is_solved_and_differentiated_exactly(path):
+    """`critical_speed` each way, checked against the scan-and-bisect
+    `critical_speeds_1x` of the file read again with the sample's values (the speed,
+    and its gradient against central differences of the bisection); the residual at
+    roundoff.
+
+    - `secant`: from 30 % off each nominal critical speed, on a sample 20 % stiffer
+      and 20 % heavier. (A plain fixed point needs `|d omega / d Omega|^n` small:
+      with 6 iterations it left the highest one unconverged, and a Monte Carlo at
+      10 % scatter dropped the samples far from the nominal.)
+    - `newton` (`pair=`, the Monte Carlo's path): 4 Newton steps from the nominal
+      rotor's eigenpair at its critical speed (`critical_pair`), on a sample 10 % off
+      in all three parameters; it also equals the secant path's to 1e-11.
+    """
     import jax
 
-    from rotorjax.analysis import critical_speed
+    from rotorjax.analysis import critical_pair, critical_speed
     from rotorjax.models._parameters import parts_of, with_values
 
     file = read_rotor_file(PATH)
     nominal = critical_speeds_1x(file.scene.full_rotor, 0.0, 900.0, whirl="forward")
     assert len(nominal) == 3   # the third's |d omega / d Omega| is 0.08
     parts, paths = parts_of(file.scene), [file.path(n) for n in NAMES]
-    values = np.array([1.2 * 1.2e6, 0.8 * 8e5, 1.2 * 10.0])
+    off = 0.2 if path == "secant" else 0.1
+    values = np.array([(1 + off) * 1.2e6, (1 - off) * 8e5, (1 + off) * 10.0])
 
     def scan(v):
         rotor = read_rotor_file(PATH, dict(zip(NAMES, v))).scene.full_rotor
         return np.array([w for w, _ in critical_speeds_1x(rotor, 0.0, 900.0, whirl="forward", xtol=1e-12)])
 
     ref = scan(values)
+    steps = [np.eye(3)[i] * 1e-3 * values[i] for i in range(3)]
+    fd = np.stack([(scan(values + e) - scan(values - e)) / (2 * e.sum()) for e in steps], axis=1)
     for j, (W, k) in enumerate(nominal):
-        def solve(v, k=k, W=W):
-            return critical_speed(with_values(parts, paths, v).rotor, k, 0.7 * W)
+        pair = critical_pair(file.scene.full_rotor, k, W)
+
+        def solve(v, k=k, W=W, pair=pair):
+            rotor = with_values(parts, paths, v).rotor
+            if path == "secant":
+                return critical_speed(rotor, k, 0.7 * W)
+            return critical_speed(rotor, k, W, iters=4, pair=pair)
 
         w, res = solve(jnp.asarray(values))
+        grad = np.asarray(jax.grad(lambda v: solve(v)[0])(jnp.asarray(values)))
         assert abs(float(res)) < 1e-10 * float(w)
         assert float(w) == pytest.approx(ref[j], rel=1e-9)
-        grad = np.asarray(jax.grad(lambda v: solve(v)[0])(jnp.asarray(values)))
         for i in range(3):
-            h = 1e-3 * values[i]
-            e = np.eye(3)[i] * h
-            fd = (scan(values + e)[j] - scan(values - e)[j]) / (2 * h)
-            assert grad[i] == pytest.approx(fd, rel=1e-4, abs=1e-8 * abs(float(w)) / values[i])
+            assert grad[i] == pytest.approx(fd[j, i], rel=1e-4, abs=1e-8 * abs(float(w)) / values[i])
+        if path == "newton":
+            secant = critical_speed(with_values(parts, paths, jnp.asarray(values)).rotor, k, W)[0]
+            assert float(w) == pytest.approx(float(secant), rel=1e-11)
+    with pytest.raises(InputError, match=r"k \(mode index\) must be"):
+        critical_pair(file.scene.full_rotor, 99, 100.0)
+
+
+def test_samples_fn_leaves_are_evaluated_again_by_the_fallback():
+    """`propagate(..., fallback=)`: the samples (and the first-order point) where `fn`
+    is not finite are the fallback's, counted in `retried`; without a fallback they
+    are left out."""
+    u = Uniform(0.0, 1.0)
+    fn = lambda v: jnp.where(v[0] < 0.5, v[0] ** 2, jnp.nan)   # noqa: E731
+    again = propagate(fn, {"u": u}, samples=200, seed=2, fallback=lambda v: v[0] ** 2)
+    np.testing.assert_allclose(again.samples[:, 0], again.input_samples[:, 0] ** 2, rtol=1e-15)
+    assert again.retried == int(np.sum(again.input_samples[:, 0] >= 0.5)) > 50 and again.n == 200
+    assert again.fosm_mean[0] == pytest.approx(0.25) and again.gradient[0, 0] == pytest.approx(1.0)
+    assert again.as_dict()["retried_samples"] == again.retried
+    alone = propagate(fn, {"u": u}, samples=200, seed=2)
+    assert alone.retried == 0 and alone.n == 200 - again.retried
 
 
 def test_support_is_the_five_sigma_quantiles():
