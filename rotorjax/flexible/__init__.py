@@ -5,6 +5,7 @@ re-exported here under their old names. Nothing inside rotorjax imports this."""
 from ..analysis._linear import Modes as Modes
 from ..analysis._linear import campbell as campbell
 from ..analysis._linear import critical_speed as critical_speed
+from ..analysis._linear import critical_pair as critical_pair
 from ..analysis._linear import critical_speeds_1x as critical_speeds_1x
 from ..analysis._linear import damped_frequencies as damped_frequencies
 from ..analysis._linear import modes as modes
