@@ -49,9 +49,9 @@ NEWTON_STEPS = 4
 class RotorQuantities:
     """`fn(values) -> outputs` of a rotor file (see the module) and its `fallback` (the
     same outputs, the critical speeds by the secant path: for the samples `fn` leaves
-    NaN), the outputs' names, the parameters' names and nominal values, the nominal
-    critical speeds, and the settings of the design quantities asked for
-    (`SceneQuantities.settings`)."""
+    NaN; None where `fn` takes no Newton steps), the outputs' names, the parameters'
+    names and nominal values, the nominal critical speeds, and the settings of the
+    design quantities asked for (`SceneQuantities.settings`)."""
 
     fn: object
     fallback: object
@@ -157,16 +157,18 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
     def fn(values):
         return quantities(values, True)
 
-    def fallback(values):
+    def secant(values):
         return quantities(values, False)
 
     nominal = np.array([float(value_of(parts, p)) for p in paths])
     outputs = (tuple(f"critical_speed_{i}" for i in range(len(crit))) + tuple(f"log_dec_{i}" for i in range(n_modes))
                + (plan.names if plan is not None else ()))
-    f0 = np.asarray(fallback(jnp.asarray(nominal)))
+    f0 = np.asarray(secant(jnp.asarray(nominal)))
     if not np.all(np.isfinite(f0)):
         raise NumericalError(f"{file.label}: the nominal rotor's quantities are not finite "
                              f"({', '.join(n for n, v in zip(outputs, f0) if not np.isfinite(v))})")
+    # no Newton path (no critical speed, or a linearised scene): `fn` is the secant path, nothing to evaluate again
+    fallback = secant if any(pair is not None for pair in pairs) else None
     return RotorQuantities(fn, fallback, outputs, names, nominal, crit, speed, file.label,
                            plan.settings if plan is not None else {})
 
