@@ -7,16 +7,17 @@ given damping (`cxx = cyy = 500 N s/m`) and 8 random bearing coefficients (kxx,
 kyy, cxx, cyy of both, lognormal, 10 % sd); outputs: the forward 1x critical speeds
 below 1000 rad/s and the log decrements of the first three modes at 500 rad/s.
 
-- rotorjax: `rotor_quantities` + `propagate` (vmapped through `rotorjax.sweep`:
-  each sample's rotor set through the parameters' leaves, each critical speed the
-  fixed point `Omega = omega_k(Omega)` from the nominal one by 4 Newton steps on
-  the nominal eigenpair (linear solves) and one eigenvalue problem, its residual;
+- rotorjax: `rotor_quantities` + `propagate` on 10 000 samples (the CLI's default;
+  vmapped through `rotorjax.sweep` in chunks of 128: each sample's rotor set through
+  the parameters' leaves, each critical speed the fixed point `Omega = omega_k(Omega)`
+  from the nominal one by 4 Newton steps on the nominal eigenpair (bordered solves
+  of the quadratic eigenproblem) and one eigenvalue problem, its residual;
   the samples where the followed mode changed rank among the sorted frequencies
   again by the secant path (`fallback`); the first-order moments included).
 - the peer: the strongest plain loop a user could write for the same numbers: the
   full matrices assembled once by rotorjax and the bearings' coefficients added to
   them in numpy (they enter affinely: one unit matrix per coefficient), then per
-  sample the same Newton steps (`scipy.linalg.solve`) and residual
+  sample the same Newton steps (`scipy.linalg.solve`, 29 x 29) and residual
   (`scipy.linalg.eigvals` on the first-order matrix), a sample whose residual is
   large by 6 fixed-point iterations. Its outputs equal rotorjax's to 1e-8 (checked
   on the first samples).
@@ -32,7 +33,7 @@ below 1000 rad/s and the log decrements of the first three modes at 500 rad/s.
   ROSS's import and its first `run_modal` (numba compiling its mode-shape code,
   5-8 s: `ross.warmup_s`, excluded); BLAS pinned to 1 thread in ROSS's process.
   Recorded per path: seconds per sample and their ratio to rotorjax's (rotorjax's
-  per sample from its 1024-sample vmapped run), the parity per output (largest
+  per sample from its 10 000-sample vmapped run), the parity per output (largest
   relative difference to rotorjax's outputs for the same inputs), and the Monte
   Carlo statistics (mean, std of each output over the samples all three
   answered) of ROSS's samples next to rotorjax's over the same samples: the
@@ -172,15 +173,13 @@ class NumpyPeer:
         self.Minv = np.linalg.inv(self.M)
         self.steps = NEWTON_STEPS
 
-        n = self.M.shape[0]
-        self.dA = np.zeros((2 * n, 2 * n))   # d(state matrix)/d(speed)
-        self.dA[n:, n:] = -self.Minv @ self.G1
         self.pairs = []
         for W, k in critical:
             lam, vec = np.linalg.eig(self._state(self.C0, self.K0, W))
             up = np.flatnonzero(lam.imag > 0)
             i = up[np.argsort(lam.imag[up])][k]
-            self.pairs.append((lam[i], vec[:, i] / np.linalg.norm(vec[:, i])))
+            u = vec[: self.M.shape[0], i]
+            self.pairs.append((lam[i], u / np.linalg.norm(u)))
 
     def _state(self, C, K, speed):
         n = self.M.shape[0]
@@ -194,19 +193,21 @@ class NumpyPeer:
         return lam[np.argsort(np.imag(lam))]
 
     def _newton(self, C, K, W, pair):
-        """rotorjax's eigenpair Newton (`critical_speed(..., pair=)`), in numpy/scipy."""
+        """rotorjax's eigenpair Newton (`critical_speed(..., pair=)`: the quadratic
+        eigenproblem's bordered solves), in numpy/scipy."""
         import scipy.linalg
 
-        lam, x = pair
-        c, n, w = np.conj(x), x.size, W
+        lam, u = pair
+        c, n, w = np.conj(u), u.size, W
         for _ in range(self.steps):
+            D = C + w * self.G1
             border = np.zeros((n + 1, n + 1), complex)
-            a = self._state(C, K, w)
-            border[:n, :n], border[:n, n], border[n, :n] = a - lam * np.eye(n), -x, c
-            rhs = np.stack([np.append(lam * x - a @ x, 1.0 - c @ x), np.append(-(self.dA @ x), 0.0)], axis=1)
+            t = lam**2 * self.M + lam * D + K
+            border[:n, :n], border[:n, n], border[n, :n] = t, (2 * lam * self.M + D) @ u, c
+            rhs = np.stack([np.append(-(t @ u), 1.0 - c @ u), np.append(-lam * (self.G1 @ u), 0.0)], axis=1)
             s = scipy.linalg.solve(border, rhs, check_finite=False)
             dw = (w - np.imag(lam + s[n, 0])) / (np.imag(s[n, 1]) - 1.0)
-            x, lam, w = x + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
+            u, lam, w = u + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
         return w
 
     def __call__(self, values):
@@ -244,7 +245,7 @@ def main():
     from rotorjax.io import read_rotor_file, shipped_rotor
     from rotorjax.uncertainty import LogNormal, propagate, rotor_quantities
 
-    n_rj, n_peer, repeats = (16, 4, 0) if args.smoke else (1024, 128, 1)
+    n_rj, n_peer, repeats = (16, 4, 0) if args.smoke else (10_000, 128, 1)
     file = read_rotor_file(str(shipped_rotor("ross_compare")), SETS)
     names = [f"bearing{b}.{c}" for b in (0, 1) for c in COEFS]
     nominal = [float(file.entries[n].value) if n in file.entries else SETS[n] for n in names]
@@ -283,7 +284,7 @@ def main():
                    "interpolated linearly; (b) a loop of Rotor.run_critical_speed + run_modal; each timed once "
                    "with everything included but ROSS's import and its first run_modal (numba compiling, "
                    "`ross.warmup_s`, excluded); ratios: ROSS's seconds per sample over rotorjax's (from its "
-                   "1024-sample run); parity: largest relative difference to rotorjax's outputs for the same "
+                   "10 000-sample run); parity: largest relative difference to rotorjax's outputs for the same "
                    "inputs; mc_stats: mean, std over those samples from each (a std's relative difference can "
                    "reach the parity times mean/std); cpu_while_*: other processes' load (CpuWatch) during each part"}
     print(json.dumps({k: v for k, v in out.items() if k not in ("machine",)}, indent=1))

@@ -241,6 +241,8 @@ def test_readme_uncertainty_and_design_numbers_are_the_json():
     assert (f"rotorjax {u['rotorjax_per_sample_ms']:.3g} ms a sample; a numpy/scipy loop doing the same fixed points "
             f"{u['peer_per_sample_ms']:.2g} ms ({u['ratio_peer_over_rotorjax']:.2f}x") in readme
     assert f"(a close pair: {u['retried_samples']} of {u['samples']} samples on ROSS's example rotor below)" in readme
+    minutes = u["rotorjax_per_sample_ms"] * 1e5 / 6e4
+    assert f"At that rate 10^5 samples take {minutes:.2g} minutes on this 2-core machine" in readme
     r = u["ross"]
     assert (f"`ST_Rotor.run_campbell` ({r['scan_speeds_a']} speeds) {r['ross_a_per_sample_s']:.3g} s a sample "
             f"({r['ratio_ross_a_over_rotorjax']:.0f}x), a loop of its `run_critical_speed` and `run_modal` "

@@ -295,36 +295,43 @@ def critical_speed(rotor, k, guess, iters=6, pair=None):
 
 
 def critical_pair(rotor, k, speed):
-    """`(lam, vec)`: the `k`-th damped mode (sorted by frequency, upper half-plane) of
-    the linear system `rotor` at `speed`, its state-space vector of unit norm; the
-    start of `critical_speed(..., pair=)` for designs near this one (concrete:
-    numpy)."""
+    """`(lam, u)`: the `k`-th damped mode (sorted by frequency, upper half-plane) of
+    the linear system `rotor` at `speed`, its shape `u` in the system's coordinates
+    (`q`) of unit norm; the start of `critical_speed(..., pair=)` for designs near
+    this one (concrete: numpy)."""
     lam, vec = np.linalg.eig(np.asarray(state_matrix(rotor, jnp.float64(speed))))
     up = np.flatnonzero(lam.imag > 0)
     i = up[np.argsort(lam.imag[up])][as_count("k (mode index)", k, minimum=0, maximum=up.size - 1)]
-    return complex(lam[i]), vec[:, i] / np.linalg.norm(vec[:, i])
+    u = vec[: vec.shape[0] // 2, i]
+    return complex(lam[i]), u / np.linalg.norm(u)
 
 
 def _eigenpair_newton(rotor, speed, pair, iters):
-    """`iters` Newton steps on `(A(Omega) - lam) x = 0`, `c^H x = 1` (`c` the start
-    vector), `Im lam = Omega`, from `pair` at `speed`: each step one complex bordered
-    solve with two right-hand sides, its second column the speed's direction
-    (`dA/dOmega x`, by a JVP of the state matrix), from which the step in `Omega`
-    that keeps `Im lam = Omega` follows. Returns `(Omega, dg/dOmega)`, the slope of
-    `g = Im lam(Omega) - Omega` at the last iterate (for the implicit function
-    theorem), both without derivatives."""
-    lam, x = jnp.asarray(pair[0], dtype=jnp.complex128), jnp.asarray(pair[1], dtype=jnp.complex128)
-    c, n, w = jnp.conj(x), x.shape[0], jnp.float64(speed)
+    """`iters` Newton steps on the quadratic eigenproblem `T(lam, Omega) u = (lam^2 M +
+    lam (C + G) + K) u = 0`, `c^H u = 1` (`c` the start shape), `Im lam = Omega`, from
+    `pair` at `speed`: each step one complex bordered solve of the coordinates' size
+    plus one (not the first-order matrix's twice that) with two right-hand sides, its
+    second column the speed's direction (`dT/dOmega u`, by a JVP of the linear
+    matrices), from which the step in `Omega` that keeps `Im lam = Omega` follows.
+    Returns `(Omega, dg/dOmega)`, the slope of `g = Im lam(Omega) - Omega` at the last
+    iterate (for the implicit function theorem), both without derivatives."""
+    lam, u = jnp.asarray(pair[0], dtype=jnp.complex128), jnp.asarray(pair[1], dtype=jnp.complex128)
+    c, n, w = jnp.conj(u), u.shape[0], jnp.float64(speed)
     slope = jnp.float64(-1.0)
+
+    def pencil(s, lam):
+        m = rotor.linear_matrices(s)
+        return lam**2 * m.M + lam * (m.C + m.G) + m.K, 2 * lam * m.M + m.C + m.G
+
     for _ in range(iters):
-        a, da = jax.jvp(lambda s: state_matrix(rotor, s), (w,), (jnp.float64(1.0),))
+        (t, t_lam), (t_w, _) = jax.jvp(lambda s: pencil(s, lam), (w,), (jnp.float64(1.0),))
         border = jnp.zeros((n + 1, n + 1), jnp.complex128)
-        border = border.at[:n, :n].set(a - lam * jnp.eye(n)).at[:n, n].set(-x).at[n, :n].set(c)
-        rhs = jnp.stack([jnp.append(lam * x - a @ x, 1.0 - c @ x), jnp.append(-(da @ x), 0.0)], axis=1)
+        border = border.at[:n, :n].set(t).at[:n, n].set(t_lam @ u).at[n, :n].set(c)
+        rhs = jnp.stack([jnp.append(-(t @ u), 1.0 - c @ u), jnp.append(-(t_w @ u), 0.0)], axis=1)
         s = jnp.linalg.solve(border, rhs)
         slope = jnp.imag(s[n, 1]) - 1.0
         dw = (w - jnp.imag(lam + s[n, 0])) / slope
-        x, lam, w = x + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
+        u, lam, w = u + s[:n, 0] + dw * s[:n, 1], lam + s[n, 0] + dw * s[n, 1], w + dw
     return jax.lax.stop_gradient(w), jax.lax.stop_gradient(slope)
 
 
