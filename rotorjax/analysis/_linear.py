@@ -273,14 +273,15 @@ def critical_speed(rotor, k, guess, iters=6, pair=None):
 
     - Without `pair`: by `secant_root` (`iters` evaluations of `g`, eigenvalues only;
       the first step a fixed-point step, `g' = d omega / d Omega - 1 ~ -1`).
-    - With `pair = (lam, vec)` (`critical_pair`: a nearby rotor's eigenpair at
-      `guess`, e.g. the nominal design's): `iters` Newton steps on the eigenpair and
-      the speed together (`_eigenpair_newton`: linear solves, no eigenvalue
-      problem), then one evaluation of `g` at the speed found, which is the residual:
-      the speed is this rotor's `k`-th frequency's fixed point only where it is
-      small. The followed mode can change rank among the sorted frequencies (a close
-      pair crossing, the nominal's `k`-th becoming the sample's `k-1`-th): the
-      residual is then large, and the caller asks the secant path.
+    - With `pair = (lam, u)` (`critical_pair`: a nearby rotor's eigenvalue and mode
+      shape at `guess`, e.g. the nominal design's): `iters` Newton steps on the
+      quadratic eigenproblem and the speed together (`_eigenpair_newton`: linear
+      solves, no eigenvalue problem), then one evaluation of `g` at the speed found,
+      which is the residual: the speed is this rotor's `k`-th frequency's fixed point
+      only where it is small. Near a close pair the followed mode can change rank
+      among the sorted frequencies (the nominal's `k`-th becoming the sample's
+      `k-1`-th), or converge slowly: the residual is then large, and the caller asks
+      the secant path.
     """
     n = _check_rotor(rotor, "critical_speed", "linear_system")
     k = as_count("k (mode index)", k, minimum=0, maximum=n - 1)
@@ -311,20 +312,17 @@ def _eigenpair_newton(rotor, speed, pair, iters):
     lam (C + G) + K) u = 0`, `c^H u = 1` (`c` the start shape), `Im lam = Omega`, from
     `pair` at `speed`: each step one complex bordered solve of the coordinates' size
     plus one (not the first-order matrix's twice that) with two right-hand sides, its
-    second column the speed's direction (`dT/dOmega u`, by a JVP of the linear
+    second column the speed's direction (`dT/dOmega u`, from one JVP of the linear
     matrices), from which the step in `Omega` that keeps `Im lam = Omega` follows.
     Returns `(Omega, dg/dOmega)`, the slope of `g = Im lam(Omega) - Omega` at the last
     iterate (for the implicit function theorem), both without derivatives."""
     lam, u = jnp.asarray(pair[0], dtype=jnp.complex128), jnp.asarray(pair[1], dtype=jnp.complex128)
     c, n, w = jnp.conj(u), u.shape[0], jnp.float64(speed)
     slope = jnp.float64(-1.0)
-
-    def pencil(s, lam):
-        m = rotor.linear_matrices(s)
-        return lam**2 * m.M + lam * (m.C + m.G) + m.K, 2 * lam * m.M + m.C + m.G
-
     for _ in range(iters):
-        (t, t_lam), (t_w, _) = jax.jvp(lambda s: pencil(s, lam), (w,), (jnp.float64(1.0),))
+        m, dm = jax.jvp(rotor.linear_matrices, (w,), (jnp.float64(1.0),))
+        t = lam**2 * m.M + lam * (m.C + m.G) + m.K
+        t_lam, t_w = 2 * lam * m.M + m.C + m.G, lam**2 * dm.M + lam * (dm.C + dm.G) + dm.K
         border = jnp.zeros((n + 1, n + 1), jnp.complex128)
         border = border.at[:n, :n].set(t).at[:n, n].set(t_lam @ u).at[n, :n].set(c)
         rhs = jnp.stack([jnp.append(-(t @ u), 1.0 - c @ u), jnp.append(-(t_w @ u), 0.0)], axis=1)

@@ -30,7 +30,7 @@ def _inputs(texts):
 
 def cmd_uncertainty(args) -> int:
     from rotorjax.plot import plot_uncertainty
-    from rotorjax.uncertainty import preset_quantities, propagate, rotor_quantities
+    from rotorjax.uncertainty import CHUNK_SIZE, preset_quantities, propagate, rotor_quantities
     from ._common import save_figure
 
     preset, params, overrides = design_target(args, "uncertainty")
@@ -55,7 +55,7 @@ def cmd_uncertainty(args) -> int:
     # the design quantities in vmapped chunks of 16: 64 samples of response, separation margin and mass in one
     # program hung XLA's CPU runtime in 3 runs of 4 (every thread idle); 16 at a time ran every time
     res = propagate(q.fn, inputs, samples=args.samples, seed=args.seed, names=q.outputs, fallback=q.fallback,
-                    chunk_size=16 if args.output or not is_rotor_file(preset) else 128, progress=not args.json,
+                    chunk_size=16 if args.output or not is_rotor_file(preset) else CHUNK_SIZE, progress=not args.json,
                     reverse=not is_rotor_file(preset))
     unstable, short = {}, {}
     for name in q.outputs:

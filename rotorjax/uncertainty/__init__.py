@@ -12,6 +12,7 @@ from ._distributions import distribution as distribution
 from ._distributions import parse_distribution as parse_distribution
 from ._distributions import reaches_zero as reaches_zero
 from ._distributions import support as support
+from ._propagate import CHUNK_SIZE as CHUNK_SIZE
 from ._propagate import Propagation as Propagation
 from ._propagate import draw as draw
 from ._propagate import propagate as propagate

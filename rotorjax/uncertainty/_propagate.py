@@ -32,6 +32,9 @@ from ._distributions import correlation_factor
 
 #: the quantiles reported
 QUANTILES = (0.05, 0.5, 0.95)
+#: samples per vmapped call: a rotor's batched matrices stay in the cache (1024 at once took 10 % longer a sample
+#: on ROSS's example rotor)
+CHUNK_SIZE = 128
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -109,7 +112,7 @@ def draw(inputs, n, correlation=None, seed=0):
     return np.stack([np.asarray(inputs[k].from_normal(jnp.asarray(z[:, i]))) for i, k in enumerate(names)], axis=1)
 
 
-def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=128, names=None,
+def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=CHUNK_SIZE, names=None,
               progress=False, reverse=False, fallback=None) -> Propagation:
     """Outputs of `fn` as distributions (see the module).
 
@@ -119,8 +122,7 @@ def propagate(fn, inputs, samples=10_000, correlation=None, seed=0, chunk_size=1
       differentiated).
     - `inputs`: `{name: Normal | LogNormal | Uniform}`.
     - `samples` (>= 2), `correlation` (None, a matrix, or `{(a, b): rho}`), `seed`,
-      `chunk_size` (samples per vmapped call: 128 keeps a rotor's batched matrices in
-      the cache; 1024 at once took 10 % longer a sample on ROSS's example rotor).
+      `chunk_size` (samples per vmapped call, `CHUNK_SIZE` by default).
     - `names`: the outputs' names (default `y0, y1, ...`).
     - `progress`: a progress bar over the chunks, on stderr (tqdm).
     - `reverse`: the first-order gradient in reverse mode (`jax.jacrev`), for an `fn`

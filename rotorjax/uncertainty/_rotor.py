@@ -13,9 +13,9 @@ bearings; with fluid films, seals or supports, the scene that linearises them):
   For the shaft and its bearings, `fn` takes Newton steps on the nominal eigenpair
   (`critical_pair`: linear solves, then one eigenvalue problem, the residual); a
   scene with components linearised at each speed keeps the secant steps. A sample
-  Newton leaves with a residual above 1e-8 of the speed (the followed mode has
-  changed rank among the sorted frequencies: about 1 % of samples on ROSS's example
-  rotor, a close pair) gives NaN there, and `fallback` (which `propagate` calls on
+  Newton leaves with a residual above 1e-8 of the speed (at a close pair: the
+  followed mode has changed rank among the sorted frequencies, or converged slowly;
+  1.6 % of samples on ROSS's example rotor) gives NaN there, and `fallback` (which `propagate` calls on
   those samples) computes the same fixed point by secant steps on the sorted
   frequency. A sample neither converges on gives NaN and is counted, not averaged;
 - `log_dec_i`: the logarithmic decrements of the first `n_modes` damped modes (by
