@@ -65,6 +65,7 @@ LONGEST_FIRST = (
     "models/test_film_rotor.py",               # ~ 45
     "validation/test_oil_whirl_onset.py",      # ~ 40
     "models/test_composition_cubic.py",        # >= 37
+    "analysis/test_conservative.py",           # ~ 35 (alone, 2026-11-29)
     "analysis/test_harmonic_balance.py",       # >= 23
     "models/test_seal.py",                     # 41 (ROSS live, once; the seal's cross coupling fitted)
     "validation/test_model_004.py",            # >= 22

@@ -593,6 +593,20 @@ def _public_drawing_functions():
                   and not name.startswith("_") and (name.startswith("plot_") or name.endswith("_curve")))
 
 
+def test_an_output_the_same_in_every_sample_is_one_line(figures):
+    """An undamped rotor's log decrements are 0 in every sample (`conservative`): one
+    line at the value, no histogram and no first-order density (its width rounding)."""
+    samples = np.column_stack([np.random.default_rng(1).normal(size=50), np.zeros(50)])
+    res = _ns(outputs=("a", "log_dec_0"), samples=samples, finite=np.ones(50, bool), fosm_mean=np.zeros(2),
+              fosm_std=np.array([1.0, 1e-17]), quantiles={0.05: np.zeros(2), 0.95: np.zeros(2)})
+    fig = rplot.plot_uncertainty(result=res)
+    figures.append(fig)
+    spread, constant = fig.axes
+    assert spread.patches and not constant.patches
+    assert [t.get_text() for t in constant.get_legend().get_texts()] == ["every sample: 0"]
+    assert constant.get_xlim() == (-1.0, 1.0)
+
+
 def test_every_plot_function_is_covered():
     assert sorted(CALLS) == sorted(n for n in _public_drawing_functions() if n != "plot_frf")
 

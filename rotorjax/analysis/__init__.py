@@ -98,7 +98,9 @@ from ._linear import critical_speed as critical_speed
 from ._linear import critical_pair as critical_pair
 from ._linear import critical_speeds_1x as critical_speeds_1x
 from ._linear import damped_frequencies as damped_frequencies
+from ._linear import conservative as conservative
 from ._linear import damped_eigenvalues as damped_eigenvalues
+from ._linear import log_decrement as log_decrement
 from ._linear import least_stable_whirl as least_stable_whirl
 from ._linear import modes as modes
 from ._linear import state_matrix as state_matrix

@@ -134,8 +134,10 @@ def modes(rotor, speed, n_modes=None) -> Modes:
 @eqx.filter_jit
 def _modes(rotor, speed, n_modes):
     """`modes`, compiled once per rotor layout and number of modes."""
-    a = state_matrix(rotor, speed)
+    m = rotor.linear_matrices(speed)
+    a = m.state_matrix()
     lam, vec = jnp.linalg.eig(a)
+    lam = on_axis(lam, conservative(m))
     n = a.shape[0] // 2
     # keep the upper half-plane (one of each conjugate pair), sorted by frequency
     key = jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf)
@@ -147,9 +149,9 @@ def _modes(rotor, speed, n_modes):
     wn = jnp.abs(lam)
     if not isinstance(rotor, AbstractShaftModel):   # no nodes: no orbits to classify
         nan = jnp.full(lam.shape, jnp.nan)
-        return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
+        return Modes(eigenvalues=lam, frequencies=freq, log_dec=log_decrement(lam),
                      forward=jnp.zeros(lam.shape, bool), shapes=vec, natural_frequencies=wn,
-                     damping_ratio=-jnp.real(lam) / wn, whirl_value=nan)
+                     damping_ratio=0.0 - jnp.real(lam) / wn, whirl_value=nan)
     full = rotor.expand(vec)
     shaft = full[: DOFS_PER_NODE * rotor.n_nodes]   # shaft nodes (not supports' pedestals)
     x = shaft[0::DOFS_PER_NODE]
@@ -157,9 +159,43 @@ def _modes(rotor, speed, n_modes):
     fwd = jnp.abs(x + 1j * y)   # forward-whirl amplitude per node (for Im lambda > 0)
     bwd = jnp.abs(x - 1j * y)
     forward = jnp.sum(fwd**2, axis=0) >= jnp.sum(bwd**2, axis=0)
-    return Modes(eigenvalues=lam, frequencies=freq, log_dec=-2 * jnp.pi * jnp.real(lam) / freq,
-                 forward=forward, shapes=full, natural_frequencies=wn, damping_ratio=-jnp.real(lam) / wn,
+    return Modes(eigenvalues=lam, frequencies=freq, log_dec=log_decrement(lam),
+                 forward=forward, shapes=full, natural_frequencies=wn, damping_ratio=0.0 - jnp.real(lam) / wn,
                  whirl_value=_whirl_value(x, y))
+
+
+def conservative(m):
+    """Whether the linear equations `m` (`LinearMatrices`) conserve energy about a
+    stable equilibrium: no damping (`C = 0`), `G` skew, `M` and `K` symmetric (exactly,
+    as assembled: a cross-coupled bearing's `kxy != kyx` is circulatory, not
+    conservative) and `K` positive definite (its Cholesky factor finite). Every
+    eigenvalue then lies on the imaginary axis (gyroscopic forces do no work, so the
+    energy `q'^T M q' + q^T K q` is constant: Kelvin-Tait-Chetaev), and the real parts
+    an eigenvalue solver returns are rounding of either sign (about 1e-13 of the
+    frequency on ROSS's example rotor), which a log decrement, an amplification factor
+    or a probability of instability would read as physics. Traceable."""
+    exact = jnp.all(m.C == 0) & jnp.all(m.G == -m.G.T) & jnp.all(m.M == m.M.T) & jnp.all(m.K == m.K.T)
+    return exact & jnp.all(jnp.isfinite(jnp.linalg.cholesky(m.K)))
+
+
+def on_axis(lam, flag):
+    """The eigenvalues `lam` with their real parts exactly 0 where `flag` (a conservative
+    system's, `conservative`), their derivatives kept (a damping coefficient at 0 still
+    has its first-order effect)."""
+    return jnp.where(flag, lam - jax.lax.stop_gradient(jnp.real(lam)), lam)
+
+
+def system_eigenvalues(system, speed):
+    """Every eigenvalue of the linear system's first-order matrix at `speed` (`eigenvalues`:
+    differentiable), with real parts exactly 0 where the system is `conservative`."""
+    m = system.linear_matrices(speed)
+    return on_axis(eigenvalues(m.state_matrix()), conservative(m))
+
+
+def log_decrement(lam):
+    """The logarithmic decrement `-2 pi Re lambda / |Im lambda|` of the eigenvalues
+    `lam` (0, not -0, on the imaginary axis)."""
+    return 2 * jnp.pi * (0.0 - jnp.real(lam)) / jnp.abs(jnp.imag(lam))
 
 
 def damped_eigenvalues(rotor, speed, n_modes=None):
@@ -167,10 +203,11 @@ def damped_eigenvalues(rotor, speed, n_modes=None):
     upper half-plane), sorted by frequency, from the eigenvalues only: differentiable
     with respect to the rotor's parameters and the speed (unlike `modes`, whose
     eigenvectors JAX does not differentiate). Log decrements are
-    `-2 pi Re lambda / Im lambda`."""
+    `-2 pi Re lambda / Im lambda`; a conservative system's real parts are exactly 0
+    (`conservative`)."""
     n_modes = _check_n_modes("n_modes", n_modes, rotor, needed_by="damped_eigenvalues", capability="linear_system")
     _check_speed("speed", speed)
-    lam = eigenvalues(state_matrix(rotor, jnp.asarray(speed, dtype=jnp.float64)))
+    lam = system_eigenvalues(rotor, jnp.asarray(speed, dtype=jnp.float64))
     order = jnp.argsort(jnp.where(jnp.imag(lam) > 0, jnp.imag(lam), jnp.inf))[: lam.shape[0] // 2]
     return lam[order] if n_modes is None else lam[order[:n_modes]]
 

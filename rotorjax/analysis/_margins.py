@@ -34,7 +34,7 @@ import numpy as np
 
 from ..models._contract import require
 from ..models._validate import InputError
-from ._linear import damped_eigenvalues, eigenvalues
+from ._linear import damped_eigenvalues, system_eigenvalues
 from ._roots import secant_root
 
 #: API 684 / API 617: below this amplification factor a critical speed needs no margin
@@ -159,8 +159,12 @@ def mode_cut(rotor, lo, hi, n_modes, n_grid=33, gap=1.1, extra=4):
 def amplification_factor(eigenvalue):
     """API 684's amplification factor of a mode from its eigenvalue: `1 / (2 zeta)`,
     `zeta = -Re lambda / |lambda|` (the half-power bandwidth's `N_c / (N_2 - N_1)` of
-    a lightly damped mode; infinite for an undamped one)."""
-    return jnp.abs(eigenvalue) / (-2 * jnp.real(eigenvalue))
+    a lightly damped mode): infinite for an undamped mode (`Re lambda = 0`, a
+    conservative system's, `conservative`) and for an unstable one, which nothing
+    damps (it had been negative there, and so asked for no margin)."""
+    re = jnp.real(eigenvalue)
+    damped = re < 0
+    return jnp.where(damped, jnp.abs(eigenvalue) / (-2 * jnp.where(damped, re, -1.0)), jnp.inf)
 
 
 def required_separation_margin(af, below):
@@ -219,5 +223,5 @@ def mode_real_part(rotor, speed, frequency):
     damped frequency is nearest `frequency` (rad/s): one mode's stability margin,
     smooth where the largest real part (`linear_margin`) is kinked by another mode
     overtaking it."""
-    lam = eigenvalues(rotor.linear_matrices(speed).state_matrix())
+    lam = system_eigenvalues(rotor, speed)
     return jnp.real(lam[jnp.argmin(jnp.abs(jnp.imag(lam) - frequency))])

@@ -8,7 +8,7 @@ import jax.numpy as jnp
 from ..models._contract import require
 from ..models._frequency import frequency_response
 from ..models._validate import as_numpy, is_concrete
-from ._linear import eigenvalues
+from ._linear import system_eigenvalues
 
 
 def scene_unbalance_response(scene, speeds):
@@ -37,4 +37,4 @@ def linear_margin(scene, speed):
     linear scene, a finite-element rotor, model 004's `CantileverRotor`). Traceable in
     the speed and the scene's parameters."""
     require(scene, "linear_system", "a linear stability margin")
-    return jnp.max(jnp.real(eigenvalues(scene.linear_matrices(speed).state_matrix())))
+    return jnp.max(jnp.real(system_eigenvalues(scene, speed)))

@@ -15,6 +15,7 @@ import contextlib
 import html
 import io
 import json
+import math
 import os
 import sys
 
@@ -49,6 +50,11 @@ def _pngs(files):
             out.append(f'<img alt="{html.escape(os.path.basename(path))}" src="data:image/png;base64,'
                        f'{base64.b64encode(f.read()).decode()}">')
     return out
+
+
+def _json_row(row):
+    """An API 684 row for JSON: an undamped mode's infinite amplification factor as null."""
+    return {**row, "af": row["af"] if math.isfinite(row["af"]) else None}
 
 
 def _table(header, rows):
@@ -239,7 +245,7 @@ def cmd_report(args) -> int:
         f.write(page(f"{preset.name}: rotordynamic report", results))
     summary = units.convert({"target": preset.name, "report": path, "speed_range": [lo, hi], "operating": list(op),
                              "sections": [c for c, _ in SECTIONS], "failed": failed, "skipped": skipped,
-                             "api684": [dict(r) for r in rows]},
+                             "api684": [_json_row(r) for r in rows]},
                             {"speed_range": "speed", "operating": "speed", "api684.*.speed": "speed"})
     if args.json:
         print(json.dumps(summary, indent=2))

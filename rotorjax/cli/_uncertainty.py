@@ -83,9 +83,12 @@ def cmd_uncertainty(args) -> int:
         print(f"{preset.name}: {res.n} samples of {', '.join(f'{k} ~ {d.text()}' for k, d in inputs.items())}")
         for j, name in enumerate(q.outputs):
             lo5, hi95 = float(res.quantiles[0.05][j]), float(res.quantiles[0.95][j])
+            # which parameter's scatter moves it most: none where every sample gives the same value (an
+            # undamped rotor's log decrements, 0 in each)
+            most = (f"most from {q.names[int(np.argmax(res.shares[j]))]}" if res.std[j] > 0
+                    else "the same in every sample")
             print(f"  {name}: mean {res.mean[j]:.6g} (+- {res.sem[j]:.2g}), sd {res.std[j]:.4g}, 5-95 % "
-                  f"[{lo5:.6g}, {hi95:.6g}]; first order {res.fosm_mean[j]:.6g} +- {res.fosm_std[j]:.4g}; most "
-                  f"from {q.names[int(np.argmax(res.shares[j]))]}")
+                  f"[{lo5:.6g}, {hi95:.6g}]; first order {res.fosm_mean[j]:.6g} +- {res.fosm_std[j]:.4g}; {most}")
         for name, u in {**unstable, **short}.items():
             print(f"  P({name} < 0) = {u['p']:.4g}, 95 % [{u['ci95'][0]:.3g}, {u['ci95'][1]:.3g}]")
         for w in out.get("warnings", []):

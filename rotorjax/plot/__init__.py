@@ -1175,6 +1175,14 @@ def plot_uncertainty(path=None, result=None, title="", *, fig=None):
     for j, name in enumerate(result.outputs):
         ax = fig.add_subplot(rows, cols, j + 1)
         y = Y[:, j]
+        if np.all(y == y[0]):   # the same in every sample (an undamped rotor's log decrements): no density
+            v = float(y[0])
+            ax.axvline(v, color="C0", lw=2, label=f"every sample: {v:.6g}")
+            ax.set_xlim(v - (0.5 * abs(v) or 1.0), v + (0.5 * abs(v) or 1.0))
+            ax.set_yticks([])
+            ax.set_xlabel(name)
+            axes.append(ax)
+            continue
         ax.hist(y, bins=min(60, max(10, y.size // 50)), density=True, alpha=0.5, color="C0", label="Monte Carlo")
         m, s = float(result.fosm_mean[j]), float(result.fosm_std[j])
         if s > 0:

@@ -32,7 +32,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError, NumericalError
-from ..analysis import critical_pair, critical_speed, critical_speeds_1x, damped_eigenvalues, scene_quantities
+from ..analysis import (critical_pair, critical_speed, critical_speeds_1x, damped_eigenvalues, log_decrement,
+                        scene_quantities)
 from ..io import read_rotor_file
 from ..models import SpinMatrices, Unbalance
 from ..models._parameters import parts_of, scene_from, value_of, with_values
@@ -148,8 +149,7 @@ def rotor_quantities(rotor, inputs, *, lo=None, hi=None, speed=None, n_modes=3, 
                       else critical_speed(r, k, W))
             out.append(jnp.where(jnp.abs(res) <= CRITICAL_TOLERANCE * jnp.abs(w), w, jnp.nan))
         if n_modes:
-            lam = damped_eigenvalues(r, speed, n_modes)
-            out.extend(-2 * jnp.pi * jnp.real(lam) / jnp.imag(lam))
+            out.extend(log_decrement(damped_eigenvalues(r, speed, n_modes)))
         if plan is not None:
             out.extend(plan.evaluate(p).values())
         return jnp.stack(out)
