@@ -10,6 +10,7 @@ import, rotor file, compilation or cache load, computing, plots, JSON.
 Writes `benchmarks/results/startup.json` (the README's start-up table quotes it)."""
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -42,20 +43,63 @@ CACHED_TARGET, FIRST_TARGET = 5.0, 15.0
 TARGETED = ("modes", "campbell", "critical-speeds", "response")
 
 
+#: `python -c PROBE REPORT ARGV...`: `rotorjax ARGV` as `python -m rotorjax.cli` runs it, with where its time
+#: went written to REPORT: importing the CLI, then JAX's own compile events while the command runs (tracing,
+#: lowering, XLA compiling or loading from the cache); the rest of the command is executing and Python
+_PROBE = r"""
+import json, sys, time
+t0 = time.perf_counter()
+from rotorjax.cli import main
+import jax.monitoring
+t_import = time.perf_counter() - t0
+events = {"trace": 0.0, "lower": 0.0, "compile": 0.0, "cache_load": 0.0, "programs": 0}
+NAMES = {"/jax/core/compile/jaxpr_trace_duration": "trace", "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower",
+         "/jax/core/compile/backend_compile_duration": "compile",
+         "/jax/compilation_cache/cache_retrieval_time_sec": "cache_load"}
+def listen(event, duration, **kwargs):
+    if event in NAMES:
+        events[NAMES[event]] += duration
+        events["programs"] += event.endswith("backend_compile_duration")
+jax.monitoring.register_event_duration_secs_listener(listen)
+t1 = time.perf_counter()
+try:
+    rc = main(sys.argv[2:])
+except SystemExit as e:
+    rc = e.code
+t_command = time.perf_counter() - t1
+with open(sys.argv[1], "w") as f:
+    json.dump({"import_s": t_import, "command_s": t_command, **events}, f)
+sys.exit(rc or 0)
+"""
+
+
+def split(probe, wall):
+    """Where a run's `wall` seconds went, from its probe report: interpreter start, import, tracing, lowering,
+    XLA compiling, loading compiled programs from the cache, and the rest (executing, files, plots)."""
+    xla = probe["compile"] - probe["cache_load"]
+    return {"start_s": max(wall - probe["import_s"] - probe["command_s"], 0.0), "import_s": probe["import_s"],
+            "trace_s": probe["trace"], "lower_s": probe["lower"], "xla_compile_s": xla,
+            "cache_load_s": probe["cache_load"], "programs": probe["programs"],
+            "execute_other_s": max(probe["command_s"] - probe["trace"] - probe["lower"] - probe["compile"], 0.0)}
+
+
 def run(argv, cache, out):
-    """Seconds of wall time of `rotorjax ARGV` in a fresh interpreter (exit 0 required)."""
+    """Seconds of wall time of `rotorjax ARGV` in a fresh interpreter (exit 0 required), and where they went
+    (`split`)."""
     env = dict(os.environ, ROTORJAX_CACHE_DIR=cache, MPLBACKEND="Agg")
     for name in ("JAX_COMPILATION_CACHE_DIR", "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS",
                  "JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "ROTORJAX_NO_COMPILATION_CACHE",
                  "XLA_FLAGS"):   # the test suite's: a user's command has none of them
         env.pop(name, None)
+    report = os.path.join(out, "probe.json")
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "rotorjax.cli", *argv, "--out", out, "--json"], env=env,
+    proc = subprocess.run([sys.executable, "-c", _PROBE, report, *argv, "--out", out, "--json"], env=env,
                           capture_output=True, text=True, cwd=ROOT)
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         raise RuntimeError(f"rotorjax {' '.join(argv)} failed ({proc.returncode}): {proc.stderr[-600:]}")
-    return wall
+    with open(report) as f:
+        return wall, split(json.load(f), wall)
 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -76,8 +120,6 @@ def main(argv=None):
     p.add_argument("--table", action="store_true", help="print the README's table from the stored results")
     args = p.parse_args(argv)
     if args.table:
-        import json
-
         with open(os.path.join(ROOT, "benchmarks", "results", "startup.json")) as f:
             print(table(json.load(f)))
         return None
@@ -88,10 +130,16 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         for label, cmd in commands:
             cache = os.path.join(tmp, "cache-" + label.replace(" ", "-"))   # empty: a first run
-            first = run(cmd, cache, tmp)
-            cached = float(np.median([run(cmd, cache, tmp) for _ in range(repeats)]))
-            rows.append({"command": label, "argv": cmd, "first_s": first, "cached_s": cached})
+            first, first_split = run(cmd, cache, tmp)
+            cached_runs = [run(cmd, cache, tmp) for _ in range(repeats)]
+            cached = float(np.median([w for w, _ in cached_runs]))
+            cached_split = min(cached_runs, key=lambda r: abs(r[0] - cached))[1]   # the median run's
+            rows.append({"command": label, "argv": cmd, "first_s": first, "cached_s": cached,
+                         "first_split": first_split, "cached_split": cached_split})
             print(f"{label:26s} first {first:6.2f} s   cached {cached:6.2f} s", flush=True)
+            for name, sp in (("first", first_split), ("cached", cached_split)):
+                print(f"{'':26s} {name:6s} " + "  ".join(f"{k[:-2]} {v:.2f}" if k.endswith("_s") else f"{k} {v}"
+                                                      for k, v in sp.items()), flush=True)
     out = {"machine": machine(), "load": watch.report(), "repeats": repeats, "commands": rows,
            "targets": {"cached_s": CACHED_TARGET, "first_s": FIRST_TARGET, "cached_commands": list(TARGETED)}}
     if args.smoke:

@@ -49,8 +49,13 @@ def run(name):
 
 def main():
     out, names = sys.argv[1], sys.argv[2:]
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    from tests import suite_profile
+
+    suite_profile.install()
     report = {}
     for name in names:
+        suite_profile.current_file(f"benchmarks/{name}.py")
         report[name] = run(name)
         print(f"{name}: {'ok' if report[name]['ok'] else 'FAILED'} {report[name]['seconds']:.1f} s", flush=True)
         with open(out, "w") as f:

@@ -2,8 +2,27 @@ import collections
 import os
 import tempfile
 
-import jax
+#: XLA's CPU code generation for the suite: its programs are compiled many more times than they run long, so
+#: they are compiled by XLA's classic CPU emitters, not the MLIR fusion emitters. Same programs, same numbers to
+#: rounding; measured 2026-12-02 on two tests/flexible files in one process: 52.8 s of CPU against 69.6 s with
+#: XLA's defaults (compiling 45.5 s against 69.7 s), while a long-running loop ran 1.3-1.5x as long. Also at
+#: LLVM -O0 (`--xla_backend_optimization_level=0`) it was 37.5 s, but the two together changed results beyond
+#: rounding (a NaN gradient of the minimum log decrement, a batch's lanes no longer equal to 1e-12), so only
+#: the emitters are switched. Set by the suite, before JAX starts its backend (the subprocesses it starts
+#: inherit it); users' programs and the benchmarks get XLA's defaults. `ROTORJAX_TEST_XLA_DEFAULTS=1` runs the
+#: suite with XLA's defaults.
+SUITE_XLA_FLAGS = ("--xla_cpu_use_fusion_emitters=false",)
+if os.environ.get("ROTORJAX_TEST_XLA_DEFAULTS", "") in ("", "0"):
+    _flags = os.environ.get("XLA_FLAGS", "")
+    for _flag in SUITE_XLA_FLAGS:
+        if _flag.split("=")[0] not in _flags:
+            _flags = f"{_flags} {_flag}".strip()
+    os.environ["XLA_FLAGS"] = _flags
+
+import jax  # noqa: E402 - after XLA_FLAGS
 import pytest
+
+from tests import suite_profile
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
@@ -24,59 +43,88 @@ jax.config.update("jax_compilation_cache_dir", _CACHE)
 jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.05)
 jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
+# `ROTORJAX_SUITE_PROFILE=DIR`: JAX's compile-time events summed per test file (tests/suite_profile.py)
+suite_profile.install()
+
+
+def pytest_sessionfinish(session):
+    suite_profile.write()   # a worker ends without running atexit
+
+
+def pytest_runtest_setup(item):
+    suite_profile.current_file(os.path.relpath(str(item.path), os.path.dirname(os.path.abspath(__file__))))
+
+
+def _mapped_regions():
+    """The number of memory mappings of this process and the kernel's limit on it (None where
+    /proc does not tell), and the process's resident memory in bytes."""
+    try:
+        with open("/proc/self/maps") as f:
+            maps = sum(1 for _ in f)
+        with open("/proc/sys/vm/max_map_count") as f:
+            limit = int(f.read())
+        with open("/proc/self/statm") as f:
+            rss = int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError):
+        return None, None, None
+    return maps, limit, rss
+
+
+#: free the compiled programs once a worker holds this share of the kernel's memory mappings, or this much memory
+MAPS_SHARE, RSS_LIMIT = 0.4, 6 * 2**30
+
 
 @pytest.fixture(autouse=True, scope="module")
 def _free_compiled_programs():
-    """Drop JAX's compiled programs after each test file. Each compiled CPU program keeps
-    memory mappings of its code; a worker that ran hundreds of files reached 34 000 of
-    the kernel's default 65 530 (`vm.max_map_count`) and then died inside XLA, compiling
-    (measured 2026-11-25, five of six full runs). A file's own programs are kept while it runs."""
+    """Drop JAX's compiled programs after a test file when the worker holds many of them. Each
+    compiled CPU program keeps memory mappings of its code; a worker that ran hundreds of files
+    reached 34 000 of the kernel's default 65 530 (`vm.max_map_count`) and then died inside XLA,
+    compiling (measured 2026-11-25, five of six full runs). Clearing after every file made each
+    file compile again what an earlier file of its worker had compiled: the eager operations'
+    small programs and every jitted function of the same shapes (on four tests/flexible files in
+    one process, 1 535 compilations and 177 s of compiling, against 1 215 and 141 s kept, 2026-12-02).
+    So the programs are kept until the worker holds `MAPS_SHARE` of the limit or `RSS_LIMIT`
+    bytes (where /proc does not tell, after every file, as before)."""
     yield
-    jax.clear_caches()
+    maps, limit, rss = _mapped_regions()
+    if maps is None or maps > MAPS_SHARE * limit or rss > RSS_LIMIT:
+        jax.clear_caches()
 
 
-#: the longest test files, longest first (seconds on the 2-core CI machine, 2 workers, 2026-11-25: the sums of
-#: their tests' durations; ">=" where only their slowest tests were measured, "~" scaled from a run on a loaded
-#: machine), started first, so that no long file starts last and keeps one worker busy alone at the end. A new
-#: file of more than about 20 s joins the list. The other files follow, those with more tests first (pytest-xdist's
-#: own order).
+#: the longest test files, longest first (seconds: the sums of their tests' durations in a full run on the 2-core
+#: CI machine, 2 workers, 2026-12-02, benchmarks/results/suite_profile.json), started first, so that no long file
+#: starts last and keeps one worker busy alone at the end. A new file of more than about 40 s joins the list. The
+#: other files follow, those with more tests first (pytest-xdist's own order).
 LONGEST_FIRST = (
-    "test_benchmark_smoke_3.py",               # ~ 330 locally, 2026-11-28 (a third of the benchmarks' --smoke runs,
-    "test_benchmark_smoke.py",                 # ~ 320                    one subprocess each; more in CI, with ROSS
-    "test_benchmark_smoke_2.py",               # ~ 300                    and AUTO-07p installed)
-    "test_cli.py",                             # >= 108
-    "test_readme.py",                          # ~ 110
-    "test_notebooks.py",                       # 105 (three subprocesses)
-    "analysis/test_floquet.py",                # ~ 260 (these seven: one file alone on a loaded machine, 2026-11-27)
-    "identify/test_fe_identify.py",            # ~ 260
-    "models/test_composition_voigt.py",        # ~ 200
-    "models/test_composition_balancer.py",     # ~ 200
-    "design/test_stable_range.py",             # ~ 180
-    "design/test_onset.py",                    # ~ 150
-    "design/test_design.py",                   # ~ 140
-    "design/test_positions.py",                # ~ 35
-    "analysis/test_continuation.py",           # >= 57
-    "solve/test_batch.py",                     # >= 50
-    "validation/test_model004_whirl_cycle.py",  # >= 46
-    "models/test_fe_building.py",              # ~ 48
-    "validation/test_ross_suite.py",           # ~ 46
-    "test_right_or_refused.py",                # >= 43
-    "validation/test_oil_whip.py",             # ~ 55
-    "models/test_film_rotor.py",               # ~ 45
-    "validation/test_oil_whirl_onset.py",      # ~ 40
-    "models/test_composition_cubic.py",        # >= 37
-    "analysis/test_conservative.py",           # ~ 35 (alone, 2026-11-29)
-    "analysis/test_harmonic_balance.py",       # >= 23
-    "models/test_seal.py",                     # 41 (ROSS live, once; the seal's cross coupling fitted)
-    "validation/test_model_004.py",            # >= 22
-    "identify/test_coverage.py",               # >= 22
-    "validation/test_model_003_balancer.py",   # >= 22
-    "test_distributed.py",                     # >= 18
-    "identify/test_fe_cli.py",                 # >= 18
-    "validation/test_model001_neimark_sacker.py",  # >= 17
-    "test_bench.py",                           # >= 17
-    "test_cli_periodic.py",                    # >= 16
-    "test_cli_errors.py",                      # ~ 15
+    "test_readme.py",                               # 269
+    "test_notebooks.py",                            # 228 (seven kernels)
+    "test_benchmark_smoke_3.py",                    # 196 (a third of the benchmarks' --smoke runs)
+    "solve/test_batch.py",                          # 167
+    "test_cli.py",                                  # 163
+    "validation/test_oil_whip.py",                  # 160
+    "test_benchmark_smoke.py",                      # 156
+    "design/test_stable_range.py",                  # 127
+    "test_benchmark_smoke_2.py",                    # 121
+    "test_right_or_refused.py",                     # 96
+    "design/test_onset.py",                         # 94
+    "test_bench.py",                                # 89
+    "analysis/test_floquet.py",                     # 78
+    "models/test_composition_cubic.py",             # 73
+    "uncertainty/test_quantities.py",               # 66
+    "identify/test_fe_identify.py",                 # 64
+    "validation/test_model_004.py",                 # 62
+    "design/test_design.py",                        # 62
+    "models/test_film_rotor.py",                    # 55
+    "validation/test_ross_suite.py",                # 54
+    "validation/test_model004_whirl_cycle.py",      # 53
+    "analysis/test_harmonic_balance.py",            # 53
+    "test_simulate_defaults.py",                    # 53
+    "test_cli_errors.py",                           # 51
+    "analysis/test_continuation.py",                # 47
+    "flexible/test_ross.py",                        # 46
+    "models/test_fe_building.py",                   # 45
+    "test_report.py",                               # 42
+    "models/test_rotor_files.py",                   # 41
 )
 
 
@@ -88,11 +136,52 @@ def pytest_configure(config):
         config.option.loadscopereorder = False
 
 
+#: the quick tier (`python3 -m pytest -m "not slow"`, docs/developing.md): per subsystem, the test files that run in
+#: it, each with at least one check against an independent reference (named here); every other test is marked
+#: `slow`. Chosen from benchmarks/results/suite_profile.json: the cheapest files that still check each subsystem
+#: against something outside its own code path. tests/test_suite_tiers.py checks the table.
+QUICK_TIER = {
+    "seed models": (
+        ("validation/test_model_003.py", "model 003's closed-form sums and eq. (17) of the paper"),
+        ("validation/test_paper_equations.py", "the papers' equations of motion, an independent numpy implementation"),
+    ),
+    "finite elements against ROSS": (
+        ("validation/test_ross_tapered.py", "ROSS 2.3.0 live and its stored reference, tapered two-material rotor"),
+        ("flexible/test_fe.py", "closed forms of beams, convergence order"),
+    ),
+    "identification and balancing": (
+        ("identify/test_fe_balance.py", "influence coefficients against the FE rotor's own response"),
+    ),
+    "continuation": (
+        ("validation/test_auto07p.py", "AUTO-07p's branches, folds and two-parameter curves"),
+    ),
+    "periodic motions": (
+        ("analysis/test_periodic_two_parameters.py", "closed-form fold curves of the Duffing oscillator"),
+    ),
+    "fluid films": (
+        ("models/test_fluid_film.py", "the short-bearing pressure integrated by scipy quad, Ocvirk's closed forms"),
+    ),
+    "design and uncertainty": (
+        ("design/test_positions.py", "the analyses of the rotor file with the bearing moved by hand"),
+        ("uncertainty/test_propagate.py", "Monte Carlo against closed forms, first-order moments against exact"),
+    ),
+    "CLI errors": (
+        ("test_cli_errors.py", "every command's bad input: exit 2 naming the option, key, file, column or row"),
+        ("test_rotor_file_errors.py", "every bad rotor file named by file, table, index and key"),
+    ),
+}
+
+
+@pytest.hookimpl(tryfirst=True)   # before pytest's own hook deselects by mark (`-m "not slow"`)
 def pytest_collection_modifyitems(config, items):
     here = os.path.dirname(os.path.abspath(__file__))
     rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
     files = {item: os.path.relpath(str(item.path), here).replace(os.sep, "/") for item in items}
     count = collections.Counter(files.values())
+    quick = {f for entries in QUICK_TIER.values() for f, _ in entries}
+    for item, f in files.items():
+        if f not in quick:
+            item.add_marker(pytest.mark.slow)
 
     def key(item):
         f = files[item]

@@ -83,7 +83,7 @@ def check_benchmark_smoke(name, smoke_runs):
 DOCS_PAGES = ("README.md", "docs/architecture.md", "docs/rotor-files.md", "docs/everyday.md", "docs/flexible.md",
               "docs/stationary.md", "docs/continuation.md", "docs/periodic.md", "docs/fluid-films.md",
               "docs/limiters.md", "docs/balancing.md", "docs/identification.md", "docs/uncertainty.md",
-              "docs/design.md", "docs/published-models.md", "docs/cli.md", "docs/speed.md")
+              "docs/design.md", "docs/published-models.md", "docs/cli.md", "docs/speed.md", "docs/developing.md")
 
 
 def documentation(page=None):

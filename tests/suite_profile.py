@@ -1,0 +1,67 @@
+"""Where the suite's time goes: JAX's own compile-time events, summed per test file.
+
+Enabled by `ROTORJAX_SUITE_PROFILE=DIR` (tests/conftest.py installs it; so do the subprocesses
+the suite starts, `tests/benchmark_smoke_runner.py` and `tests/notebook_run.py`, which inherit the
+variable). Each process writes `DIR/<pid>.json` when it ends: `{file: {event: seconds}}`, where
+`file` is the test file that was running (`ROTORJAX_SUITE_PROFILE_FILE`, which the worker sets for
+its subprocesses) and the events are JAX's monitoring durations:
+
+- `trace`: `/jax/core/compile/jaxpr_trace_duration` (Python tracing to a jaxpr),
+- `lower`: `/jax/core/compile/jaxpr_to_mlir_module_duration` (jaxpr to StableHLO),
+- `compile`: `/jax/core/compile/backend_compile_duration` (XLA compiling, or a persistent-cache load: this
+  includes `cache_load`),
+- `cache_load`: `/jax/compilation_cache/cache_retrieval_time_sec` (the persistent cache's hits),
+- `cache_saved`: `/jax/compilation_cache/compile_time_saved_sec` (the compile time those hits saved),
+- `programs`: the number of backend compilations.
+
+`tools/suite_profile.py` joins these with a junit file into `benchmarks/results/suite_profile.json`."""
+
+import atexit
+import collections
+import json
+import os
+
+EVENTS = {
+    "/jax/core/compile/jaxpr_trace_duration": "trace",
+    "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower",
+    "/jax/core/compile/backend_compile_duration": "compile",
+    "/jax/compilation_cache/cache_retrieval_time_sec": "cache_load",
+    "/jax/compilation_cache/compile_time_saved_sec": "cache_saved",
+}
+_FILE = "ROTORJAX_SUITE_PROFILE_FILE"
+_totals = collections.defaultdict(lambda: collections.defaultdict(float))
+
+
+def current_file(name):
+    """Charge what follows to the test file `name` (this process and the subprocesses it starts)."""
+    os.environ[_FILE] = name
+
+
+def _listen(event, duration, **kwargs):
+    key = EVENTS.get(event)
+    if key is None:
+        return
+    where = _totals[os.environ.get(_FILE, "?")]
+    where[key] += duration
+    if key == "compile":
+        where["programs"] += 1
+
+
+def write():
+    """Write this process's totals now (`DIR/<pid>.json`, replaced by a later call); a no-op when off."""
+    directory = os.environ.get("ROTORJAX_SUITE_PROFILE")
+    if directory and _totals:
+        with open(os.path.join(directory, f"{os.getpid()}.json"), "w") as f:
+            json.dump({k: dict(v) for k, v in _totals.items()}, f)
+
+
+def install():
+    """Listen to JAX's compile events when `ROTORJAX_SUITE_PROFILE` names a folder; a no-op otherwise."""
+    directory = os.environ.get("ROTORJAX_SUITE_PROFILE")
+    if not directory:
+        return
+    import jax.monitoring
+
+    os.makedirs(directory, exist_ok=True)
+    jax.monitoring.register_event_duration_secs_listener(_listen)
+    atexit.register(write)

@@ -1,0 +1,82 @@
+"""The quick tier (`python3 -m pytest -m "not slow"`, docs/developing.md) keeps a check against an
+independent reference in every subsystem the issue that made it names, and lists only files that exist;
+the suite's profile tool reads a junit file and the compile events as documented."""
+
+import json
+import os
+import subprocess
+import sys
+
+from tests.conftest import QUICK_TIER
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+SUBSYSTEMS = ("seed models", "finite elements against ROSS", "identification and balancing", "continuation",
+              "periodic motions", "fluid films", "design and uncertainty", "CLI errors")
+
+
+def test_every_subsystem_has_a_quick_file_with_its_reference():
+    assert set(SUBSYSTEMS) <= set(QUICK_TIER)
+    for subsystem, entries in QUICK_TIER.items():
+        assert entries, subsystem
+        for path, reference in entries:
+            assert os.path.isfile(os.path.join(HERE, path)), path
+            assert os.path.basename(path).startswith("test_") and reference.strip(), path
+
+
+def test_the_markers_split_the_suite(tmp_path):
+    """`-m "not slow"` collects exactly the quick tier's files, and `-m slow` the others."""
+    def collected(mark):
+        run = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:xdist",
+                              "-o", "addopts=", "-m", mark, os.path.join(HERE, "test_suite_tiers.py"),
+                              os.path.join(HERE, "test_layering.py")],
+                             capture_output=True, text=True, cwd=ROOT, timeout=300)
+        assert run.returncode in (0, 5), run.stdout[-2000:] + run.stderr[-2000:]
+        return {line.split("::")[0] for line in run.stdout.splitlines() if "::" in line}
+
+    quick = {f for entries in QUICK_TIER.values() for f, _ in entries}
+    assert collected("not slow") == {f"tests/{f}" for f in ("test_suite_tiers.py", "test_layering.py")
+                                     if f in quick}
+    assert collected("slow") == {f"tests/{f}" for f in ("test_suite_tiers.py", "test_layering.py")
+                                 if f not in quick}
+
+
+def test_the_profile_joins_junit_and_compile_events(tmp_path):
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    try:
+        import suite_profile
+    finally:
+        sys.path.pop(0)
+    (tmp_path / "junit.xml").write_text(
+        '<testsuites><testsuite name="pytest">'
+        '<testcase classname="tests.analysis.test_a" name="t1" time="2.5"/>'
+        '<testcase classname="tests.analysis.test_a.TestX" name="t2" time="1.5"><failure message="x"/></testcase>'
+        '<testcase classname="tests.test_b" name="t3" time="0.5"/>'
+        '</testsuite></testsuites>')
+    events = tmp_path / "events"
+    events.mkdir()
+    (events / "1.json").write_text(json.dumps({"analysis/test_a.py": {"trace": 0.5, "lower": 0.25, "compile": 1.0,
+                                                                      "programs": 3}}))
+    (events / "2.json").write_text(json.dumps({"analysis/test_a.py": {"compile": 1.0, "programs": 1},
+                                               "benchmarks/x.py": {"compile": 7.0, "programs": 2}}))
+    out = suite_profile.build(str(tmp_path / "junit.xml"), str(events), wall=10.0)
+    rows = {r["file"]: r for r in out["files"]}
+    a = rows["analysis/test_a.py"]
+    assert (a["tests"], a["failed"], a["wall_s"], a["programs"], a["compile"]) == (2, 1, 4.0, 4, 2.0)
+    assert a["execute_other_s"] == 4.0 - 0.5 - 0.25 - 2.0
+    assert rows["test_b.py"]["wall_s"] == 0.5 and rows["test_b.py"]["programs"] == 0
+    assert out["benchmark_scripts"] == [{"script": "benchmarks/x.py", "compile": 7.0, "programs": 2}]
+    assert out["total_worker_s"]["wall_s"] == 4.5 and out["total_worker_s"]["tests"] == 3
+
+
+def test_the_developing_page_states_what_the_suite_sets():
+    from tests.conftest import MAPS_SHARE, RSS_LIMIT, SUITE_XLA_FLAGS
+    from tests.helpers import documentation
+
+    page = " ".join(documentation("docs/developing.md").split())
+    assert " ".join(SUITE_XLA_FLAGS) in page
+    assert f"{MAPS_SHARE:.0%}".replace("%", " %") in page and f"{RSS_LIMIT / 2**30:.0f} GiB" in page
+    for subsystem, entries in QUICK_TIER.items():   # the page's table is the conftest's
+        assert subsystem in page, subsystem
+        for path, reference in entries:
+            assert f"tests/{path}" in page and " ".join(reference.split()) in page, path
