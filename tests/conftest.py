@@ -80,7 +80,8 @@ def _free_compiled_programs():
 
 
 #: the longest test files, longest first (seconds: the sums of their tests' durations in a full run on the 2-core
-#: CI machine, 2 workers, 2026-12-02, benchmarks/results/suite_profile.json), started first, so that no long file
+#: CI machine, 2 workers, 2026-12-02, compiled with XLA's classic emitters at -O0, which the suite no longer uses:
+#: the order, not the seconds, is what counts), started first, so that no long file
 #: starts last and keeps one worker busy alone at the end. A new file of more than about 40 s joins the list. The
 #: other files follow, those with more tests first (pytest-xdist's own order).
 LONGEST_FIRST = (
