@@ -5,10 +5,13 @@ import tempfile
 # XLA's CPU code generation is left at its defaults (what users run). Measured 2026-12-02, full runs on the 2-core
 # machine: with `--xla_cpu_use_fusion_emitters=false --xla_backend_optimization_level=0` the suite took 35 min
 # instead of 48, but results moved beyond rounding (a NaN gradient of the minimum log decrement; a batch's lanes
-# no longer equal to 1e-12); with the emitters flag alone it took 50 min, and the secant fallback of
-# tests/uncertainty/test_rank_change.py ran for more than 10 minutes instead of seconds.
+# no longer equal to 1e-12); with the emitters flag alone it took 50 min. (The secant fallback of
+# tests/uncertainty/test_rank_change.py that ran for more than 10 minutes then, and hung CI at 20 with XLA's
+# defaults, was jaxlib's batched LAPACK calls deadlocking XLA's CPU thread pool: `rotorjax._config`.)
 import jax
 import pytest
+
+import rotorjax  # noqa: F401  (first: it starts JAX's CPU backend, with one intra-op thread)
 
 from tests import suite_profile
 

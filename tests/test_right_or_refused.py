@@ -178,6 +178,56 @@ def test_importing_rotorjax_turns_off_the_cpu_scheduler_that_deadlocked_unless_t
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
         assert out.stdout.split() == [want]
 
+_POOL = """
+import collections, os, sys
+import rotorjax, jax
+names = collections.Counter(open(f"/proc/self/task/{t}/comm").read().strip() for t in os.listdir("/proc/self/task"))
+every = os.sched_getaffinity(0)
+print(names["tf_XLAEigen"], len(every), all(os.sched_getaffinity(int(t)) == every for t in os.listdir("/proc/self/task")))
+"""
+
+# six batched Cholesky factorisations side by side (one program, 1024 matrices of 20 x 20 each), with XLA's
+# concurrency-optimised scheduler on: on 2 cores with XLA's own thread pool it hung every run of 5
+_CHOLESKY = """
+import numpy as np
+import rotorjax, jax, jax.numpy as jnp
+A = np.random.default_rng(0).normal(size=(1024, 20, 20))
+A = A @ A.transpose(0, 2, 1) + 20 * np.eye(20)
+f = jax.jit(jax.vmap(lambda a: sum(jnp.linalg.cholesky(a + i).sum() for i in range(6))))
+for r in range(10):
+    f(A + r).block_until_ready()
+print("done")
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="thread affinity and /proc: Linux")
+def test_importing_rotorjax_starts_the_cpu_backend_with_one_intra_op_thread_and_every_cpu():
+    """`rotorjax._config` starts XLA's CPU backend while its thread may run on one
+    CPU (one intra-op thread), then gives every thread back the process's CPUs;
+    `ROTORJAX_CPU_THREADS=all` keeps XLA's pool (one thread per CPU)."""
+    def run(**env):
+        out = subprocess.run([sys.executable, "-c", _POOL], env={**os.environ, **env}, capture_output=True,
+                             text=True, check=True, timeout=120)
+        return out.stdout.split()
+    pool, cpus, same = run()
+    assert (pool, same) == ("1", "True")
+    pool, cpus, same = run(ROTORJAX_CPU_THREADS="all")
+    assert (pool, same) == (cpus, "True")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="thread affinity: Linux")
+def test_batched_lapack_calls_side_by_side_finish():
+    """jaxlib 0.10.2 splits a batched LAPACK call across XLA's intra-op pool and
+    blocks its thread on the parts; with as many such calls at once as the pool has
+    threads, every thread waited for ever (the Monte Carlo's secant path over 128
+    samples hung CI). Here six batched Cholesky factorisations side by side, with
+    XLA's concurrency-optimised scheduler on (which had hidden the case): with
+    rotorjax's one intra-op thread they finish."""
+    env = {**os.environ, "XLA_FLAGS": "--xla_cpu_enable_concurrency_optimized_scheduler=true"}
+    out = subprocess.run([sys.executable, "-c", _CHOLESKY], env=env, capture_output=True, text=True, timeout=300)
+    assert out.stdout.split() == ["done"], out.stderr[-2000:]
+
+
 # ---- item 9: small defects ----
 def test_a_closed_pipe_is_not_an_error():
     proc = subprocess.run(f"{sys.executable} -m rotorjax.cli presets | head -1", shell=True, capture_output=True,
