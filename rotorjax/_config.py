@@ -28,6 +28,7 @@ it is (XLA reads `XLA_FLAGS` then too).
 
 import importlib.metadata
 import os
+import sys
 
 import jax
 
@@ -68,8 +69,8 @@ def _start_cpu_backend_with_one_thread() -> bool:
     calling thread may run on one CPU while the backend starts (XLA sizes its pool
     from that), then every thread the start created gets back the CPUs the process
     had. Returns whether it did (not: asked not to, no thread affinity on this
-    system, a backend already started, another platform's plugin installed)."""
-    if os.environ.get(CPU_THREADS_VARIABLE, "") == "all" or not hasattr(os, "sched_setaffinity"):
+    system (Linux only), a backend already started, another platform's plugin installed)."""
+    if os.environ.get(CPU_THREADS_VARIABLE, "") == "all" or not sys.platform.startswith("linux"):
         return False
     from jax._src import xla_bridge
     platforms = (jax.config.jax_platforms or "").split(",")
