@@ -28,6 +28,7 @@ it is (XLA reads `XLA_FLAGS` then too).
 
 import importlib.metadata
 import os
+import pkgutil
 import sys
 
 import jax
@@ -52,7 +53,6 @@ def _accelerator_plugins() -> list:
     names = [e.name for e in importlib.metadata.entry_points(group="jax_plugins")]
     try:
         import jax_plugins
-        import pkgutil
         names += [m.name for m in pkgutil.iter_modules(jax_plugins.__path__)]
     except ImportError:
         pass
