@@ -178,6 +178,7 @@ def test_importing_rotorjax_turns_off_the_cpu_scheduler_that_deadlocked_unless_t
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
         assert out.stdout.split() == [want]
 
+
 _POOL = """
 import collections, os, sys
 import rotorjax, jax
