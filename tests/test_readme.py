@@ -13,7 +13,8 @@ the README states, and never with a number the command produced before.
 Quick settings: grids, scans and run lengths are capped (`QUICK`) so that the whole
 file runs in a few minutes; the commands are otherwise run as written (in-process,
 with `--out` in a temporary folder). `rotorjax demo` runs in `test_cli.py`, `rotorjax
-bench` (at its smoke sizes) in `test_bench.py`."""
+bench` (at its smoke sizes) in `test_bench.py`, and the commands of `RUN_ELSEWHERE`, as
+written, in the files named there (on those files' shared computations)."""
 
 import contextlib
 import io
@@ -513,8 +514,23 @@ def test_readme_has_examples():
         assert "[" not in c, f"README command with optional-part brackets cannot be copied: {c}"
 
 
+#: documented commands run as written by another test file, on that file's shared computations (no double work):
+#: command -> (file, the constant there that holds the command)
+RUN_ELSEWHERE = {
+    "rotorjax optimize elliptic-abb --set rho1=1.2 --vary delta_n=0.05:1 --vary delta_b=5:400 --range 0.5 6 "
+    "--starts 3": ("tests/design/test_stable_range.py", "README_OPTIMIZE"),
+}
+
+
 @pytest.mark.parametrize("line", commands())
 def test_readme_command(line, tmp_path, capsys):
+    if line in RUN_ELSEWHERE:
+        import importlib
+
+        path, name = RUN_ELSEWHERE[line]
+        module = importlib.import_module(path[:-3].replace("/", "."))
+        assert getattr(module, name) == line    # that file runs it (its test of the command reads the constant)
+        return
     argv = quick(shlex.split(line)[1:])
     if "--out" in argv:
         argv[argv.index("--out") + 1] = str(tmp_path / "out")

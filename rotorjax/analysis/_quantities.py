@@ -297,7 +297,7 @@ ITERS = 10
 
 def _followed(margin, params, guess):
     """A threshold followed from `guess` (`secant_root`) and its last step's size."""
-    x, _, step = secant_root(margin, params, guess, iters=ITERS, with_step=True, rolled=True)
+    x, _, step = secant_root(margin, params, guess, iters=ITERS, with_step=True)
     return x, step
 
 

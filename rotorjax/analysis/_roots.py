@@ -169,7 +169,7 @@ def frozen_tree(params):
     return jax.tree_util.tree_map(lambda v: jax.lax.stop_gradient(v) if isinstance(v, jax.Array) else v, params)
 
 
-def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_step=False, rolled=False):
+def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_step=False):
     """The root near `guess` of `g(params, x)` (a scalar function, pure JAX), followed
     as `params` (a pytree) change, and the residual there: `(x*, g(params, x_n))`.
 
@@ -181,10 +181,12 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
     is the residual's rounding noise: it threw a converged root far away). Then one
     Newton step on `params` as given, its slope a forward difference at the last
     iterate: `x*`'s derivative is the implicit function theorem's `-(dg/dp) /
-    (dg/dx)`, with no derivatives through the iterations (unrolled: a few steps, no
-    while loop around LAPACK calls, vmappable over designs; `rolled`: the secant
-    steps in one `while_loop`, which compiles `g` once instead of `iters` times and
-    stops once converged, for a `g` that integrates in time). A slope of the wrong sign or a root that has
+    (dg/dx)`, with no derivatives through the iterations. `g` is traced three times
+    (compiling it is most of the cost: a fluid-film rotor's onset took 28 s to compile
+    with the steps unrolled): the first evaluation and its forward difference as one
+    vmapped call, the secant steps in one `while_loop` (which stops once converged),
+    and the last Newton step's evaluation with its difference, vmapped. Vmappable over
+    designs. A slope of the wrong sign or a root that has
     gone leaves the residual large: the caller checks it (`with_step`: also the
     last step's size, `|g / slope|`, which measures it in `x`'s units)."""
     frozen = frozen_tree(params)
@@ -192,12 +194,15 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
     def step_size(x):
         return 1e-6 * jnp.maximum(jnp.abs(x), 1.0)
 
+    def at_two(p, x):   # g at x and x + h, one trace of g
+        return jax.vmap(lambda y: g(p, y))(jnp.stack([x, x + step_size(x)]))
+
     x0 = jnp.float64(guess)
-    g0 = g(frozen, x0)
     if slope0 is None:
-        slope = (g(frozen, x0 + step_size(x0)) - g0) / step_size(x0)
+        g0, g0h = at_two(frozen, x0)
+        slope = (g0h - g0) / step_size(x0)
     else:
-        slope = jnp.float64(slope0)
+        g0, slope = g(frozen, x0), jnp.float64(slope0)
     x1 = x0 - g0 / jnp.where(slope == 0, 1.0, slope)
 
     def secant(_, carry):
@@ -210,19 +215,13 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
         slope = jnp.where(usable, secant, slope)
         return x1, g1, jnp.where(moved, x1 - g1 / jnp.where(slope == 0, 1.0, slope), x1), slope
 
-    carry = (x0, g0, x1, slope)
-    if rolled:
-        def running(c):
-            return (c[0] < iters - 2) & (jnp.abs(c[1][2] - c[1][0]) > 1e-12 * jnp.maximum(jnp.abs(c[1][2]), 1.0))
+    def running(c):
+        return (c[0] < iters - 2) & (jnp.abs(c[1][2] - c[1][0]) > 1e-12 * jnp.maximum(jnp.abs(c[1][2]), 1.0))
 
-        carry = jax.lax.while_loop(running, lambda c: (c[0] + 1, secant(c[0], c[1])), (0, carry))[1]
-    else:
-        for i in range(iters - 2):
-            carry = secant(i, carry)
+    carry = jax.lax.while_loop(running, lambda c: (c[0] + 1, secant(c[0], c[1])), (0, (x0, g0, x1, slope)))[1]
     x1 = carry[2]
-    h = step_size(x1)
-    g1 = g(params, x1)
-    slope = (g(frozen, x1 + h) - jax.lax.stop_gradient(g1)) / h
+    g1, g1h = at_two(params, x1)
+    slope = jax.lax.stop_gradient((g1h - g1) / step_size(x1))
     if with_step:
         return x1 - g1 / slope, g1, jax.lax.stop_gradient(jnp.abs(g1 / slope))
     return x1 - g1 / slope, g1

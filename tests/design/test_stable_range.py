@@ -30,14 +30,24 @@ def margin_at(delta_n, delta_b, nu):
     return stability_margin(PRESET.build(dict(PARAMS, delta_n=delta_n, delta_b=delta_b, nu=nu)).reference)
 
 
+#: docs/design.md's command, run here (`test_the_commands_present_the_design_and_the_distributions`) on this
+#: file's problem and design, which are what the command builds (its arguments are checked there): the README test
+#: does not run it again (tests/test_readme.py `RUN_ELSEWHERE`)
+README_OPTIMIZE = ("rotorjax optimize elliptic-abb --set rho1=1.2 --vary delta_n=0.05:1 --vary delta_b=5:400 "
+                   "--range 0.5 6 --starts 3")
+#: the command's problem and search: its defaults (--n-scan 40, --seed 0) and --starts 3
+PROBLEM_ARGS = dict(speed_range=RANGE, n_scan=40)
+SEARCH_ARGS = dict(n_starts=3, seed=0)
+
+
 @pytest.fixture(scope="module")
 def problem():
-    return preset_problem(PRESET, PARAMS, VARY, speed_range=RANGE, n_scan=24)
+    return preset_problem(PRESET, PARAMS, VARY, **PROBLEM_ARGS)
 
 
 @pytest.fixture(scope="module")
 def design(problem):
-    return optimize_rotor(problem, n_starts=3, seed=1)
+    return optimize_rotor(problem, **SEARCH_ARGS)
 
 
 @pytest.fixture(scope="module")
@@ -175,20 +185,35 @@ def test_the_monte_carlo_of_the_threshold_against_first_order(quantities):
 
 def test_the_commands_present_the_design_and_the_distributions(problem, design, quantities, monkeypatch, capsys,
                                                                tmp_path):
-    """`optimize` and `uncertainty` on the preset (the problem, the design and the
-    quantities above handed to them, so that nothing compiles again): the optimum as
-    --set values, the rescan, the plot; the thresholds' statistics."""
+    """`optimize` and `uncertainty` on the preset: docs/design.md's `optimize` command as
+    written, its problem and search the ones above (the command's arguments checked
+    against theirs, so that nothing compiles again): the optimum as --set values, the
+    rescan, the plot; the thresholds' statistics."""
     import json
+    import shlex
 
     import rotorjax.design
     import rotorjax.uncertainty
     from rotorjax.cli import main
 
-    monkeypatch.setattr(rotorjax.design, "preset_problem", lambda *a, **k: problem)
-    monkeypatch.setattr(rotorjax.design, "optimize_rotor", lambda *a, **k: design)
+    from ..helpers import documentation
+
+    def same_problem(preset, params, vary, objective, constraints, **kw):
+        assert (preset.name, params, vary, objective, constraints) == (PRESET.name, PARAMS, VARY, "stable-range", [])
+        assert list(kw["speed_range"]) == list(RANGE) and kw["n_scan"] == PROBLEM_ARGS["n_scan"]
+        assert kw["scatter"] is None and kw["sense"] is None
+        return problem
+
+    def same_search(p, **kw):
+        assert p is problem and {k: kw[k] for k in SEARCH_ARGS} == SEARCH_ARGS
+        return design
+
+    monkeypatch.setattr(rotorjax.design, "preset_problem", same_problem)
+    monkeypatch.setattr(rotorjax.design, "optimize_rotor", same_search)
     monkeypatch.setattr(rotorjax.uncertainty, "preset_quantities", lambda *a, **k: quantities)
+    assert README_OPTIMIZE in documentation()
     common = ["--set", "rho1=1.2", "--range", "0.5", "6", "--out", str(tmp_path)]
-    assert main(["optimize", "elliptic-abb", "--vary", "delta_n=0.05:1", "--vary", "delta_b=5:400", *common]) == 0
+    assert main(shlex.split(README_OPTIMIZE)[1:] + ["--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
     assert "maximise stable-range: 4.99773 -> 4.99" in text and "checked by a fresh scan" in text
     assert "--set rho1=1.2 --set delta_n=1 --set delta_b=400" in text
