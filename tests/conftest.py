@@ -26,12 +26,14 @@ _CACHE = os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", tempfile.mkdtemp(pre
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0")
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES", "0")
 os.environ["ROTORJAX_NO_COMPILATION_CACHE"] = "1"
-# The workers share that cache for every program that takes 0.05 s or more to compile: the same Floquet,
-# continuation, FE and CLI programs recur across files, and each file's programs are freed after it
-# (`_free_compiled_programs`). Measured on the CLI and README files (2 workers, 445 tests, 2026-11-27, runs
-# alternated): 308 and 313 s with 0.05 s, 344 and 331 s with the 1 s this had before.
+# The workers share that cache for every program, however small: the same Floquet, continuation, FE and CLI
+# programs recur across files, and so do the eager operations' small programs (a third of the compile time of the
+# model and FE files). Measured on the CLI and README files (2 workers, 445 tests, 2026-11-27, runs alternated):
+# 308 and 313 s with programs of 0.05 s or more, 344 and 331 s with 1 s or more; on tests/models, tests/flexible
+# and two validation files (2026-12-02): 370 s with every program (565 tests), 385 s with 0.05 s or more (the three
+# live-ROSS tests skipped).
 jax.config.update("jax_compilation_cache_dir", _CACHE)
-jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.05)
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
 
 # `ROTORJAX_SUITE_PROFILE=DIR`: JAX's compile-time events summed per test file (tests/suite_profile.py)
