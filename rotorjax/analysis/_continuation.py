@@ -862,13 +862,11 @@ def _refine_hopf(G, Fu, a, b, n, between, exponents) -> BranchEvent:
 
 @compiled
 def _on_branch(G, xp, tt):
-    """Newton on `[G(y); tt . (y - xp)] = 0` from `xp` (eight steps, unrolled)."""
+    """Newton on `[G(y); tt . (y - xp)] = 0` from `xp` (eight steps, in one compiled
+    loop: `G` and its Jacobian traced once, not eight times)."""
     def H(y):
         return jnp.concatenate([G(y), jnp.dot(tt, y - xp)[None]])
-    y = xp
-    for _ in range(8):
-        y = y - jnp.linalg.solve(jax.jacfwd(H)(y), H(y))
-    return y
+    return jax.lax.fori_loop(0, 8, lambda _, y: y - jnp.linalg.solve(jax.jacfwd(H)(y), H(y)), xp)
 
 
 def _correct_start(s, a, bounds, names, max_iter=30, axis=0):
@@ -1308,15 +1306,15 @@ def floquet_crossings(floquet_fn: Callable, lo: float, hi: float, n_scan: int = 
 def boundary_points(sigma: Callable, p1_guess, p2_values, iters: int = 12):
     """Batched pointwise boundary solves: for each `p2`, Newton along `p1` on
     `sigma(p1, p2) = 0` from `p1_guess` (scalar or per point), vmapped over the
-    batch (a fixed number of iterations, so the whole batch is one call). Returns
-    `(p1, residual)` arrays; a point whose residual stays large has not converged."""
+    batch (a fixed number of iterations in one compiled loop, so the whole batch is
+    one call and `sigma` is traced twice, not `iters` times). Returns `(p1, residual)`
+    arrays; a point whose residual stays large has not converged."""
     p2 = jnp.asarray(p2_values, dtype=jnp.float64)
     p1 = jnp.broadcast_to(jnp.asarray(p1_guess, dtype=jnp.float64), p2.shape)
     ds = jax.grad(sigma, argnums=0)
 
     def solve(a, b):
-        for _ in range(iters):
-            a = a - sigma(a, b) / ds(a, b)
+        a = jax.lax.fori_loop(0, iters, lambda _, a: a - sigma(a, b) / ds(a, b), a)
         return a, jnp.abs(sigma(a, b))
 
     return jax.jit(jax.vmap(solve))(p1, p2)
