@@ -181,12 +181,12 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
     is the residual's rounding noise: it threw a converged root far away). Then one
     Newton step on `params` as given, its slope a forward difference at the last
     iterate: `x*`'s derivative is the implicit function theorem's `-(dg/dp) /
-    (dg/dx)`, with no derivatives through the iterations. `g` is traced three times
-    (compiling it is most of the cost: a fluid-film rotor's onset took 28 s to compile
-    with the steps unrolled): the first evaluation and its forward difference as one
-    vmapped call, the secant steps in one `while_loop` (which stops once converged),
-    and the last Newton step's evaluation with its difference, vmapped. Vmappable over
-    designs. A slope of the wrong sign or a root that has
+    (dg/dx)`, with no derivatives through the iterations. `g` is traced three times,
+    however many the steps (compiling is most of the cost: a fluid-film rotor's onset
+    compiled in 10.5 s with the steps unrolled, 6.8 s so): the first evaluation and its
+    forward difference as one vmapped call, the secant steps in one `while_loop` (which
+    stops once converged), and the last Newton step's evaluation with its difference,
+    vmapped. Vmappable over designs. A slope of the wrong sign or a root that has
     gone leaves the residual large: the caller checks it (`with_step`: also the
     last step's size, `|g / slope|`, which measures it in `x`'s units)."""
     frozen = frozen_tree(params)
