@@ -79,3 +79,25 @@ def test_the_developing_page_states_what_the_suite_sets():
         assert subsystem in page, subsystem
         for path, reference in entries:
             assert f"tests/{path}" in page and " ".join(reference.split()) in page, path
+
+
+def test_the_developing_page_states_the_committed_profile():
+    """The run the page quotes is the committed `benchmarks/results/suite_profile.json`:
+    its tests, pytest's wall time, the workers' time and what of it was compiling."""
+    from tests.helpers import documentation
+
+    root = os.path.join(os.path.dirname(__file__), "..")
+    with open(os.path.join(root, "benchmarks", "results", "suite_profile.json")) as f:
+        profile = json.load(f)
+    total = profile["total_worker_s"]
+    page = " ".join(documentation("docs/developing.md").split())
+
+    def n(x):   # the page's thousands separator
+        return f"{x:,.0f}".replace(",", " ")
+
+    wall = profile["run_wall_s"]
+    stated = (f"{n(total['tests'])} tests in {wall / 60:.1f} minutes of pytest ({n(wall)} s; "
+              f"`.ci/run` {n(profile['ci_run_s'])} s in all), {n(total['wall_s'])} s of the two workers' time, "
+              f"{n(total['compile'])} s of it XLA compiling {n(total['programs'])} programs, {n(total['trace'])} s "
+              f"tracing and {n(total['lower'])} s lowering")
+    assert stated in page, stated

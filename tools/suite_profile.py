@@ -2,7 +2,7 @@
 
     ROTORJAX_SUITE_PROFILE=/tmp/prof python3 -m pytest -q --junitxml=/tmp/suite.xml
     python3 tools/suite_profile.py /tmp/suite.xml /tmp/prof [--out benchmarks/results/suite_profile.json]
-        [--wall SECONDS] [--label TEXT]
+        [--wall SECONDS] [--ci-run SECONDS] [--label TEXT]
 
 The junit file gives each test file's wall time (the sum of its tests' setup, call and teardown,
 so a module fixture counts once); the profile folder (`tests/suite_profile.py`) gives JAX's
@@ -50,7 +50,7 @@ def profile_events(folder):
     return out
 
 
-def build(junit, folder, wall=None, label=""):
+def build(junit, folder, wall=None, label="", ci_run=None):
     files = junit_files(junit)
     events = profile_events(folder)
     rows = []
@@ -69,7 +69,7 @@ def build(junit, folder, wall=None, label=""):
     total["programs"] = int(sum(r["programs"] for r in rows))
     return {"label": label, "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count(),
                                         "python": sys.version.split()[0]},
-            "run_wall_s": wall, "total_worker_s": total,
+            "run_wall_s": wall, "ci_run_s": ci_run, "total_worker_s": total,
             "note": "wall_s sums each file's tests (setup + call + teardown) over the workers; the compile "
                     "columns are JAX's monitoring events in the workers and in the benchmark smoke runners "
                     "(the scripts' rows are also counted in their group file's row)",
@@ -82,9 +82,10 @@ def main(argv=None):
     p.add_argument("profile")
     p.add_argument("--out", default="benchmarks/results/suite_profile.json")
     p.add_argument("--wall", type=float, default=None, help="the run's wall time, seconds")
+    p.add_argument("--ci-run", type=float, default=None, help="`.ci/run`'s wall time, installs included, seconds")
     p.add_argument("--label", default="")
     a = p.parse_args(argv)
-    result = build(a.junit, a.profile, a.wall, a.label)
+    result = build(a.junit, a.profile, a.wall, a.label, a.ci_run)
     with open(a.out, "w") as f:
         json.dump(result, f, indent=1)
     print(f"wrote {a.out}: {len(result['files'])} files, {result['total_worker_s']}")
