@@ -28,7 +28,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from scipy.stats import chi2
 
 from .._errors import NumericalError
 from ..models._parameters import ParameterPath, with_values
@@ -348,6 +347,8 @@ def report(params, opt: Optimum, info, lanes, *, covariance, sites, model, warni
     cost = float(res @ res)
     minima = []
     if lanes is not None and p:
+        from scipy.stats import chi2  # noqa: PLC0415 (scipy.stats: a second of every command's start-up)
+
         dof = max(res.size - n_main, 1)
         minima = other_minima(params, lanes[0][:, :p], lanes[1], opt.theta[:p], cost, sd[:p],
                               chi2.ppf(0.95, p) * cost / dof)

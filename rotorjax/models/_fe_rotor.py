@@ -528,28 +528,33 @@ class FlexibleRotor(AbstractShaftModel):
     def shaft_matrices(self):
         """`(M, G1, K)` of the shaft elements alone, on all dofs."""
         n = self.n_dofs
-        Me, Ge, Ke = self.element_matrices()
         idx = np.arange(self.n_nodes - 1)[:, None] * DOFS_PER_NODE + np.arange(8)[None, :]
         rows = np.repeat(idx[:, :, None], 8, axis=2)
         cols = np.repeat(idx[:, None, :], 8, axis=1)
-        M = jnp.zeros((n, n)).at[rows, cols].add(Me)
-        G1 = jnp.zeros((n, n)).at[rows, cols].add(Ge)
-        K = jnp.zeros((n, n)).at[rows, cols].add(Ke)
+        # the three matrices in one scatter (one loop for XLA to compile, not three)
+        M, G1, K = jnp.zeros((3, n, n)).at[:, rows, cols].add(jnp.stack(self.element_matrices()))
         return M, G1, K
 
     def matrices(self, speed=0.0):
         """Global `(M, C, G1, K)` on all dofs (`G = Omega G1`), bearing coefficients
         (mass coefficients included) at `speed` (rad/s)."""
         M, G1, K = self.shaft_matrices()
-        C = jnp.zeros_like(K)
+        # every lumped term (disks, point masses, bearings, pedestals) as (row, column, value) entries, added
+        # to each matrix in one scatter, in the order in which they are listed (one loop for XLA to compile,
+        # not one per entry)
+        entries = {"M": [], "C": [], "G1": [], "K": []}
+
+        def add(name, rows, cols, values):
+            entries[name].append((np.asarray(rows).ravel(), np.asarray(cols).ravel(), jnp.ravel(values)))
+
         for i, node in enumerate(self.disk_nodes):
             b = DOFS_PER_NODE * node
             m, it, ip = self.disk_params[i]
-            M = M.at[b, b].add(m).at[b + 1, b + 1].add(m).at[b + 2, b + 2].add(it).at[b + 3, b + 3].add(it)
-            G1 = G1.at[b + 2, b + 3].add(ip).at[b + 3, b + 2].add(-ip)
+            add("M", [b, b + 1, b + 2, b + 3], [b, b + 1, b + 2, b + 3], jnp.stack([m, m, it, it]))
+            add("G1", [b + 2, b + 3], [b + 3, b + 2], jnp.stack([ip, -ip]))
         for i, node in enumerate(self.point_mass_nodes):
             b = DOFS_PER_NODE * node
-            M = M.at[b, b].add(self.point_mass_params[i, 0]).at[b + 1, b + 1].add(self.point_mass_params[i, 1])
+            add("M", [b, b + 1], [b, b + 1], self.point_mass_params[i, :2])
         coef = self.bearing_coefficients(speed)
         for i, node in enumerate(self.bearing_nodes):
             b = DOFS_PER_NODE * node
@@ -562,14 +567,22 @@ class FlexibleRotor(AbstractShaftModel):
                 blocks = [jnp.block([[a, -a], [-a, a]]) for a in blocks]
             else:
                 d = np.array([b, b + 1])
-            K, C, M = (A.at[np.ix_(d, d)].add(a) for A, a in zip((K, C, M), blocks))
+            rows, cols = np.meshgrid(d, d, indexing="ij")
+            for name, a in zip(("K", "C", "M"), blocks):
+                add(name, rows, cols, a)
         for j in range(self.n_supports):
             px, py = self.support_dofs(j)
             m, kxx, kyy, cxx, cyy = self.support_params[j]
-            M = M.at[px, px].add(m).at[py, py].add(m)
-            K = K.at[px, px].add(kxx).at[py, py].add(kyy)
-            C = C.at[px, px].add(cxx).at[py, py].add(cyy)
-        return M, C, G1, K
+            add("M", [px, py], [px, py], jnp.stack([m, m]))
+            add("K", [px, py], [px, py], jnp.stack([kxx, kyy]))
+            add("C", [px, py], [px, py], jnp.stack([cxx, cyy]))
+        out = {"M": M, "C": jnp.zeros_like(K), "G1": G1, "K": K}
+        for name, parts in entries.items():
+            if parts:
+                rows, cols, values = (np.concatenate(x) if i < 2 else jnp.concatenate(x)
+                                      for i, x in enumerate(zip(*parts)))
+                out[name] = out[name].at[rows, cols].add(values)
+        return out["M"], out["C"], out["G1"], out["K"]
 
     def reduced_matrices(self, speed=0.0):
         """`(M, C, G1, K)` on the free dofs only, bearing coefficients at `speed`."""
