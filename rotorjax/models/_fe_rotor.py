@@ -579,9 +579,8 @@ class FlexibleRotor(AbstractShaftModel):
         out = {"M": M, "C": jnp.zeros_like(K), "G1": G1, "K": K}
         for name, parts in entries.items():
             if parts:
-                rows, cols, values = (np.concatenate(x) if i < 2 else jnp.concatenate(x)
-                                      for i, x in enumerate(zip(*parts)))
-                out[name] = out[name].at[rows, cols].add(values)
+                rows, cols, values = zip(*parts)
+                out[name] = out[name].at[np.concatenate(rows), np.concatenate(cols)].add(jnp.concatenate(values))
         return out["M"], out["C"], out["G1"], out["K"]
 
     def reduced_matrices(self, speed=0.0):
