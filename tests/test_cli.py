@@ -413,3 +413,14 @@ def test_ucs_frf_level1_and_several_unbalances(tmp_path, capsys):
     np.testing.assert_allclose(out["deflected_shape"]["major"], np.asarray(deflected_shape(damped, unb, 250.0).major),
                                rtol=1e-12)
     assert (tmp_path / "response_ross-compare_shape.png").stat().st_size > 0
+
+
+def test_the_cli_imports_no_heavy_library_it_does_not_use():
+    """A command's start-up pays for its imports: scipy (scipy.stats alone was a quarter of
+    `import rotorjax.cli`, measured 2026-12-02), matplotlib, numba, tqdm and optax are
+    imported by the functions that use them, not when the CLI loads."""
+    heavy = ("scipy", "matplotlib", "numba", "tqdm", "optax")
+    code = ("import sys; import rotorjax.cli; "
+            f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({heavy!r})))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]", out.stdout

@@ -347,7 +347,7 @@ def report(params, opt: Optimum, info, lanes, *, covariance, sites, model, warni
     cost = float(res @ res)
     minima = []
     if lanes is not None and p:
-        from scipy.stats import chi2  # noqa: PLC0415 (scipy.stats: a second of every command's start-up)
+        from scipy.stats import chi2  # noqa: PLC0415 (scipy.stats: a quarter of the CLI's import time)
 
         dof = max(res.size - n_main, 1)
         minima = other_minima(params, lanes[0][:, :p], lanes[1], opt.theta[:p], cost, sd[:p],
