@@ -23,12 +23,15 @@ symmetric copies), the disk's radius 0.0036 .. 0.0149 against the clearance chi 
   autonomous=True)`) gives the same period to 1e-7, the trivial multiplier 1 to 1e-8.
 - The exact model (event-located contact, `periodic_orbit(..., events=True)`:
   Newton on the event-located map, the monodromy by its central differences) has
-  the cycle too, stable with the trivial multiplier 1 to 1e-8; the exact model's own
+  the cycle too, stable with the trivial multiplier 1 to rtol / fd_step (1e-7, its
+  central differences' error); the exact model's own
   long run (`simulate_events`) settles onto it (period 1e-6, amplitude 1e-3), and
   the smoothed cycles converge to it as the smoothing shrinks (1e-4, 1e-5, 1e-6:
   the period's errors 5.9e-4, 2.9e-6, 2.5e-7 and the amplitude's 1.7e-3, 6.9e-6,
   6.1e-7, asserted to fall and below 2e-6 and 1e-5 at 1e-6).
 """
+
+import inspect
 
 import jax
 import jax.numpy as jnp
@@ -39,6 +42,7 @@ from scipy.optimize import brentq
 
 import rotorjax as rj
 from rotorjax.analysis import coefficients_from_samples, limit_cycle, orbit_amplitude, periodic_orbit, precession
+from rotorjax.analysis._event_shooting import floquet_events
 from rotorjax.presets import cantilever_limiters as CL
 from rotorjax.solve import simulate_events
 
@@ -46,6 +50,7 @@ P = CL.PRESET
 N, SMOOTHING, H, NODE = 25.0, 1e-4, 96, 8        # NODE: the disk's shaft node
 T_END, SAVES = 3000.0, 20                        # the long run (T*), saves per T*
 EXACT = dict(rtol=1e-12, atol=1e-15)             # the event-located integrations
+FD_STEP = inspect.signature(floquet_events).parameters["fd_step"].default   # its monodromy's difference step
 
 
 def _scene(smoothing=SMOOTHING, events=0):
@@ -167,9 +172,10 @@ def test_shooting_the_smoothed_field_gives_the_same_cycle(hb, shot):
 def test_the_exact_cycle_by_event_located_shooting(shot):
     sc, ex = shot["exact"]
     assert int(ex.code) == 0 and float(ex.residual) < 1e-10
-    # the trivial multiplier is 1 to the shooting's integration error: 1.8e-8 measured on one machine, below 1e-8 on
-    # another (a missing saltation matrix would put it off by O(1))
-    assert abs(complex(ex.trivial_multiplier) - 1) < 5e-8 and bool(ex.stable)
+    # the trivial multiplier is 1 to the monodromy's central differences: two integrations, each to rtol, differenced
+    # over fd_step of each state, err <= rtol / fd_step = 1e-7 (measured 1.8e-8, 5.3e-8 and below 1e-8 on three
+    # machines; a missing saltation matrix would put it off by O(1))
+    assert abs(complex(ex.trivial_multiplier) - 1) < EXACT["rtol"] / FD_STEP and bool(ex.stable)
     T = float(ex.period)
     ts, ys = _cycle_samples(sc, ex, events=True)
     lam = precession(ts, *_disk(sc, ys), N, window=(0.0, 1.0)).mean
