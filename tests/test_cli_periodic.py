@@ -137,15 +137,33 @@ def test_readme_states_the_folds(run):
     np.testing.assert_allclose(folds, [float(g) for g in m.groups()], atol=0.006)
 
 
-def test_summary_without_json(tmp_path, capsys):
-    """The human summary (a short branch: two points each way at most)."""
-    rc = main(ARGV + ["--max-points", "2", "--out", str(tmp_path)])
+def test_a_range_without_the_files_speed_starts_at_its_nearest_end(run, tmp_path, capsys):
+    """The human summary of a range given in rpm that leaves out the file's speed (100
+    rad/s): the branch starts at the range's end nearest to it (960 rpm = 100.531 rad/s),
+    says so, and reaches both ends through the same two folds as the module's run."""
+    d, _ = run
+    argv = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", "960", "1010", "rpm", "--harmonics", "1"]
+    rc = main(argv + ["--out", str(tmp_path)])
     cap = capsys.readouterr()
     assert rc == 0, cap.err
     lines = cap.out.splitlines()
     assert lines[0].endswith("wrote " + os.path.join(str(tmp_path), "periodic_cubic_rig_speed") + ".csv, .json, .png")
-    assert "speed in [100, 106] from 100 (the preset's value)" in lines[1]
-    assert lines[-1].startswith("  stops: ") and lines[-1].endswith("max_points reached")
+    lo, hi = 960 * np.pi / 30, 1010 * np.pi / 30
+    assert f"speed in [{lo:g}, {hi:g}] from {lo:g} (the end of --range nearest to the preset's value 100)" in lines[1]
+    with open(tmp_path / "periodic_cubic_rig_speed.json") as f:
+        here = json.load(f)
+    assert here["start"] == pytest.approx(lo, rel=1e-15) and here["start_source"].startswith("the end of --range")
+    ends = [re.fullmatch(r"box edge \(speed = ([\d.]+)\)", stop) for stop in here["branches"][0]["stops"]]
+    assert all(ends) and [float(m.group(1)) for m in ends] == pytest.approx([lo, hi], rel=1e-15)
+    folds = [sorted(e["speed"] for e in x["bifurcations"] if e["kind"] == "fold") for x in (here, d)]
+    np.testing.assert_allclose(folds[0], folds[1], rtol=1e-9)
+    # the same start given as --from, in rpm: the same branch
+    rc = main(argv + ["--from", "960rpm", "--out", str(tmp_path / "from")])
+    assert rc == 0, capsys.readouterr().err
+    with open(tmp_path / "from" / "periodic_cubic_rig_speed.json") as f:
+        given = json.load(f)
+    assert given["start_source"] == "--from" and given["start"] == here["start"]
+    np.testing.assert_array_equal(given["branches"][0]["speed"], here["branches"][0]["speed"])
 
 
 def test_a_branch_that_fails_inside_the_range_exits_3_after_writing(tmp_path, capsys, monkeypatch):

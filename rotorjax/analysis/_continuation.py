@@ -406,12 +406,15 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
         s = (p - x) @ d / dd
         return 0 < s <= 1.1 and np.linalg.norm(x + s * d - p) <= 0.1 * np.sqrt(dd) and t @ other.t < -0.5
 
+    def heads_out(f):
+        """Whether the front stands on the box's edge heading out (then stopped there)."""
+        s_edge, k, b = to_box(f.xs[-1], f.t)
+        if s_edge <= 1e-12 * max(1.0, np.max(np.abs(f.xs[-1]))):
+            f.stop = edge(k, b)
+        return f.stop is not None
+
     def advance(f, other):
         x, ds, t = f.xs[-1], f.ds, f.t
-        s_edge, k, b = to_box(x, t)
-        if s_edge <= 1e-12 * max(1.0, np.max(np.abs(x))):
-            f.stop = edge(k, b)           # on the edge, heading out
-            return
         bad, turns, cuts = None, 0, 0
         while True:
             if ds < ds_min:
@@ -512,7 +515,7 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
     while any(f.stop is None for f in fronts):
         bar.update(len(hi_f.xs) + len(lo_f.xs) - 1 - bar.n)
         for f in fronts:
-            if f.stop is not None:
+            if f.stop is not None or heads_out(f):
                 continue
             if len(hi_f.xs) + len(lo_f.xs) - 1 >= max_points:
                 f.stop = "max_points reached" + ("" if boxed else " (no parameter box given)")

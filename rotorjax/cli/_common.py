@@ -170,6 +170,15 @@ def _bare(text):
         return None
 
 
+#: options whose value is kept under another name (argparse's `dest`)
+OPTION_OF = {"start": "--from"}
+
+
+def option_of(dest):
+    """The command-line option that sets `dest`."""
+    return OPTION_OF.get(dest, "--" + dest.replace("_", "-"))
+
+
 def resolve_units(args, units):
     """Every option value given with a unit (`Given`) in `args`, converted in place to
     the option's own unit (`Given.unit`) or else the one `units(dest)` names (None: the
@@ -181,7 +190,7 @@ def resolve_units(args, units):
         values = value if isinstance(value, list) else [value]
         if not any(isinstance(v, Given) for v in values):
             continue
-        option = "--" + dest.replace("_", "-")
+        option = option_of(dest)
         out = []
         for v in values:
             if isinstance(v, Given):

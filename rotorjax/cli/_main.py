@@ -14,7 +14,7 @@ from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
 from ._output_units import UNITS_OPTION
 from ._common import (InputError, NumericalError, SpanAction, at_least, collect_warnings, finite, get_preset,
-                      mode_count, nonnegative, positive, resolve_units, tolerance)
+                      mode_count, nonnegative, option_of, positive, resolve_units, tolerance)
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -99,7 +99,7 @@ def _range(required=True, help="speed range"):
 class _OptionUnits:
     """The unit each option with a unit takes for the target on the command line: the
     speed options the target's speed unit (rad/s for a rotor file), `--range` of
-    `continue` and `periodic` the unit of their `--param`."""
+    `continue` and `periodic` (and `periodic`'s `--from`) the unit of their `--param`."""
 
     SPEED = ("speed", "operating", "range", "speed_range", "shape_at")
 
@@ -110,11 +110,12 @@ class _OptionUnits:
         self.command = self.args["fn"].__name__.removeprefix("cmd_")
 
     def _key(self, dest):
-        if self.preset is None or dest not in self.SPEED:
+        if self.preset is None:
             return None
-        if dest == "range" and self.command in ("continue", "periodic"):
+        if (dest == "range" and self.command in ("continue", "periodic")) or (dest, self.command) == ("start",
+                                                                                                     "periodic"):
             return self.args.get("param")
-        return self.preset.speed_key
+        return self.preset.speed_key if dest in self.SPEED else None
 
     def __call__(self, dest):
         key = self._key(dest)
@@ -127,7 +128,7 @@ class _OptionUnits:
     def why(self, dest):
         key = self._key(dest)
         if key is None:
-            return f"--{dest.replace('_', '-')} takes a number"
+            return f"{option_of(dest)} takes a number"
         return f"{self.preset.name}'s {key} is {self._unit(key) or 'without a unit'}"
 
 
@@ -332,7 +333,9 @@ def build_parser():
                                      help="the continued --set key (a rotor file: speed)")),
                  _range(help="range of --param (the start must lie in it)"),
                  (("--from",), dict(dest="start", type=finite, default=None, metavar="V",
-                                    help="starting value of --param (default: the preset's)")),
+                                    help="starting value of --param, a unit may follow as for --range (default: "
+                                         "the preset's value where it lies in --range, else the range's end "
+                                         "nearest to it)")),
                  (("--harmonics",), dict(type=at_least(1), default=8, metavar="H",
                                          help="harmonics of the Fourier series")),
                  (("--method",), dict(default="hb", choices=("hb", "shooting"),

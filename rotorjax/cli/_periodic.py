@@ -22,8 +22,14 @@ MEANING = {
     "hopf": "a pair of exponents crosses the imaginary axis",
 }
 
-#: a branch end that stopped for one of these reasons inside the range is a numerical failure (exit 3)
-FAILED_STOPS = ("corrector failed", "non-finite")
+#: the branch ends that complete it: on the range's edge, or round a closed loop; any other end (the corrector
+#: failed, a non-finite value, max_points reached) leaves part of the range untraced: exit 3
+COMPLETE_STOPS = ("box edge", "closed loop", "start")
+
+#: what to change, per way a branch can stop inside the range
+REMEDY = {"max_points reached": "raise --max-points (or --ds-max, for longer steps)",
+          "corrector failed": "lower --ds-max, or raise --harmonics",
+          "non-finite": "lower --ds-max, or narrow --range"}
 
 
 def _scene_at(preset, params, key, setup):
@@ -85,6 +91,38 @@ def _amplitude_of(scene, y0, node):
     return f"largest radius of node {node}'s orbit over the period"
 
 
+def _start(preset, params, key, lo, hi, given):
+    """The branch's start and where it comes from: `--from` (inside the range), else
+    the preset's (the rotor file's) value of `key` where it lies in the range, else the
+    range's end nearest to that value."""
+    if given is not None:
+        try:
+            start = preset.check(key, given)
+        except InputError as e:
+            raise InputError(f"--from: {e}") from None
+        if not lo <= start <= hi:
+            raise InputError(f"--range {lo:g} {hi:g}: the start --from {key} = {start:g} lies outside")
+        return start, "--from"
+    own = float(params[key])
+    if lo <= own <= hi:
+        return own, "the preset's value"
+    start = lo if abs(own - lo) <= abs(own - hi) else hi
+    return start, f"the end of --range nearest to the preset's value {own:g}"
+
+
+def _incomplete(stops, p, key, lo, hi, max_points):
+    """The reasons (with what to change) why a branch ended inside the range, one per
+    end that did not reach the range's edge or close a loop."""
+    out = []
+    for end, stop in zip((p[0], p[-1]), stops):
+        if stop.startswith(COMPLETE_STOPS):
+            continue
+        remedy = next((r for k, r in REMEDY.items() if stop.startswith(k)), "lower --ds-max")
+        at = f" (--max-points {max_points}) at {key} = {float(end):.8g}" if stop.startswith("max_points") else ""
+        out.append(f"the branch stopped inside --range {lo:g} {hi:g}: {stop}{at}; {remedy}")
+    return out
+
+
 def cmd_periodic(args) -> int:
     from rotorjax.analysis import branch_amplitude, periodic_branch
     from rotorjax.plot import plot_periodic_branch
@@ -104,14 +142,7 @@ def cmd_periodic(args) -> int:
             raise InputError(f"--range {lo:g} {hi:g}: {e}") from None
     if key == preset.speed_key and not lo > 0:
         raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
-    start = params[key] if args.start is None else args.start
-    try:
-        start = preset.check(key, start)
-    except InputError as e:
-        raise InputError(f"--from: {e}") from None
-    if not lo <= start <= hi:
-        raise InputError(f"--range {lo:g} {hi:g}: the start {key} = {start:g} lies outside"
-                         + ("" if args.start is not None else "; give --from V"))
+    start, start_source = _start(preset, params, key, lo, hi, args.start)
     if args.ds_max is not None and args.ds is not None and args.ds_max < args.ds:
         raise InputError(f"--ds {args.ds:g} --ds-max {args.ds_max:g}: need DS <= DS_MAX")
     # default steps in proportion to the range (the library's: range / 100, range / 10)
@@ -152,7 +183,7 @@ def cmd_periodic(args) -> int:
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
            "subharmonic": args.subharmonic, "range": [lo, hi], "start": start,
-           "start_source": "--from" if args.start is not None else "the preset's value",
+           "start_source": start_source,
            "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
                          "margin": br.margin.tolist(), "time_residual": truncation.tolist(),
                          "harmonics": args.harmonics, "n_points": int(br.p.size),
@@ -170,7 +201,7 @@ def cmd_periodic(args) -> int:
                                            f"amplitude: {amplitude_of}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
-    failed = [f"the branch stopped inside --range {lo:g} {hi:g}: {s}" for s in br.stops if s.startswith(FAILED_STOPS)]
+    failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
     worst = int(np.argmax(truncation))
     if truncation[worst] > args.max_time_residual:
         failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed orbit is "
