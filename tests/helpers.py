@@ -35,7 +35,7 @@ def set_csv_field(line_no, field, value):
 SMOKE_GROUPS = (
     ("auto07p", "auto_balancing_range", "balance_grid", "continuation", "design", "fe_identification", "flexible"),
     ("gpu_batch", "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters",
-     "peers_001", "periodic_jaxcont"),
+     "peers_001", "periodic_defaults", "periodic_jaxcont"),
     ("ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup", "step_cost", "stiff_defaults",
      "sweep_throughput", "uncertainty"),
 )

@@ -20,7 +20,7 @@ from rotorjax.cli import main
 from .helpers import documentation
 
 ROTOR = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
-ARGV = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--harmonics", "1"]
+ARGV = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106"]   # the defaults
 NODE = 1   # disk 1
 
 
@@ -48,12 +48,17 @@ def test_json_has_the_branch_and_its_bifurcations(run):
     assert {"param", "node", "amplitude_unit", "amplitude_of", "method", "harmonics", "subharmonic", "range",
             "branches", "bifurcations", "files"} <= set(d)
     assert (d["param"], d["node"], d["amplitude_unit"], d["method"], d["harmonics"], d["subharmonic"], d["range"]) \
-        == ("speed", NODE, "m", "harmonic-balance", 1, 1, [100.0, 106.0])
+        == ("speed", NODE, "m", "harmonic-balance", "auto", 1, [100.0, 106.0])
     assert d["amplitude_of"] == f"largest radius of node {NODE}'s orbit over the period"
     (b,) = d["branches"]
     n = len(b["speed"])
-    assert n > 10 and len(b["amplitude"]) == n and len(b["stable"]) == n and b["harmonics"] == 1
+    assert n > 10 and len(b["amplitude"]) == n and len(b["stable"]) == n and b["harmonics"] == [1] * n   # auto: a circular orbit needs one
     assert all(isinstance(s, bool) for s in b["stable"]) and min(b["amplitude"]) > 0
+    # the defaults of --harmonics auto, as docs/cli.md states them, each point held to the target
+    assert (d["truncation_tol"], d["max_harmonics"]) == (1e-6, 32)
+    cli = re.sub(r"\s+", " ", documentation("docs/cli.md"))
+    assert "`--max-harmonics` (32)" in cli and "`--truncation-tol` (1e-6)" in cli
+    assert len(b["truncation"]) == n and max(b["truncation"]) <= d["truncation_tol"]
     for e in d["bifurcations"]:
         assert set(e) >= {"kind", "speed", "amplitude", "residual"}
         assert e["kind"] in ("fold", "branch-point", "period-doubling", "neimark-sacker", "hopf")

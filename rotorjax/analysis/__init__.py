@@ -25,6 +25,7 @@ from ._harmonic_balance import coefficients_from_samples as coefficients_from_sa
 from ._harmonic_balance import forcing_period as forcing_period
 from ._harmonic_balance import harmonic_balance as harmonic_balance
 from ._harmonic_balance import hill_exponents as hill_exponents
+from ._harmonic_balance import truncation_error as truncation_error
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
 from ._limit_cycles import hopf_cycle as hopf_cycle
 from ._limit_cycles import limit_cycle as limit_cycle
@@ -33,6 +34,7 @@ from ._periodic_branch import balance_grid as balance_grid
 from ._periodic_branch import branch_amplitude as branch_amplitude
 from ._periodic_branch import period_doubling_start as period_doubling_start
 from ._periodic_branch import periodic_branch as periodic_branch
+from ._branch_harmonics import PeriodicBranch as PeriodicBranch
 from ._periodic_branch import periodic_fold_curve as periodic_fold_curve
 from ._periodic_branch import periodic_fold_gradient as periodic_fold_gradient
 from ._periodic_orbit import periodic_orbit as periodic_orbit

@@ -248,7 +248,7 @@ def _jacobian(G, g, gradient, fd_step):
 
 def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max_newton, start_tol, gradient,
            fd_step, gtol, max_turn, names, what, progress=False, dense_tol=None, error_axis=None,
-           evaluators=None) -> Curve:
+           evaluators=None, watch=None) -> Curve:
     g, jac = _evaluators(G, gradient, fd_step, x0) if evaluators is None else evaluators
     # a Jacobian by differences costs 2 (k + 1) evaluations of G: the corrector keeps the one at its
     # predictor (the chord method) rather than forming one per iteration
@@ -520,7 +520,11 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
             if len(hi_f.xs) + len(lo_f.xs) - 1 >= max_points:
                 f.stop = "max_points reached" + ("" if boxed else " (no parameter box given)")
                 continue
+            before = len(f.xs)
             advance(f, lo_f if f is hi_f else hi_f)
+            if watch is not None and len(f.xs) > before and f.stop != "closed loop":
+                # the caller's verdict on the new point (e.g. a model that no longer resolves it): stops the front
+                f.stop = watch(f.xs[-1]) or f.stop
     bar.close()
     rev = slice(None, 0, -1)
     x = np.asarray(lo_f.xs[rev] + hi_f.xs)
@@ -721,14 +725,15 @@ def _newton(fun, x0, tol=1e-12, max_iter=30, args=(), compiled=None):
 
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
                     tol=1e-11, direction=None, start_tol=1e-8, ds_min=1e-9, max_turn=0.2, name="p",
-                    progress=False, dense_tol=None, gtol=1e-8, exponents=None) -> Branch:
+                    progress=False, dense_tol=None, gtol=1e-8, exponents=None, watch=None) -> Branch:
     """One-parameter continuation of `F(u, p) = 0` from a solution `(u0, p0)`
     within `p_bounds` (a missing bound: NaN or infinite).
 
     `direction`: None (default) traces both ways from the start, the points
     ordered from the end reached towards decreasing `p` to the end reached
     towards increasing `p`; `1` or `-1` traces one way, towards increasing or
-    decreasing `p`. An end inside `p_bounds`' edge lands on it exactly. `name`
+    decreasing `p`; a vector `(du, dp)` one way, the first tangent along it (to
+    go on from a branch's end past a fold). An end inside `p_bounds`' edge lands on it exactly. `name`
     names `p` in the stop reasons (`Branch.stops`, e.g. "box edge (nu = 4.0)").
     At most `max_points` points in all. `dense_tol`: as in `trace_curve` (the dense
     branch is `Branch.curve.dense()`, rows `(u, p)`). `gtol`: the largest `max |F|`
@@ -737,7 +742,9 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     harmonic balance passes Hill's physical ones); the margin is their largest real
     part. `F` is traced once and its programs (the corrector's, the fold's and the
     Hopf refinement's) compiled once per structure (`solve._lift`): another branch of
-    the same equations with other arrays reuses them."""
+    the same equations with other arrays reuses them. `watch(x)`, given, sees every
+    new point `x = (u, p)` and stops the branch there with the reason it returns
+    (None: go on)."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 
@@ -748,7 +755,9 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     hi = np.full(n + 1, np.nan)
     lo[n], hi[n] = p_bounds
     d = None
-    if direction is not None:
+    if direction is not None and np.ndim(direction) == 1:
+        d = np.asarray(direction, dtype=float)
+    elif direction is not None:
         d = np.zeros(n + 1)
         d[n] = direction
     x0 = np.concatenate([u0, [p0]])
@@ -756,7 +765,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     curve = _trace(Gl, x0, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=max_points,
                    tol=tol, direction=d, bounds=(lo, hi), max_newton=8, start_tol=start_tol, gradient="autodiff",
                    fd_step=1e-6, gtol=gtol, max_turn=max_turn, names=[None] * n + [name], what="F",
-                   progress=progress, dense_tol=dense_tol)
+                   progress=progress, dense_tol=dense_tol, watch=watch)
 
     def Fu(u, p):
         return jacobian(Gl, jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]

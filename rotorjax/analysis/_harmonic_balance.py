@@ -229,6 +229,44 @@ def _time_residual(scene, Y, period, t0, args):
     return jnp.max(jnp.abs(yds - fs)) / jnp.maximum(scale, jnp.finfo(jnp.float64).tiny)
 
 
+def truncation_error(scene, Y, period, t0=0.0, args=None):
+    """The truncation error estimate of the coefficients `Y` (`(2H + 1, n)`): the
+    correction the left-out harmonics would bring, relative to the motion. The
+    residual `y' - f(t, y)` of the reconstructed orbit (on `4 N` instants) holds
+    only harmonics above `H` (the balance removes the others); each is mapped to
+    the state's correction `(i k w I - A)^-1 r_k`, `A` the field's Jacobian
+    averaged over the orbit (one linearized Newton step on the harmonics above
+    `H`), and the result is `||dY / s|| / ||Y / s||`, each state weighed by its
+    size `s` (its largest coefficient, at least 1e-3 of the largest of all), so a
+    stiff rotor's large accelerations of tiny motions do not count as error, as
+    they do in the time-domain residual."""
+    H = (Y.shape[0] - 1) // 2
+    M = 4 * _samples(H, None)
+    B, _ = _collocation(H, M)
+    w = 2 * jnp.pi / period
+    ts = t0 + period * jnp.arange(M) / M
+
+    def f(t, y):
+        return scene.vector_field(t, y, args)
+
+    ys = B @ Y
+    r = B @ _derivative(Y, w) - jax.vmap(f)(ts, ys)
+    eye = jnp.eye(Y.shape[1])
+
+    def jac(t, y):   # columns by forward products (jacfwd's basis would carry a sharding: no shared program)
+        return jax.vmap(lambda v: jax.jvp(lambda z: f(t, z), (y,), (v,))[1], out_axes=1)(eye)
+
+    A = jnp.mean(jax.vmap(jac)(ts, ys), axis=0)
+    ks = jnp.arange(H + 1, M // 2)
+    R = jnp.fft.rfft(r, axis=0)[H + 1:M // 2] * (2.0 / M)
+    # LU, not jnp.linalg.solve: its custom_linear_solve rule would keep the program from being shared (_lift)
+    dY = jax.vmap(lambda k, Rk: jax.scipy.linalg.lu_solve(jax.scipy.linalg.lu_factor(1j * k * w * eye - A), Rk))(ks, R)
+    s = jnp.max(jnp.abs(Y), axis=0, keepdims=True)
+    s = jnp.maximum(s, 1e-3 * jnp.max(s) + jnp.finfo(jnp.float64).tiny)
+    return jnp.sqrt(jnp.sum(jnp.abs(dY / s) ** 2) / jnp.maximum(jnp.sum((Y / s) ** 2),
+                                                                      jnp.finfo(jnp.float64).tiny))
+
+
 def _samples(H, n_samples):
     """Default `N`: the smallest power of two above `4 (H + 1)` (a cubic term's
     harmonics up to `3H` fold back only above harmonic `H`)."""
@@ -271,6 +309,12 @@ def _checked(scene, period, guess, harmonics, t0, n_samples, tol, max_iter):
 AUTO_HARMONICS = (4, 8, 16, 32, 64)
 
 
+def harmonic_ladder(max_harmonics, ladder=AUTO_HARMONICS, above=0):
+    """The harmonics `"auto"` tries in turn: `ladder`'s counts above `above` and
+    below `max_harmonics`, then `max_harmonics`."""
+    return tuple(h for h in ladder if above < h < max_harmonics) + (max_harmonics,)
+
+
 def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=None, tol=1e-10, max_iter=30,
                      stability=True, args=None, rtol=1e-10, atol=1e-12, truncation_tol=1e-6,
                      max_harmonics=64) -> PeriodicSolution:
@@ -306,17 +350,19 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
     return _with_floquet(scene, sol, rtol, atol) if stability else sol
 
 
-def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, **kw):
-    """`harmonic_balance(harmonics="auto")`: see there."""
+def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, ladder=AUTO_HARMONICS, above=0,
+             measure=None, **kw):
+    """`harmonic_balance(harmonics="auto")`: see there (`ladder`, `above`: as in
+    `harmonic_ladder`; `measure(solution)`: the truncation error held below
+    `truncation_tol`, default the time-domain residual)."""
     max_harmonics = as_count("max_harmonics", max_harmonics, minimum=1)
     as_param("truncation_tol", truncation_tol, sign="positive", shape=())
-    tried = [h for h in AUTO_HARMONICS if h < max_harmonics] + [max_harmonics]
     sol = None
-    for H in tried:
+    for H in harmonic_ladder(max_harmonics, ladder, above):
         sol = harmonic_balance(scene, period, guess if sol is None else sol, H, stability=False, **kw)
         if int(sol.code) != 0:
             return sol
-        if float(sol.time_residual) <= truncation_tol:
+        if float(sol.time_residual if measure is None else measure(sol)) <= truncation_tol:
             break
     else:
         sol = eqx.tree_at(lambda s: s.code, sol, jnp.asarray(code_of(RESULTS.harmonics_insufficient), jnp.int32))

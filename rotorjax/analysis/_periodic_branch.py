@@ -14,17 +14,20 @@ import numpy as np
 from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param
 from ..solve._lift import call, lift, vmapped
-from ..solve._results import RESULTS
+from ..solve._results import RESULTS, code_of
+from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _series_harmonics,
+                                _series_tail, _truncated, _truncations)
 from ._continuation import continue_branch, fold_curve, fold_gradient
 from ._floquet import flow_samples
-from ._harmonic_balance import (METHODS, PeriodicSolution, _basis_at, _guess_coefficients, _newton, _outcome,
+from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
                                 _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
-                                coefficients_from_samples, forcing_period, harmonic_balance, orbit_amplitude)
+                                coefficients_from_samples, forcing_period, harmonic_balance, harmonic_ladder,
+                                orbit_amplitude)
 
 
-def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=None, subharmonic=1, scale=None,
+def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_at=None, subharmonic=1, scale=None,
                     name="p", ds=None, ds_max=None, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
-                    progress=False, method="harmonic-balance", steps=256):
+                    progress=False, method="harmonic-balance", steps=256, truncation_tol=1e-6, max_harmonics=32):
     """A branch of periodic forced motions `Y(p)` by harmonic balance and
     pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
     folds.
@@ -32,16 +35,30 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     **Arguments:**
     - `scene_at(p)`: the scene at `p` (traceable in `p`).
     - `p0`, `guess`: the start (`guess` as in `harmonic_balance`: solved there first).
-    - `p_bounds`: `(lo, hi)`; `harmonics`: `H`.
+    - `p_bounds`: `(lo, hi)`; `harmonics`: `H`, or `"auto"` (the default): each
+      point's harmonics adapted to the motion (`BRANCH_HARMONICS`: 1, 2, 4, ... up
+      to `max_harmonics`), so that the time-domain residual of the reconstructed
+      orbit (the truncation error estimate, `PeriodicSolution.time_residual`) stays
+      below `truncation_tol`: the start takes the fewest that reach it; a point past
+      it ends the piece of branch there, and the next piece goes on from that point
+      solved again with more harmonics (in the direction the branch went); where the
+      series cut to the next lower count keeps the residual below `LOWER_MARGIN`
+      times `truncation_tol`, with fewer (kept only where the motion solved with
+      them meets the target). With shooting, each point's series keeps the fewest
+      harmonics (of `max_harmonics`) whose left-out ones hold less than
+      `truncation_tol` of its size.
     - `period_at(p)`: the motion's period at `p` (default `forcing_period(scene_at(p),
       subharmonic)`: `subharmonic` times `2 pi / speed`).
     - `scale`: one length per state (default: each state's largest coefficient
       over a survey of the range, `SURVEY` points solved from the start's motion
-      in one compiled batch, and at least 1e-3 of the largest of all). The
-      unknowns are the coefficients over `scale`, times the range's length `L =
-      hi - lo`, so that the arclength weighs a motion's growth from nothing to its
-      largest and a walk across the range alike; time is scaled by the start's
-      `2 pi / period`.
+      in one compiled batch, and at least 1e-3 of the largest of all, times the
+      square root of the number of states: the whole block of unknowns, not each
+      state, spans about one length). The unknowns are the coefficients over
+      `scale`, times the range's length `L = hi - lo`, so that the arclength weighs
+      a motion's growth from nothing to its largest and a walk across the range
+      alike (an FE rotor's 32 states each grown to their largest would make the
+      arclength of the motion's growth sqrt(32) times that of the range's walk);
+      time is scaled by the start's `2 pi / period`.
     - `ds`, `ds_max`: the first and the largest arclength step (default `L / 100`,
       `L / 10`).
     - `tol`, `gtol`: a point is accepted when Newton's last step is below `tol`
@@ -55,12 +72,13 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
       `log(mu) / T`; `coefficients` then `harmonics` harmonics of each orbit's
       samples.
 
-    Returns `(branch, coefficients)`: the `Branch` (`p`; `margin` the largest real
+    Returns `(branch, coefficients)`: the `PeriodicBranch` (`harmonics`: each
+    point's count; `p`; `margin` the largest real
     part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
     negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
-    in physical units. `branch.events` (`u`: the coefficients there, flattened,
-    physical units): `"fold"` (refined: Newton on the balance
-    and `det dR/dY = 0`), `"branch_point"` (located to the step), and where a
+    in physical units (`H` the most any point has; zeros above a point's own).
+    `branch.events` (`u`: the coefficients there, flattened, physical units):
+    `"fold"` (refined: Newton on the balance and `det dR/dY = 0`), `"branch_point"` (located to the step), and where a
     complex pair of Hill's exponents crosses, refined by bisection along the
     branch, `"period-doubling"` (its frequency half the motion's: a multiplier
     through -1) or `"neimark-sacker"` (a pair of multipliers `exp(+-i 2 pi f / w)`
@@ -72,23 +90,48 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
     (lo, hi), p0 = _checked_range(p_bounds, p0)
     if method not in METHODS:
         raise InputError(f"method {method!r}: one of {', '.join(map(repr, METHODS))}")
+    auto = isinstance(harmonics, str) and harmonics == "auto"
+    if isinstance(harmonics, str) and not auto:
+        raise InputError(f"harmonics must be an integer >= 1 or 'auto', got {harmonics!r}")
+    target = float(as_param("truncation_tol", truncation_tol, sign="positive", shape=()))
+    top = as_count("max_harmonics", max_harmonics, minimum=1) if auto else as_count("harmonics", harmonics,
+                                                                                     minimum=1)
     L = _span(lo, hi, p0)
     options = dict(ds=L / 100 if ds is None else ds, ds_max=L / 10 if ds_max is None else ds_max,
                    max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
                    start_tol=gtol * L, gtol=gtol * L)
     if method == "shooting":
-        return _shooting_branch(scene_at, p0, guess, (lo, hi), as_count("harmonics", harmonics, minimum=1),
-                                period_at, scale, as_count("steps", steps, minimum=1), L, options)
-    start = harmonic_balance(scene_at(p0), period_at(p0), guess, harmonics, stability=False)
-    if int(start.code) != 0:
+        br, coefficients = _shooting_branch(scene_at, p0, guess, (lo, hi), top, period_at, scale,
+                                            as_count("steps", steps, minimum=1), L, options)
+        kept = _series_harmonics(coefficients, target) if auto else np.full(br.p.size, top)
+        return (PeriodicBranch(**_fields(br), harmonics=kept, truncation=_series_tail(coefficients, kept)),
+                _truncated(coefficients, kept))
+    if auto:
+        start = _adapted(scene_at(p0), period_at(p0), guess, truncation_tol=target, max_harmonics=top,
+                         stability=False, ladder=BRANCH_HARMONICS, measure=_measure(scene_at, period_at, p0), t0=0.0,
+                         tol=1e-10, max_iter=30, args=None)
+    else:
+        start = harmonic_balance(scene_at(p0), period_at(p0), guess, top, stability=False)
+    if int(start.code) not in (0, code_of(RESULTS.harmonics_insufficient)):
         raise NumericalError(f"periodic_branch: no periodic motion at {name} = {p0} from the guess "
                              f"({RESULTS[start.result]})")
     Y0 = start.coefficients
-    shape = Y0.shape
     if scale is None:
-        scale = _survey_scale(scene_at, period_at, Y0, lo, hi)
-    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (shape[1],))[None, :] / L
-    w0 = float(2 * np.pi / period_at(p0))
+        scale = _survey_scale(scene_at, period_at, Y0, lo, hi) * np.sqrt(Y0.shape[1])
+    scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (Y0.shape[1],))[None, :] / L
+    piece = functools.partial(_piece, scene_at, period_at, (lo, hi), scale, float(2 * np.pi / period_at(p0)))
+    if not auto:
+        br, coefficients = piece(Y0, p0, options)
+        return (PeriodicBranch(**_fields(br), harmonics=np.full(br.p.size, top),
+                               truncation=_truncations(scene_at, period_at, br.p, coefficients)), coefficients)
+    return _adaptive(piece, Y0, p0, options, target, harmonic_ladder(top, BRANCH_HARMONICS))
+
+
+def _piece(scene_at, period_at, bounds, scale, w0, Y0, p0, options, watch=None):
+    """The branch by harmonic balance with `Y0`'s harmonics from `(Y0, p0)` (see
+    `periodic_branch`; `w0` the start's forcing frequency, the unit of the scaled
+    equations' exponents): `(branch, coefficients)`."""
+    shape = Y0.shape
     w0_ = jnp.asarray(w0)   # an array, not a literal: a branch of other values reuses the compilation
 
     def F(u, p):   # a similarity transform (times L): Hill's exponents divided by w0
@@ -96,7 +139,7 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics=8, *, period_at=Non
         return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0_)).ravel()
 
     ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), jnp.asarray(p0))   # w / w0 at p
-    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=(lo, hi), **options,
+    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=bounds, **options, watch=watch,
                          exponents=lambda J, u, p: _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p))))
     events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)

@@ -216,17 +216,28 @@ def tolerance(text):
     return value
 
 
-def mode_count(text):
-    """'auto', 'all' or an integer >= 1 (`simulate --modes`)."""
-    if text in ("auto", "all"):
-        return text
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected 'auto', 'all' or a number of modes, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be 'auto', 'all' or an integer >= 1, got {text!r}")
-    return value
+def _word_or_count(words, what):
+    """A parser of one of `words` or an integer >= 1 (`what`: "a number of modes")."""
+    alternatives = ", ".join(repr(w) for w in words)
+
+    def parse(text):
+        if text in words:
+            return text
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {alternatives} or {what}, got {text!r}") from None
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"must be {alternatives} or an integer >= 1, got {text!r}")
+        return value
+
+    return parse
+
+
+#: 'auto', 'all' or an integer >= 1 (`simulate --modes`)
+mode_count = _word_or_count(("auto", "all"), "a number of modes")
+#: 'auto' or an integer >= 1 (`periodic --harmonics`)
+harmonic_count = _word_or_count(("auto",), "a number of harmonics")
 
 
 def at_least(lo):

@@ -14,7 +14,7 @@ from ._uncertainty import cmd_uncertainty
 from ._bench import cmd_bench
 from ._output_units import UNITS_OPTION
 from ._common import (InputError, NumericalError, SpanAction, at_least, collect_warnings, finite, get_preset,
-                      mode_count, nonnegative, option_of, positive, resolve_units, tolerance)
+                      harmonic_count, mode_count, nonnegative, option_of, positive, resolve_units, tolerance)
 from ._contact import cmd_bifurcation
 from ._continue import cmd_continue
 from ._fe_analyses import cmd_modes, cmd_static
@@ -336,16 +336,25 @@ def build_parser():
                                     help="starting value of --param, a unit may follow as for --range (default: "
                                          "the preset's value where it lies in --range, else the range's end "
                                          "nearest to it)")),
-                 (("--harmonics",), dict(type=at_least(1), default=8, metavar="H",
-                                         help="harmonics of the Fourier series")),
+                 (("--harmonics",), dict(type=harmonic_count, default="auto", metavar="H",
+                                         help="harmonics of the Fourier series: a number, or auto (each point's "
+                                              "fewest of 1, 2, 4, ... --max-harmonics whose truncation error "
+                                              "estimate is below --truncation-tol)")),
+                 (("--truncation-tol",), dict(type=tolerance, default=1e-6,
+                                              help="--harmonics auto: the truncation error estimate each point is "
+                                                   "held below (the left-out harmonics' correction, relative to "
+                                                   "the motion); exit 3 where --max-harmonics do not reach it")),
+                 (("--max-harmonics",), dict(type=at_least(1), default=32, metavar="H",
+                                             help="--harmonics auto: the most harmonics a point may take")),
                  (("--method",), dict(default="hb", choices=("hb", "shooting"),
                                       help="hb: harmonic balance; shooting: Newton on the closure after one "
                                            "period, integrated in --steps fixed Dopri8 steps")),
                  (("--steps",), dict(type=at_least(1), default=256,
                                      help="--method shooting: fixed integration steps per period")),
                  (("--max-time-residual",), dict(type=positive, default=1e-3,
-                                                 help="the largest time-domain residual of a point's reconstructed "
-                                                      "orbit (relative truncation error) accepted before exit 3")),
+                                                 help="fixed --harmonics: the largest time-domain residual of a "
+                                                      "point's reconstructed orbit (relative truncation error) "
+                                                      "accepted before exit 3")),
                  (("--node",), dict(type=at_least(0), default=None, metavar="N",
                                     help="amplitude of this node's orbit (default: the scene's whirl_amplitude)")),
                  (("--subharmonic",), dict(type=at_least(1), default=1, metavar="K",

@@ -28,7 +28,7 @@ COMPLETE_STOPS = ("box edge", "closed loop", "start")
 
 #: what to change, per way a branch can stop inside the range
 REMEDY = {"max_points reached": "raise --max-points (or --ds-max, for longer steps)",
-          "corrector failed": "lower --ds-max, or raise --harmonics",
+          "corrector failed": "lower --ds-max, or raise --harmonics (--max-harmonics with auto)",
           "non-finite": "lower --ds-max, or narrow --range"}
 
 
@@ -123,6 +123,12 @@ def _incomplete(stops, p, key, lo, hi, max_points):
     return out
 
 
+def _harmonics_used(harmonics):
+    """`"1 harmonic"`, `"8 harmonics"` or `"1 to 4 harmonics"`: the counts along a branch."""
+    lo, hi = int(np.min(harmonics)), int(np.max(harmonics))
+    return f"{lo} harmonic{'s' if lo > 1 else ''}" if lo == hi else f"{lo} to {hi} harmonics"
+
+
 def cmd_periodic(args) -> int:
     from rotorjax.analysis import branch_amplitude, periodic_branch
     from rotorjax.plot import plot_periodic_branch
@@ -164,7 +170,10 @@ def cmd_periodic(args) -> int:
     br, coefficients = periodic_branch(scene_at, start, guess, (lo, hi), args.harmonics,
                                        subharmonic=args.subharmonic, name=key, ds=ds, ds_max=ds_max,
                                        max_points=args.max_points, progress=not args.json,
-                                       method=METHODS[args.method], steps=args.steps)
+                                       method=METHODS[args.method], steps=args.steps,
+                                       truncation_tol=args.truncation_tol, max_harmonics=args.max_harmonics)
+    auto = args.harmonics == "auto"
+    used = _harmonics_used(br.harmonics)
     amp, truncation = branch_amplitude(scene_at, br.p, coefficients, node=args.node,
                                        subharmonic=args.subharmonic, truncation=True)
     events = sorted(br.events, key=lambda e: e.p)
@@ -182,11 +191,13 @@ def cmd_periodic(args) -> int:
         bifurcations.append(row)
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
+           **({"truncation_tol": args.truncation_tol, "max_harmonics": args.max_harmonics} if auto else {}),
            "subharmonic": args.subharmonic, "range": [lo, hi], "start": start,
            "start_source": start_source,
            "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
                          "margin": br.margin.tolist(), "time_residual": truncation.tolist(),
-                         "harmonics": args.harmonics, "n_points": int(br.p.size),
+                         "harmonics": [int(h) for h in br.harmonics], "truncation": br.truncation.tolist(),
+                         "n_points": int(br.p.size),
                          "stop": br.curve.stop, "stops": list(br.stops)}],
            "bifurcations": bifurcations}
     np.savetxt(stem + ".csv", np.column_stack([br.p, amp, br.stable.astype(int), br.margin]), delimiter=",",
@@ -197,20 +208,27 @@ def cmd_periodic(args) -> int:
                                      x_label=key + (f" ({key_unit})" if key_unit not in ("", "dimensionless") else ""),
                                      y_label=f"amplitude{unit}",
                                      title=f"{os.path.basename(preset.name)}: periodic motions in {key} "
-                                           f"({args.harmonics} harmonic{'s' if args.harmonics > 1 else ''}); "
-                                           f"amplitude: {amplitude_of}"), stem + ".png")
+                                           f"({used}); amplitude: {amplitude_of}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
     failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
-    worst = int(np.argmax(truncation))
-    if truncation[worst] > args.max_time_residual:
-        failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed orbit is "
-                      f"{truncation[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
-                      f"{br.p[worst]:.8g}; raise --harmonics")
+    if auto:     # the target, held at every point unless --max-harmonics ran out
+        worst = int(np.argmax(br.truncation))
+        if not br.truncation[worst] <= args.truncation_tol:
+            failed.append(f"harmonics insufficient: the truncation error estimate is {br.truncation[worst]:.2e} > "
+                          f"--truncation-tol {args.truncation_tol:g} at {key} = {br.p[worst]:.8g} with "
+                          f"--max-harmonics {args.max_harmonics}; raise --max-harmonics (or --truncation-tol)")
+    else:
+        worst = int(np.argmax(truncation))
+        if truncation[worst] > args.max_time_residual:
+            failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed orbit is "
+                          f"{truncation[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
+                          f"{br.p[worst]:.8g}; raise --harmonics")
     if args.json:
         print(json.dumps(out, indent=2))
     else:
-        print(f"{preset.name}: periodic motions in {key} by {METHODS[args.method]}, {args.harmonics} harmonic(s)"
+        print(f"{preset.name}: periodic motions in {key} by {METHODS[args.method]}, {used}"
+              + (f" (auto: truncation error estimate <= {args.truncation_tol:g})" if auto else "")
               + (f", period {args.subharmonic} x the forcing's" if args.subharmonic > 1 else "")
               + f"; wrote {stem}.csv, .json, .png")
         print(f"  {key} in [{lo:g}, {hi:g}] from {start:g} ({out['start_source']}); {br.p.size} points, "

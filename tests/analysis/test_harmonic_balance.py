@@ -338,6 +338,19 @@ def test_shooting_branch_equals_the_harmonic_balance_branch():
         np.testing.assert_allclose(np.asarray(s.coefficients), c_sh[i], atol=1e-8)
         assert abs(float(sh.margin[i]) - float(s.floquet.margin)) < 1e-7
     assert sh.stops == hb.stops == ("box edge (p = 1.2)", "box edge (p = 1.6)")
+    # auto by shooting: each point's series keeps the fewest harmonics whose left-out ones hold at most
+    # truncation_tol of it, the rest the fixed run's
+    sa, c_sa = periodic_branch(Duffing, 1.2, start, (1.2, 1.6), "auto", method="shooting", max_harmonics=12,
+                               truncation_tol=1e-6)
+    np.testing.assert_array_equal(sa.p, sh.p)
+    kept = np.asarray(sa.harmonics)
+    assert 1 < kept.min() and kept.max() < 12 and np.all(np.asarray(sa.truncation) <= 1e-6)
+    for i, h in enumerate(kept):
+        m = 2 * h + 1
+        np.testing.assert_array_equal(c_sa[i, :m], c_sh[i, :m])
+        assert np.all(c_sa[i, m:] == 0.0)
+        tail = np.linalg.norm(c_sh[i, m - 2:]) / np.linalg.norm(c_sh[i])    # one harmonic fewer: too many left out
+        assert tail > 1e-6
 
 
 def test_hill_exponents_equal_floquet_multipliers(three):
@@ -352,17 +365,73 @@ def test_hill_exponents_equal_floquet_multipliers(three):
         np.testing.assert_allclose(mu_hill, mu, atol=1e-8)
 
 
+def test_truncation_estimate_is_the_error_of_the_left_out_harmonics(three):
+    """`truncation_error` of a series of H harmonics against its actual distance
+    from the 16-harmonic motion (round-off there), state by state relative to each
+    state's size: within a factor 2 while the error is above round-off."""
+    from rotorjax.analysis import truncation_error
+
+    scene, T, _, one, many = three
+    for s1, s16 in zip(one, many):
+        ref = np.asarray(s16.coefficients)
+        size = np.max(np.abs(ref), axis=0)
+        for H in (1, 2, 4):
+            s = harmonic_balance(scene, T, s1, H, stability=False)
+            Y = np.zeros_like(ref)
+            Y[:2 * H + 1] = np.asarray(s.coefficients)
+            true = np.linalg.norm((Y - ref) / size) / np.linalg.norm(ref / size)
+            est = float(truncation_error(scene, s.coefficients, T))
+            assert true > 1e-12 and 0.5 < est / true < 2.0, (H, est, true)
+
+
+def test_branch_harmonics_adapted_along_the_branch():
+    """`periodic_branch`'s default, `harmonics="auto"`: from the small motion at 2.0
+    down through both folds, the harmonics go up where the motion grows and down
+    again past the resonance; every point's estimate is below the target, and its
+    actual error (against 32 harmonics solved at that point) within 5x of it; the
+    pieces join into one curve without gaps, each fold between the two points where
+    it turns back."""
+    from rotorjax.analysis import periodic_branch
+
+    br, coefs = periodic_branch(Duffing, 2.0, jnp.zeros(2), (1.0, 2.0), ds=0.05, ds_max=0.1)
+    H = np.asarray(br.harmonics)
+    assert br.stops == ("box edge (p = 1.0)", "box edge (p = 2.0)")
+    assert H[-1] < H.max() and len(set(H.tolist())) >= 3 and coefs.shape[1] == 2 * H.max() + 1
+    assert np.all(np.asarray(br.truncation) <= 1e-6)
+    for i in np.linspace(0, len(H) - 1, 6).astype(int):
+        om = float(br.p[i])
+        ref = np.asarray(harmonic_balance(Duffing(om), 2 * np.pi / om, coefs[i], 32, stability=False).coefficients)
+        size = np.max(np.abs(ref), axis=0)
+        assert np.all(coefs[i, 2 * H[i] + 1:] == 0.0)
+        err = np.linalg.norm((ref[:coefs.shape[1]] - coefs[i]) / size) / np.linalg.norm(ref / size)
+        assert err <= 5e-6, (om, H[i], err)
+    chords = np.diff(br.curve.x, axis=0)
+    assert np.max(np.linalg.norm(chords, axis=1)) <= 0.1 * 1.01
+    cos = np.sum(chords * br.curve.tangents[1:], axis=1) / np.linalg.norm(chords, axis=1)
+    assert np.min(cos) > 0.9          # the tangents point along the branch across the joins
+    folds = [e for e in br.events if e.kind == "fold"]
+    assert len(folds) == 2
+    for e in folds:      # between the two points where the branch turns back in p
+        a, b = e.between
+        dp = br.curve.tangents[[a, b], -1]
+        assert b == a + 1 and dp[0] * dp[1] < 0 and abs(e.p - br.p[a]) < 0.1
+
+
 @pytest.mark.parametrize("kwargs, match", [
     ({"p_bounds": 1.0}, r"p_bounds must be a pair \(lo, hi\)"),
     ({"p0": 3.0}, r"p0 = 3.0 must lie in p_bounds = \(1.0, 2.0\)"),
     ({"harmonics": 0}, "harmonics must be an integer >= 1"),
+    ({"harmonics": "many"}, "harmonics must be an integer >= 1 or 'auto', got 'many'"),
+    ({"harmonics": "auto", "max_harmonics": 0}, "max_harmonics must be an integer >= 1"),
+    ({"harmonics": "auto", "truncation_tol": 0.0}, "truncation_tol must be"),
 ])
 def test_periodic_branch_refuses_bad_input_by_name(kwargs, match):
     from rotorjax.analysis import periodic_branch
 
     call = {"p0": 1.4, "guess": jnp.zeros(2), "p_bounds": (1.0, 2.0), "harmonics": 1} | kwargs
     with pytest.raises(InputError, match=match):
-        periodic_branch(Duffing, call["p0"], call["guess"], call["p_bounds"], call["harmonics"])
+        periodic_branch(Duffing, call["p0"], call["guess"], call["p_bounds"], call["harmonics"],
+                        **{k: v for k, v in kwargs.items() if k in ("max_harmonics", "truncation_tol")})
 
 
 def test_periodic_branch_start_that_fails_is_a_named_numerical_error():

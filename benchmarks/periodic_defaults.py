@@ -1,0 +1,142 @@
+"""`rotorjax periodic` with its defaults (issue 62, item 4: `--harmonics auto`) against
+the former default, eight harmonics everywhere, on two rotors:
+
+- the shipped `cubic_rig.toml` (ROSS's example rotor on isotropic cubic bearings),
+  through both folds over 100..106 rad/s, by the CLI: cold (a fresh interpreter:
+  import, compile, run; `rotorjax periodic ... --json` as a subprocess) and warm
+  (`rotorjax.cli.main` a second time in one process, the median of repeats). Its
+  orbits are circles: auto takes one harmonic everywhere; the folds of both runs
+  are compared.
+- the anisotropic variant of `tests/validation/test_periodic_auto_harmonics.py`
+  (bearing 0 stiffer in y, a tenth of the cubic stiffness, a quarter of the
+  unbalance) over 90..110 rad/s by `periodic_branch`: auto (1e-6) against the most
+  harmonics auto used, fixed; first call and warm.
+
+Errors: the folds' difference between the two runs (cubic_rig), each branch's
+largest truncation error estimate (`truncation_error`).
+
+Run: python benchmarks/periodic_defaults.py [--repeats 3] [--smoke]
+Writes benchmarks/results/periodic_defaults.json (`--smoke`: cubic_rig over 100..101
+in process, one call per timing, the variant over 99..101; prints, writes nothing).
+"""
+
+import argparse
+import io
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import redirect_stderr, redirect_stdout
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))   # tests.validation
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from _common import machine, timed_first, today, write_results  # noqa: E402
+
+
+def cli_argv(lo, hi, harmonics, out):
+    argv = ["periodic", "cubic_rig.toml", "--param", "speed", "--range", str(lo), str(hi), "--json", "--out", out]
+    return argv + ([] if harmonics == "auto" else ["--harmonics", str(harmonics)])
+
+
+def cli_in_process(argv):
+    from rotorjax.cli import main
+
+    stdout = io.StringIO()
+    with redirect_stdout(stdout), redirect_stderr(io.StringIO()):
+        rc = main(argv)
+    assert rc == 0, rc
+    return json.loads(stdout.getvalue())
+
+
+def cli_cold(argv):
+    t0 = time.perf_counter()
+    run = subprocess.run([sys.executable, "-c", "import sys; from rotorjax.cli import main; sys.exit(main(sys.argv[1:]))"]
+                         + argv, capture_output=True, text=True)
+    seconds = time.perf_counter() - t0
+    assert run.returncode == 0, run.stderr[-2000:]
+    return seconds, json.loads(run.stdout)
+
+
+def folds(d):
+    return sorted(e["speed"] for e in d["bifurcations"] if e["kind"] == "fold")
+
+
+def cubic_rig(lo, hi, repeats, cold):
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for h in ("auto", 8):
+            argv = cli_argv(lo, hi, h, tmp)
+            row = {}
+            if cold:
+                row["cold_s"], d = cli_cold(argv)
+            warm, first, d = timed_first(lambda: cli_in_process(argv), repeats)
+            b = d["branches"][0]
+            row.update(warm_s=warm, first_in_process_s=first, points=b["n_points"], folds=folds(d),
+                       harmonics=sorted(set(b["harmonics"])), truncation_max=max(b["truncation"]))
+            out[str(h)] = row
+    out["folds_difference"] = (float(np.max(np.abs(np.subtract(out["auto"]["folds"], out["8"]["folds"]))))
+                               if len(out["auto"]["folds"]) == len(out["8"]["folds"]) > 0 else None)
+    return out
+
+
+def anisotropic(lo, hi, repeats):
+    import equinox as eqx
+
+    from rotorjax import presets
+    from rotorjax.analysis import periodic_branch
+    from tests.validation.test_periodic_auto_harmonics import SHIPPED, variant
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "anisotropic_cubic.toml")
+        with open(SHIPPED) as f, open(path, "w") as g:
+            g.write(variant(f.read()))
+        preset = presets.get(path)
+        scene = preset.build(preset.params()).scene
+
+    def scene_at(w):
+        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+
+    def branch(h):
+        return periodic_branch(scene_at, lo, np.zeros(scene.state_size), (lo, hi), h, name="speed")
+
+    out = {}
+    warm, first, (br, _) = timed_first(lambda: branch("auto"), repeats)
+    H = int(np.max(br.harmonics))
+    out["auto"] = {"warm_s": warm, "first_s": first, "points": int(br.p.size),
+                   "harmonics": {str(k): int(np.sum(br.harmonics == k)) for k in sorted(set(br.harmonics.tolist()))},
+                   "truncation_max": float(np.max(br.truncation))}
+    warm, first, (br, _) = timed_first(lambda: branch(H), repeats)
+    out[f"fixed_{H}"] = {"warm_s": warm, "first_s": first, "points": int(br.p.size),
+                         "truncation_max": float(np.max(br.truncation))}
+    out["fixed_harmonics"] = H
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--smoke", action="store_true")
+    args = ap.parse_args()
+    if args.smoke:
+        res = {"cubic_rig": cubic_rig(100.0, 101.0, 0, cold=False), "anisotropic": anisotropic(99.0, 101.0, 0)}
+        print(json.dumps(res, indent=1))
+        return
+    res = {"benchmark": "periodic_defaults", "machine": machine(), "date": today(),
+           "cubic_rig": cubic_rig(100.0, 106.0, args.repeats, cold=True),
+           "anisotropic": anisotropic(90.0, 110.0, args.repeats)}
+    c = res["cubic_rig"]
+    res["headline"] = {"cubic_rig_cold_s": {"auto": c["auto"]["cold_s"], "8": c["8"]["cold_s"]},
+                       "cubic_rig_warm_s": {"auto": c["auto"]["warm_s"], "8": c["8"]["warm_s"]},
+                       "cold_ratio": c["8"]["cold_s"] / c["auto"]["cold_s"],
+                       "warm_ratio": c["8"]["warm_s"] / c["auto"]["warm_s"]}
+    print(json.dumps(res["headline"], indent=1))
+    write_results("periodic_defaults", res)
+
+
+if __name__ == "__main__":
+    main()
