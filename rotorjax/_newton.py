@@ -10,15 +10,18 @@ import jax
 import jax.numpy as jnp
 
 
-def newton(residual, x0, tol, max_iter, limit=None):
+def newton(residual, x0, tol, max_iter, limit=None, floor=None):
     """The root of `residual` from `x0`: iterate until the relative step is <= `tol`
-    or `max_iter` steps. `limit(x, dx)`, if given, returns the step to take (a
-    damped one: keeps the iterate where `residual` is defined). Returns `(x, (step,
-    iterations))`, `step` the last relative step (check the residual too)."""
+    or `max_iter` steps, or a step is not finite. `limit(x, dx)`, if given, returns
+    the step to take (a damped one: keeps the iterate where `residual` is defined).
+    `floor`, if given: also stop at a step <= `floor` that no longer halves (the
+    rounding floor of an ill-conditioned system: more iterations only stir the
+    noise). Returns `(x, (step, iterations))`, `step` the last relative step
+    (check the residual too)."""
 
     def solve(f, x):
         def body(state):
-            x, _, it = state
+            x, _, prev, it = state
             r, jvp = jax.linearize(f, x)
             J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
             dx = jnp.linalg.solve(J, r)
@@ -26,13 +29,17 @@ def newton(residual, x0, tol, max_iter, limit=None):
                 dx = limit(x, dx)
             x = x - dx
             step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
-            return x, step, it + 1
+            return x, prev, step, it + 1
 
         def cond(state):
-            _, step, it = state
-            return (it < max_iter) & ~(step <= tol)
+            _, last, step, it = state
+            going = (it < max_iter) & ~(step <= tol) & ~jnp.isnan(step)
+            if floor is not None:
+                going = going & ~((step <= floor) & (step > 0.5 * last))
+            return going
 
-        x, step, it = jax.lax.while_loop(cond, body, (x, jnp.asarray(jnp.inf), 0))
+        inf = jnp.asarray(jnp.inf)
+        x, _, step, it = jax.lax.while_loop(cond, body, (x, inf, inf, 0))
         return x, (step, it.astype(jnp.float64))   # float aux: custom_root differentiates through it
 
     def tangent_solve(g, y):

@@ -269,3 +269,20 @@ def test_readme_auto_balancing_range_numbers_are_the_json():
             f"finite-difference gradients reaches the same optimum in {peer['evaluations']} evaluations and "
             f"{peer['seconds']:.2g} s ({d['ratio_lbfgsb_fd_over_rotorjax']:.2g}x)") in readme
     assert r["rescan"]["agree"] and abs(peer["after"] - r["after"]) < 1e-6 * r["after"]
+
+
+def test_continuation_auto07p_times_are_the_json():
+    """docs/continuation.md's times against AUTO-07p (the compiled continuation core, issue 62) are
+    `auto07p.json`'s: the Duffing fold curve, the forced Jeffcott branch with its points and harmonics, the
+    Hopf curve."""
+    out = json.loads((BENCH / "results" / "auto07p.json").read_text())
+    docs = " ".join(documentation().split())
+    a, b, c = (out[k] for k in ("duffing_fold_curve", "jeffcott_hopf_curve", "jeffcott_forced_branch"))
+    assert (f"the Duffing fold curve {a['rotorjax']['median_s']:.3f} s against AUTO's {a['auto']['run_s']:.3f} s "
+            f"run after a {a['auto']['compile_s']:.3f} s compile ({a['ratio_rotorjax_median_over_auto_run']:.1f}x "
+            f"the run, {a['ratio_rotorjax_median_over_auto_compile_plus_run']:.1f}x compile and run)") in docs
+    assert (f"(part (c), {c['rotorjax']['branch_points']} points with {c['rotorjax']['harmonics']} harmonics, "
+            f"four folds) {c['rotorjax']['median_s']:.2f} s against AUTO's {c['auto']['run_s']:.2f} s, "
+            f"{c['ratio_rotorjax_median_over_auto_run']:.1f}x") in docs
+    assert len(c["rotorjax"]["folds"]) == 4
+    assert (f"still {b['rotorjax']['median_s']:.1f} s against {b['auto']['run_s']:.3f} s") in docs

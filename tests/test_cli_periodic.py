@@ -197,3 +197,46 @@ def test_a_branch_that_fails_inside_the_range_exits_3_after_writing(tmp_path, ca
     assert "Traceback" not in cap.err
     for ext in ("csv", "json", "png"):
         assert (tmp_path / f"periodic_cubic_rig_speed.{ext}").exists()
+
+
+def test_a_rotor_file_entry_is_continued_where_the_scene_is_affine_in_it(tmp_path, capsys):
+    """`--param` a rotor file's entry other than the speed (issue 62, item 5): the cubic stiffness of bearing 0
+    at 103 rad/s. The branch folds in k3 (the jump boundary crossed at fixed speed), and both ends come back
+    to the range's lower edge. Checked against independent builds of the file with that entry (not the traced
+    scene): the amplitudes of the stable part equal harmonic balance's from rest, sampled densely as above;
+    the fold's k3 is where the rotating frame's branch of the rebuilt file folds at 103 rad/s. An entry the
+    scene is not affine in (a shaft diameter) is refused, exit 2, by name."""
+    import jax
+
+    from rotorjax.analysis import harmonic_balance, synchronous_branch
+
+    key = "cubic_bearing0.k3"
+    argv = ["periodic", "cubic_rig.toml", "--set", "speed=103", "--harmonics", "1", "--node", str(NODE), "--json",
+            "--out", str(tmp_path), "--param"]
+    assert main(argv + [key, "--range", "2e12", "4e12"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    (b,) = d["branches"]
+    assert d["start"] == 3e12 and d["start_source"] == "the preset's value"
+    assert b["stops"] == [f"box edge ({key} = 2000000000000.0)"] * 2
+    (fold,) = d["bifurcations"]
+    assert fold["kind"] == "fold" and 3e12 < fold[key] < 4e12
+    preset = presets.get(ROTOR)
+
+    def rebuilt(k3):
+        return preset.build(dict(preset.params(), speed=103.0, **{key: k3})).scene
+
+    T = 2 * np.pi / 103.0
+    ts = np.linspace(0.0, T, 2001)
+    k3, stable = np.array(b[key]), np.array(b["stable"])
+    for i in (0, int(np.argmin(np.abs(k3 - 3e12)))):     # the stable part, from the lower edge to the start
+        assert stable[i]
+        scene = rebuilt(k3[i])
+        hb = harmonic_balance(scene, T, scene.rest_state(), harmonics=1, stability=False)
+        out = jax.vmap(lambda t: scene.outputs(t, hb.state(t)))(ts)
+        radius = np.hypot(np.asarray(out["node_x"])[:, NODE], np.asarray(out["node_y"])[:, NODE]).max()
+        assert int(hb.code) == 0
+        np.testing.assert_allclose(b["amplitude"][i], radius, rtol=1e-6)
+    speeds = [e.p for e in synchronous_branch(rebuilt(fold[key]), (100.0, 106.0)).events if e.kind == "fold"]
+    assert min(abs(s - 103.0) for s in speeds) < 1e-6 * 103.0
+    assert main(argv + ["shaft0.od", "--range", "0.04", "0.06"]) == 2
+    assert "--param shaft0.od: the scene's arrays do not depend affinely on shaft0.od" in capsys.readouterr().err

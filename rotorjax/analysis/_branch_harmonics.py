@@ -7,10 +7,11 @@ with fewer, and the next goes on from that point solved again), joined into one
 
 import dataclasses
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..solve._lift import call, lift
+from ..solve._lift import batched, call, compiled, lift
 from ..solve._results import RESULTS, code_of
 from ._continuation import Branch, Curve
 from ._harmonic_balance import _adapted, harmonic_balance, truncation_error
@@ -62,12 +63,16 @@ def _truncation_of(scene_at, period_at):
 
 
 def _truncations(scene_at, period_at, p, coefficients):
-    """`truncation_error` at every point of a piece of branch (one program per
-    structure, called point by point: a vmapped one would compile per number of
-    points)."""
+    """`truncation_error` at every point of a piece of branch (in batches of
+    `solve._lift.ROWS` points: one program per structure)."""
     p, Y = np.asarray(p, dtype=float), np.asarray(coefficients, dtype=float)
     one = lift(_truncation_of(scene_at, period_at), jnp.asarray(p[0]), jnp.asarray(Y[0]))
-    return np.array([float(call(one, jnp.asarray(a), jnp.asarray(c))) for a, c in zip(p, Y)])
+    return batched(_rows, one, (p, Y))[0]
+
+
+@compiled
+def _rows(f, p, Y):
+    return (jax.vmap(f)(p, Y),)
 
 
 def _fields(br):
@@ -75,29 +80,22 @@ def _fields(br):
     return {f.name: getattr(br, f.name) for f in dataclasses.fields(Branch)}
 
 
-def _watch(scene_at, period_at, scale, shape, x0, target, higher, lower):
-    """`watch(x)` for a piece of `shape`'s harmonics: `"harmonics raised"` where the
-    truncation error estimate exceeds `target` (when `higher`: more are allowed),
-    `"harmonics lowered"` where the series cut to `lower` harmonics (None: not
-    tried) keeps it below `LOWER_MARGIN target`."""
+def _watch(scene_at, period_at, scale, shape, target, higher, lower):
+    """`watch` for `continue_branch` on a piece of `shape`'s harmonics: `"harmonics
+    raised"` where the truncation error estimate exceeds `target` (when `higher`:
+    more are allowed), `"harmonics lowered"` where the series cut to `lower`
+    harmonics (None: not tried) keeps it below `LOWER_MARGIN target`."""
     cut = 2 * (lower or 0) + 1 if lower else shape[0]
 
-    def residuals(x):
+    def code(x):
         Y, p = x[:-1].reshape(shape) * scale, x[-1]
         sc, T = scene_at(p), period_at(p)
-        return jnp.stack([truncation_error(sc, Y, T), truncation_error(sc, Y[:cut], T)])
+        r = truncation_error(sc, Y, T)
+        raised = higher & ~(r <= target)
+        lowered = bool(lower) & (truncation_error(sc, Y[:cut], T) <= LOWER_MARGIN * target)
+        return jnp.where(raised, 1, jnp.where(lowered, 2, 0))
 
-    both = lift(residuals, jnp.asarray(x0))
-
-    def watch(x):
-        r, r_low = np.asarray(call(both, jnp.asarray(x)))
-        if higher and not r <= target:
-            return f"{REHARMONIZE} raised"
-        if lower and r_low <= LOWER_MARGIN * target:
-            return f"{REHARMONIZE} lowered"
-        return None
-
-    return watch
+    return code, (f"{REHARMONIZE} raised", f"{REHARMONIZE} lowered")
 
 
 def _adaptive(piece, Y0, p0, options, target, ladder):
@@ -110,8 +108,7 @@ def _adaptive(piece, Y0, p0, options, target, ladder):
     def run(Y, p, opts, lower_ok=True):
         H = (Y.shape[0] - 1) // 2
         k = ladder.index(H) if H in ladder else len(ladder) - 1
-        x0 = np.concatenate([np.asarray(Y / scale).ravel(), [p]])
-        watch = _watch(scene_at, period_at, scale, Y.shape, x0, target, higher=H < ladder[-1],
+        watch = _watch(scene_at, period_at, scale, Y.shape, target, higher=H < ladder[-1],
                        lower=ladder[k - 1] if lower_ok and k > 0 else None)
         br, co = piece(Y, p, opts, watch=watch)
         return br, co, H, _truncations(scene_at, period_at, br.p, co)

@@ -53,7 +53,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..solve._lift import Lifted, call, compiled, jacobian, lift
+from ..solve._lift import Lifted, batched, call, compiled, jacobian, lift
+from . import _arclength
 from ._roots import bisect, root_gradient
 
 
@@ -176,6 +177,12 @@ def _tangent(jac):
     return q[:, -1]
 
 
+@compiled
+def _jacobians(G, x):
+    """`G`'s Jacobian at each row of `x`."""
+    return (jax.vmap(jax.jacfwd(G))(x),)
+
+
 class _Front:
     """One direction of tracing: its points so far with their tangents (pointing
     the way it goes), Jacobians and interpolation error estimates, the next step,
@@ -197,11 +204,10 @@ class _Front:
         self.t, self.J = t, J
 
 
-_MAX_TURN_HALVINGS = 6     # at a singular point the tangent may jump: accept the step after this many
-_MAX_NONFINITE = 3         # successive steps cut short by non-finite G: the curve runs into where G is undefined
-_MAX_DENSE_CUTS = 12       # steps cut for the interpolation error before one is accepted regardless
+# the step control's limits, the compiled core's (`_arclength`)
+_MAX_TURN_HALVINGS, _MAX_NONFINITE = _arclength.MAX_TURN_HALVINGS, _arclength.MAX_NONFINITE
+_MAX_DENSE_CUTS, _AXIS_FLOOR = _arclength.MAX_DENSE_CUTS, _arclength.AXIS_FLOOR
 _DENSE_SAFETY = 0.8        # the midpoint estimate is kept below this fraction of dense_tol
-_AXIS_FLOOR = 0.05         # an error along an axis nearly tangent to the curve is capped at 20x the orthogonal one
 
 
 def _evaluators(G, gradient, fd_step, x0):
@@ -249,7 +255,16 @@ def _jacobian(G, g, gradient, fd_step):
 def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max_newton, start_tol, gradient,
            fd_step, gtol, max_turn, names, what, progress=False, dense_tol=None, error_axis=None,
            evaluators=None, watch=None) -> Curve:
+    # a JAX `G` differentiated by autodiff runs on the compiled core (`_arclength`); the loop of `advance`
+    # below is for a `G` evaluated by the caller's NumPy code (Jacobians by differences)
+    Gl = None
+    if evaluators is None and G is not None and gradient == "autodiff":
+        Gl = G if isinstance(G, Lifted) else lift(G, jnp.asarray(x0, dtype=jnp.float64))
+        G = Gl
+    core = Gl is not None
     g, jac = _evaluators(G, gradient, fd_step, x0) if evaluators is None else evaluators
+    # watch: `(w, reasons)`, `w(x)` a JAX function of a new point, 0 to go on, `i` to stop for `reasons[i - 1]`
+    wl = None if watch is None else watch[0] if isinstance(watch[0], Lifted) else lift(watch[0], jnp.asarray(x0))
     # a Jacobian by differences costs 2 (k + 1) evaluations of G: the corrector keeps the one at its
     # predictor (the chord method) rather than forming one per iteration
     chord = gradient == "fd"
@@ -413,6 +428,31 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
             f.stop = edge(k, b)
         return f.stop is not None
 
+    knobs = jnp.asarray([ds_min, ds_max, tol, gtol, max_turn, max_newton, np.inf if target is None else target,
+                         -1 if error_axis is None else error_axis], dtype=jnp.float64)
+    box = (jnp.asarray(lo), jnp.asarray(hi))
+
+    def march_front(f, other, budget, pause):
+        """`advance` by the compiled core: up to `pause` points (at most `_arclength.CHUNK`)."""
+        out = _arclength.march(Gl, wl, jnp.asarray(f.xs[-1]), jnp.asarray(f.t), jnp.asarray(f.J), jnp.float64(f.ds),
+                               jnp.asarray(f.nonfinite), jnp.asarray(other.xs[-1]), jnp.asarray(other.t),
+                               jnp.asarray(other.J), jnp.asarray(budget), jnp.asarray(pause), *box, knobs)
+        out = jax.tree_util.tree_map(np.asarray, out)
+        for i in range(int(out.n)):
+            f.append(out.x[i], float(out.residuals[i]), float(out.steps[i]), int(out.iterations[i]), out.t[i],
+                     None, float(out.errors[i]))
+        f.J, f.ds, f.nonfinite = out.J, float(out.ds), int(out.nonfinite)
+        code, k = int(out.stop), int(out.stop_k)
+        if code == _arclength.CLOSED and other.stop is None:
+            other.stop = "closed loop"
+        f.stop = {_arclength.EDGE: lambda: edge(k, out.stop_b),
+                  _arclength.FAILED: lambda: f"corrector failed (step below ds_min) at {at(f.xs[-1])}",
+                  _arclength.NONFINITE: lambda: f"non-finite {what} at {at(out.bad)}",
+                  _arclength.CLOSED: lambda: "closed loop",
+                  _arclength.FULL: lambda: "max_points reached" + ("" if boxed else " (no parameter box given)"),
+                  _arclength.WATCH: lambda: watch[1][k - 1],
+                  _arclength.PAUSE: lambda: None}[code]()
+
     def advance(f, other):
         x, ds, t = f.xs[-1], f.ds, f.t
         bad, turns, cuts = None, 0, 0
@@ -514,17 +554,26 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
     bar = tqdm(total=max_points, desc="continuation", unit="point", disable=not progress, leave=False)
     while any(f.stop is None for f in fronts):
         bar.update(len(hi_f.xs) + len(lo_f.xs) - 1 - bar.n)
+        # the compiled core: the points left shared between the fronts still going, round by round
+        share = -(-(max_points - (len(hi_f.xs) + len(lo_f.xs) - 1)) // sum(f.stop is None for f in fronts))
         for f in fronts:
-            if f.stop is not None or heads_out(f):
+            other = lo_f if f is hi_f else hi_f
+            if f.stop is not None:
+                continue
+            if core:
+                march_front(f, other, max_points - (len(hi_f.xs) + len(lo_f.xs) - 1), max(share, 1))
+                continue
+            if heads_out(f):
                 continue
             if len(hi_f.xs) + len(lo_f.xs) - 1 >= max_points:
                 f.stop = "max_points reached" + ("" if boxed else " (no parameter box given)")
                 continue
             before = len(f.xs)
-            advance(f, lo_f if f is hi_f else hi_f)
-            if watch is not None and len(f.xs) > before and f.stop != "closed loop":
+            advance(f, other)
+            if wl is not None and len(f.xs) > before and f.stop != "closed loop":
                 # the caller's verdict on the new point (e.g. a model that no longer resolves it): stops the front
-                f.stop = watch(f.xs[-1]) or f.stop
+                code = int(call(wl, jnp.asarray(f.xs[-1])))
+                f.stop = watch[1][code - 1] if code > 0 else f.stop
     bar.close()
     rev = slice(None, 0, -1)
     x = np.asarray(lo_f.xs[rev] + hi_f.xs)
@@ -616,6 +665,10 @@ class BranchEvent:
       Neimark-Sacker or period-doubling point's exponent frequency; None for the
       other kinds).
     - `note`: a remark on how it was located (branch points), else None.
+    - `crossing`: at a Hopf point, how many stability exponents cross there (the
+      change in the number of unstable ones): 2 for a complex pair; on a branch of
+      periodic motions 1 for a real multiplier through -1 (a period doubling), 2
+      for a pair (Neimark-Sacker). None for the other kinds.
 
     `as_dict()` gives the JSON row; `event["p"]` style access still reads the same
     keys, deprecated (for code written against the former dict rows)."""
@@ -627,19 +680,22 @@ class BranchEvent:
     between: tuple
     frequency: float = None
     note: str = None
+    crossing: int = None
 
     def __post_init__(self):
         object.__setattr__(self, "between", tuple(int(i) for i in self.between))
 
     def as_dict(self) -> dict:
         """JSON-ready: `{"kind", "p", "u": [...], "frequency" (Hopf), "residual",
-        "between": [i, i + 1], "note" (when set)}`."""
+        "between": [i, i + 1], "note", "crossing" (when set)}`."""
         out = {"kind": self.kind, "p": self.p, "u": np.asarray(self.u).tolist()}
         if self.frequency is not None:
             out["frequency"] = self.frequency
         out.update({"residual": self.residual, "between": list(self.between)})
         if self.note is not None:
             out["note"] = self.note
+        if self.crossing is not None:
+            out["crossing"] = self.crossing
         return out
 
     def __getitem__(self, key):
@@ -742,9 +798,9 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     harmonic balance passes Hill's physical ones); the margin is their largest real
     part. `F` is traced once and its programs (the corrector's, the fold's and the
     Hopf refinement's) compiled once per structure (`solve._lift`): another branch of
-    the same equations with other arrays reuses them. `watch(x)`, given, sees every
-    new point `x = (u, p)` and stops the branch there with the reason it returns
-    (None: go on)."""
+    the same equations with other arrays reuses them. `watch = (w, reasons)`, given:
+    `w(x)`, a JAX function of every new point `x = (u, p)` returning an integer,
+    stops the branch there for `reasons[w(x) - 1]` where it is positive."""
     u0 = np.asarray(u0, dtype=float)
     n = u0.size
 
@@ -771,19 +827,16 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
         return jacobian(Gl, jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]
 
     xs = curve.x
-    jacs = [np.asarray(jacobian(Gl, jnp.asarray(x))) for x in xs]   # [F_u F_p], one per point
+    (jacs,) = batched(_jacobians, Gl, (xs,), row_bytes=8 * n * (n + 1))   # [F_u F_p], one per point
     if exponents is None:
         def exponents(J, u, p):
             return np.linalg.eigvals(J)
     eig = [np.asarray(exponents(J[:, :n], x[:n], x[n])) for J, x in zip(jacs, xs)]
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
-    tangents = np.array([_tangent(J) for J in jacs])
-    for i in range(1, len(tangents)):
-        if tangents[i] @ tangents[i - 1] < 0:
-            tangents[i] = -tangents[i]
+    tangents = curve.tangents     # oriented along the curve
     # the sign of the bordered determinant (slogdet's: a determinant of a few hundred unknowns overflows)
-    bordered = np.array([np.linalg.slogdet(np.vstack([J, t[None, :]]))[0] for J, t in zip(jacs, tangents)])
+    bordered = np.linalg.slogdet(np.concatenate([jacs, tangents[:, None, :]], axis=1))[0]
     fold_system = (lambda z, bb, cc: _fold_residual(Gl, z, bb, cc),   # F = 0 and F_u singular
                    lambda z, bb, cc: _fold_jacobian(Gl, z, bb, cc))
     events = []
@@ -809,7 +862,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
                 # a pair whose real part did not change sign across the step (two real
                 # eigenvalues on one side meeting as a pair): no crossing to report
                 if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
-                    events.append(hopf)
+                    events.append(dataclasses.replace(hopf, crossing=abs(int(n_unstable[i + 1] - n_unstable[i]))))
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 

@@ -477,9 +477,13 @@ def _secondary(event, w0, w):
     """A crossing of a complex pair of Hill's exponents (continue_branch's "hopf",
     in units of `w0`) as a period doubling or a Neimark-Sacker bifurcation: the
     exponent's frequency reduced to `[0, w/2]` (each exponent recurs shifted by
-    every `k w`)."""
+    every `k w`). A period doubling is one real multiplier through -1: one exponent
+    of frequency `w/2` crosses. Where two cross (`event.crossing`), it is a pair, a
+    Neimark-Sacker point, however near `w/2` (a whirl at about half speed on a
+    synchronous branch, as oil whirl is)."""
     f = float(np.abs(np.mod(event.frequency * w0 + 0.5 * w, w) - 0.5 * w))
-    kind = "period-doubling" if abs(f - 0.5 * w) < PERIOD_DOUBLING_TOL * w else "neimark-sacker"
+    single = event.crossing is None or event.crossing % 2 == 1
+    kind = "period-doubling" if abs(f - 0.5 * w) < PERIOD_DOUBLING_TOL * w and single else "neimark-sacker"
     return dataclasses.replace(event, kind=kind, frequency=f)
 
 

@@ -34,12 +34,14 @@ REMEDY = {"max_points reached": "raise --max-points (or --ds-max, for longer ste
 
 def _scene_at(preset, params, key, setup):
     """`p -> scene` with `key` at `p`, traceable in `p`: the speed leaf replaced
-    where `key` is the speed, else the preset rebuilt (refused where that does not
-    trace, e.g. a rotor file's entries)."""
+    where `key` is the speed; a rotor file's entry where the scene depends on it
+    affinely (`presets.affine_scene`); else the preset rebuilt (refused where that
+    does not trace)."""
     import equinox as eqx
     import jax
 
     from rotorjax.models import ConstantSpeed
+    from rotorjax.presets import affine_scene
 
     scene = setup.scene
     if not isinstance(scene.speed, ConstantSpeed):
@@ -48,7 +50,10 @@ def _scene_at(preset, params, key, setup):
     if key == preset.speed_key and float(scene.speed.constant) == float(params[key]):
         return lambda p: eqx.tree_at(lambda s: s.speed.constant, scene, p)
     if preset.kind == "rotor":
-        raise InputError(f"--param {key}: a rotor file is continued in `speed` only (--param speed)")
+        try:
+            return affine_scene(lambda p: preset.build(dict(params, **{key: p})).scene, params[key], key)
+        except ValueError as e:
+            raise InputError(f"--param {key}: {e}") from None
 
     def at(p):
         return preset.build(dict(params, **{key: p})).scene

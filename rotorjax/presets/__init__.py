@@ -7,6 +7,7 @@ from . import _flexible_abb as flexible_abb
 from . import _jeffcott_abb as jeffcott_abb
 from . import _ross_compare as ross_compare
 from .._errors import InputError
+from ._affine import affine_scene as affine_scene
 from ._base import Preset as Preset
 from ._base import PublishedSpeeds as PublishedSpeeds
 from ._base import Setup as Setup

@@ -51,7 +51,7 @@ class _Inline(Exception):
 
 #: parameter values compared by value (a tuple's items one by one)
 _PLAIN = (int, float, complex, bool, str, type(None), np.dtype, np.generic, enum.Enum, jax.sharding.Mesh,
-          jax.sharding.AbstractMesh)
+          jax.sharding.AbstractMesh, jax.sharding.NamedSharding, jax.sharding.PartitionSpec)
 
 
 def _fingerprint(jaxpr, in_rule=False):
@@ -204,3 +204,24 @@ def vmapped(f, *args):
     """`jax.vmap(f)(*args)` (every argument batched on its first axis), compiled
     once per structure of `f`."""
     return jax.vmap(f)(*args)
+
+
+#: rows per call of `batched`, at most
+ROWS = 64
+
+
+def batched(fn, f, rows, *fixed, row_bytes=0):
+    """`fn(f, *chunk, *fixed)` (a `compiled` function, batched over its row
+    arguments) over chunks of `ROWS` rows of the arrays `rows` (fewer, a power of
+    two, where each row's output takes `row_bytes`: a chunk's within 256 MiB), the
+    last chunk padded with copies of the first row (one compilation whatever the
+    number of rows); the outputs (a tuple of arrays) joined row by row, as NumPy
+    arrays."""
+    k = rows[0].shape[0]
+    size = ROWS
+    while size > 1 and size * row_bytes > 2 ** 28:
+        size //= 2
+    pad = np.concatenate([np.arange(k), np.zeros(-k % size, dtype=int)])
+    outs = [fn(f, *(jnp.asarray(np.asarray(a)[pad[i:i + size]]) for a in rows), *fixed)
+            for i in range(0, pad.size, size)]
+    return tuple(np.concatenate([np.asarray(o[j]) for o in outs])[:k] for j in range(len(outs[0])))

@@ -146,3 +146,46 @@ def test_neimark_sacker_points_are_floquets_pair_through_the_unit_circle(entrain
     p = np.asarray(br.p)
     lo, hi = sorted(e.p for e in ns)
     assert np.array_equal(np.asarray(br.stable), (p > lo) & (p < hi))        # stable inside the locking band
+
+
+#: the whirl's frequency against the forcing's: within `PERIOD_DOUBLING_TOL` of a half, as oil whirl's is
+NU = 0.4997
+
+
+class HalfSpeedWhirl(AbstractScene):
+    """A forced linear oscillator `x'' + C x' + x = F cos t` (the synchronous motion) and a whirl mode
+    `y'' + (C - a) y' + NU^2 y = 0` whose damping the parameter `a` takes away: at `a = C` a complex pair of
+    multipliers `exp(+-i 2 pi NU)`, near -1 but not real, leaves the unit circle."""
+
+    speed: ConstantSpeed
+    a: float
+
+    def __init__(self, a):
+        self.speed, self.a = ConstantSpeed(1.0), a
+
+    @property
+    def state_size(self):
+        return 4
+
+    def vector_field(self, t, y, args=None):
+        x, v, z, w = y
+        return jnp.stack([v, -C * v - x + F * jnp.cos(t), w, -(C - self.a) * w - NU**2 * z])
+
+    def outputs(self, t, y):
+        return {"x": y[0]}
+
+    def describe(self):
+        return "forced oscillator with a whirl mode at about half its frequency"
+
+
+def test_a_pair_near_minus_one_is_a_neimark_sacker_point_not_a_period_doubling():
+    """A whirl at about half the forcing frequency (oil whirl on a synchronous branch): two exponents cross,
+    a Neimark-Sacker point at a = C with the whirl's frequency, however near half the forcing frequency
+    (the former rule, the frequency alone within 1e-3 of a half, called it a period doubling)."""
+    br, _ = periodic_branch(HalfSpeedWhirl, 0.013, jnp.zeros(4), (0.013, 0.1), harmonics=2, scale=1.0, ds=0.02,
+                            ds_max=0.05)
+    (e,) = br.events
+    assert e.kind == "neimark-sacker" and e.crossing == 2 and e.as_dict()["crossing"] == 2
+    assert abs(e.p - C) < 1e-8 and abs(e.frequency - NU) < 1e-8
+    p = np.asarray(br.p)
+    assert np.array_equal(np.asarray(br.stable), p < e.p)

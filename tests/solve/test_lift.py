@@ -28,6 +28,19 @@ def test_closures_over_other_arrays_share_one_compilation():
     np.testing.assert_allclose(jacobian(f2, X, 1.5), jax.jacfwd(_closure(A2))(X, 1.5), rtol=1e-13)
 
 
+def test_a_jacobian_inside_shares_one_compilation():
+    # jacfwd inside the program (a fold's test function, a bordered system) stages a conversion whose
+    # sharding parameter is a new object per trace: compared by value, not identity (found when every
+    # fold curve of the same equations compiled the continuation core again, 2 s a call)
+    def make(A):
+        return lambda x: jax.jacfwd(lambda y: jnp.outer(A @ y, y))(x).sum(axis=0) @ x
+
+    A1, A2 = jnp.eye(3), 2.0 * jnp.ones((3, 3))
+    f1, f2 = lift(make(A1), X), lift(make(A2), X)
+    assert f1.structure is f2.structure
+    np.testing.assert_allclose(call(f2, X), make(A2)(X), rtol=1e-14)
+
+
 def test_a_python_number_is_part_of_the_program():
     A = jnp.eye(3)
     f1, f2 = lift(_closure(A, 2.0), X, 1.0), lift(_closure(A, 3.0), X, 1.0)
