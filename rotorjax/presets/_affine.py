@@ -3,13 +3,14 @@ affinely.
 
 A rotor file's scene is assembled from numbers read from the file (NumPy, Python
 floats): it cannot be built from a traced value, so a continuation, a gradient or
-a grid in one of its entries has no function to trace. But most entries an
-engineer varies enter the scene's arrays affinely: a bearing's or a cubic
-bearing's coefficients, an unbalance's magnitude, a disk's mass and inertias, a
-material's moduli (the stiffness matrix is linear in E and G). For those the
-scene at `p` is the scene built at `p0` plus `(p - p0) / h` times the difference to
-the one built at `p0 + h`, exactly; `affine_scene` checks that at a third value and
-refuses the others (a length, a diameter, a phase) by name."""
+a grid in one of its entries has no function to trace. But many entries an
+engineer varies enter the scene's arrays affinely: a bearing's coefficients, a
+cubic bearing's stiffness, an unbalance's magnitude and phase (kept as an angle,
+its sine taken in the field). For those the scene at `p` is the scene built at
+`p0` plus `(p - p0) / h` times the difference to the one built at `p0 + h`,
+exactly; `affine_scene` checks that at a third value and refuses the others by
+name (on `cubic_rig.toml`: a shaft's diameter, a disk's mass, the modulus E, which
+reach the arrays through the reduced model)."""
 
 import equinox as eqx
 import jax
