@@ -10,9 +10,11 @@ import jax
 import jax.numpy as jnp
 
 
-def newton(residual, x0, tol, max_iter, limit=None, floor=None):
+def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None):
     """The root of `residual` from `x0`: iterate until the relative step is <= `tol`
-    or `max_iter` steps, or a step is not finite. `limit(x, dx)`, if given, returns
+    or `max_iter` steps, or a step is not finite. The step is relative to the largest
+    `|x|`, or to `unit` where that is larger (given: a root at or near 0 converges
+    too, as with an absolute tolerance `tol * unit`). `limit(x, dx)`, if given, returns
     the step to take (a damped one: keeps the iterate where `residual` is defined).
     `floor`, if given: also stop at a step <= `floor` that no longer halves (the
     rounding floor of an ill-conditioned system: more iterations only stir the
@@ -28,7 +30,8 @@ def newton(residual, x0, tol, max_iter, limit=None, floor=None):
             if limit is not None:
                 dx = limit(x, dx)
             x = x - dx
-            step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny)
+            size = jnp.maximum(jnp.max(jnp.abs(x)), jnp.finfo(jnp.float64).tiny if unit is None else unit)
+            step = jnp.max(jnp.abs(dx)) / size
             return x, prev, step, it + 1
 
         def cond(state):

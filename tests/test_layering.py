@@ -20,7 +20,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "rotorjax"
 
 #: the parts of the package and their layers (an import may only go to a rank <= its own)
 RANK = {
-    "_errors": 0, "_config": 0, "_newton": 0, "_sincos": 0, "_units": 0, "rotors": 0,  # rotors/: shipped rotor files (data)
+    # rotors/: shipped rotor files (data)
+    "_errors": 0, "_config": 0, "_autodiff": 0, "_newton": 0, "_sincos": 0, "_units": 0, "rotors": 0,
     "models": 1,
     "io": 1.5,  # rotor files: read into scenes, written from them (each part's table declared in models/)
     "solve": 2, "sweep": 2, "_distributed": 2,

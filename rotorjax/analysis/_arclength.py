@@ -38,6 +38,7 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from .._autodiff import value_and_jacfwd
 from .._newton import newton
 from ..solve._lift import compiled
 
@@ -112,7 +113,7 @@ def _interval_error(G, x, tx, Jx, y, ty, Jy, axis):
 
 
 @compiled
-def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, budget, pause, lo, hi, knobs):
+def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, other_r, budget, pause, lo, hi, knobs):
     """Points along `G = 0` from `x` (unit tangent `t`, Jacobian `J`, next step `ds`)
     until a stop (see the module docstring): at most `budget` points (then `FULL`),
     pausing after `pause` (at most `CHUNK`; then `PAUSE`: the driver shares the
@@ -121,7 +122,8 @@ def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, budget, pau
     step is kept below (infinite: not controlled), `axis` the coordinate it is
     measured along (-1: orthogonally to the curve). `lo`, `hi`: the box (infinite:
     no bound); `watch`: None or a lifted function of a point returning an integer
-    (0: go on)."""
+    (0: go on). `other`, `other_t`, `other_J`, `other_r`: the other direction's last
+    point, its tangent, Jacobian and residual (a step that reaches it closes the loop)."""
     ds_min, ds_max, tol, gtol, max_turn, max_newton, target, axis = knobs
     axis = axis.astype(int)
     m = x.size
@@ -179,9 +181,11 @@ def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, budget, pau
         row = jnp.where(landing, jnp.zeros(m).at[k_fix].set(1.0), t)
         y, step, it = correct(xp, row, jnp.where(landing, b_fix, t @ xp))
         y = jnp.where(landing, y.at[k_fix].set(b_fix), y)
-        r = jnp.max(jnp.abs(G(y)))
+        # G and its Jacobian at y from one forward-mode pass (each place G is called is a copy of it in the program)
+        Gy, Jy = value_and_jacfwd(G)(y)
+        r = jnp.max(jnp.abs(Gy))
         finite = jnp.isfinite(r) & jnp.all(jnp.isfinite(y))
-        Jy = jax.jacfwd(G)(jnp.where(finite, y, x))
+        Jy = jnp.where(finite, Jy, s["J"])
         v = jnp.linalg.solve(jnp.concatenate([Jy, t[None, :]]), jnp.zeros(m).at[-1].set(1.0))
         tn = v / jnp.linalg.norm(v)      # the unit tangent at y along t
         ok = finite & (step <= 1e3 * tol) & (r <= gtol) & jnp.all(jnp.isfinite(tn))
@@ -230,7 +234,7 @@ def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, budget, pau
         # the accepted point, written at row n
         n = s["n"]
         i = jnp.minimum(n, CHUNK - 1)
-        new = dict(x=z, t=tz, residuals=jnp.where(closed, jnp.max(jnp.abs(G(other))), r),
+        new = dict(x=z, t=tz, residuals=jnp.where(closed, other_r, r),
                    steps=jnp.where(step_accept, ds, jnp.linalg.norm(z - x)), iterations=iters, errors=err)
         out = {k: jnp.where(accept, s[k].at[i].set(v), s[k]) for k, v in new.items()}
         n_next = n + accept

@@ -16,6 +16,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
 from ._roots import find_roots
 from ._rotating import rotating_field
 from ..models._frequency import frequency_response
@@ -45,7 +46,7 @@ def _field_and_jacobian(rotor, z):
     def field(zz):
         return rotating_field(rotor, 0.0, zz)
 
-    return field(z), jax.jacfwd(field)(z)
+    return value_and_jacfwd(field)(z)
 
 
 def _regime(rotor, kind, sigma, w, alpha):

@@ -53,6 +53,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
 from ..solve._lift import Lifted, batched, call, compiled, jacobian, lift
 from . import _arclength
 from ._roots import bisect, root_gradient
@@ -436,7 +437,8 @@ def _trace(G, x0, *, ds, ds_min, ds_max, max_points, tol, direction, bounds, max
         """`advance` by the compiled core: up to `pause` points (at most `_arclength.CHUNK`)."""
         out = _arclength.march(Gl, wl, jnp.asarray(f.xs[-1]), jnp.asarray(f.t), jnp.asarray(f.J), jnp.float64(f.ds),
                                jnp.asarray(f.nonfinite), jnp.asarray(other.xs[-1]), jnp.asarray(other.t),
-                               jnp.asarray(other.J), jnp.asarray(budget), jnp.asarray(pause), *box, knobs)
+                               jnp.asarray(other.J), jnp.float64(other.res[-1]), jnp.asarray(budget),
+                               jnp.asarray(pause), *box, knobs)
         out = jax.tree_util.tree_map(np.asarray, out)
         for i in range(int(out.n)):
             f.append(out.x[i], float(out.residuals[i]), float(out.steps[i]), int(out.iterations[i]), out.t[i],
@@ -870,7 +872,8 @@ def _fold_system(G, z, b, c):
     """`[G(z); bordered_fold(G_u(z), b, c)]`: on the curve of `G(u, p) = 0` (`z =
     (u, p)`) where `G_u` is singular."""
     n = z.size - 1
-    return jnp.concatenate([G(z), bordered_fold(jax.jacfwd(G)(z)[:, :n], b, c)[None]])
+    Gz, J = value_and_jacfwd(G)(z)
+    return jnp.concatenate([Gz, bordered_fold(J[:, :n], b, c)[None]])
 
 
 def _fold_system_jacobian(G, z, b, c):
@@ -1272,8 +1275,8 @@ def fold_curve(F: Callable, u0, p0, ds=0.01, ds_max=0.2, max_points=200, tol=1e-
     g = _fold_function(jax.jacfwd(F)(jnp.asarray(u0), *(jnp.float64(v) for v in p0)))
 
     def G(x):
-        u, p1, p2 = x[:n], x[n], x[n + 1]
-        return jnp.concatenate([F(u, p1, p2), g(jax.jacfwd(F)(u, p1, p2))[None]])
+        f, Fu = value_and_jacfwd(F)(x[:n], x[n], x[n + 1])
+        return jnp.concatenate([f, g(Fu)[None]])
 
     return trace_curve(G, np.concatenate([u0, np.asarray(p0, dtype=float)]), ds=ds, ds_max=ds_max,
                        max_points=max_points, tol=tol, bounds=bounds, direction=direction,
@@ -1291,7 +1294,8 @@ def fold_gradient(F: Callable, u, p, q):
     g = _fold_function(jax.jacfwd(F)(u, p, q))
 
     def G(z, qq):
-        return jnp.concatenate([F(z[:n], z[n], qq), g(jax.jacfwd(F)(z[:n], z[n], qq))[None]])
+        f, Fu = value_and_jacfwd(F)(z[:n], z[n], qq)
+        return jnp.concatenate([f, g(Fu)[None]])
 
     z = jnp.concatenate([u, p[None]])
     Gz, Gq = jax.jacfwd(G, argnums=(0, 1))(z, q)

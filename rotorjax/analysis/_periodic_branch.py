@@ -11,6 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
 from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param
 from ..solve._lift import call, lift, vmapped
@@ -237,7 +238,7 @@ def _closure(scene_at, period_at, steps, y, p):
 def _shooting_newton(scene_at, period_at, steps, y, p):
     """Newton's direction on the closure after one period, and the closure's size."""
     args = (scene_at, period_at, steps, y, p)
-    g, J = _closure(*args), jax.jacfwd(_closure, argnums=3)(*args)
+    g, J = value_and_jacfwd(_closure, argnums=3)(*args)
     return jnp.linalg.solve(J, g), jnp.max(jnp.abs(g))
 
 

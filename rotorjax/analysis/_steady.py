@@ -6,8 +6,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
-
+from .._autodiff import value_and_jacfwd
+from .._newton import newton
 from ..models._contract import require
 from ._rotating import check_autonomous, rotating_field
 
@@ -86,28 +86,35 @@ def _eigenvalues(scene, z):
 
 
 def steady_state(scene, q_guess, rtol=1e-13, atol=1e-13, max_steps=100, tol=1e-10) -> Regime:
-    """Newton's method from `q_guess = (u, psi)` for a stationary regime.
+    """Newton's method from `q_guess = (u, psi)` for a stationary regime (the
+    package's Newton, `rotorjax._newton`: until the step is <= `atol + rtol |q|`, or
+    is at the rounding floor, at most `max_steps` steps).
 
     Pure and differentiable: `d(regime)/d(scene parameters)` comes from the implicit
-    function theorem (optimistix's implicit adjoint). Batch guesses with `vmap`.
-    A failure is marked (`converged == False`, with the residual), not raised.
-    Compiled once per scene structure (the Newton solve, the Jacobian's
-    eigenvalues and the outputs together, not op by op).
+    function theorem. Batch guesses with `vmap`. A failure is marked (`converged ==
+    False`, with the residual), not raised. Compiled once per scene structure (the
+    Newton solve, the Jacobian's eigenvalues and the outputs together, not op by op).
     """
     require(scene, "to_rotating", "steady_state")
     return _steady_state(scene, jnp.asarray(q_guess, dtype=jnp.float64), rtol, atol, max_steps, tol)
 
 
+#: Newton stops at a relative step this small that no longer halves (the rounding floor of an ill-conditioned
+#: Jacobian), and a regime counts as found only once its steps are this small (and its residual below `tol`)
+STEP_FLOOR = 1e-8
+
+
 @eqx.filter_jit
 def _steady_state(scene, q_guess, rtol, atol, max_steps, tol) -> Regime:
-    sol = optx.root_find(_accel_residual, optx.Newton(rtol=rtol, atol=atol), q_guess, args=scene,
-                         max_steps=max_steps, throw=False)
-    q = sol.value
+    q, (step, _) = newton(lambda v: _accel_residual(v, scene), q_guess, rtol, max_steps, floor=STEP_FLOOR,
+                         unit=atol / rtol)
     n = scene.n_dof
     z = jnp.concatenate([q, jnp.zeros(n)])
-    residual = jnp.max(jnp.abs(rotating_field(scene, 0.0, z)))
-    eig = stability(scene, z)
-    ok = (sol.result == optx.RESULTS.successful) & (residual < tol) & jnp.all(jnp.isfinite(q))
+    # the field and its Jacobian from one forward-mode pass (one copy of the field in the program)
+    field, jac = value_and_jacfwd(lambda zz: rotating_field(scene, 0.0, zz))(z)
+    residual = jnp.max(jnp.abs(field))
+    eig = jnp.linalg.eigvals(jac)
+    ok = (step <= STEP_FLOOR) & (residual < tol) & jnp.all(jnp.isfinite(q))
     whirl, angles = _observed(scene, z)
     return Regime(z=z, residual=residual, converged=ok, eigenvalues=eig,
                   margin=jnp.max(jnp.real(eig)), whirl_amplitude=whirl, weight_angles=angles)

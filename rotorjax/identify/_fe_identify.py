@@ -36,6 +36,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
 from .._errors import InputError
 from ._fe_model import phasor_model, receptances
 from ..models._parameters import SceneParts
@@ -131,7 +132,7 @@ class FEResidual(AbstractJacobianResidual):
         """`(r, dr/dtheta)`: forward-mode autodiff through the receptance coupling, or
         with direct solves one LU per solve point (`PhasorModel.solves_jvp`)."""
         if self.coupling is not None:
-            return self(theta), jax.jacfwd(self)(theta)
+            return value_and_jacfwd(self)(theta)
         H, dH = self.model.solves_jvp(self._matrices, theta)
         R, dR = self.model.gather(H), self.model.gather(dH)
 

@@ -25,6 +25,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
 from .._errors import InputError
 from ..analysis._balancing002 import balancing_response
 from ..models._balancing_machine import BalancingMachine, BalancingScene
@@ -258,7 +259,7 @@ def _response_of_theta(machine, names, planes, known):
 def _response_jacobian(machine, names, planes, known, theta, speeds):
     """The model response at `theta` and its Jacobian d X / d theta, (n, 2) and (n, 2, p)."""
     response = _response_of_theta(machine, names, planes, known)
-    return response(theta, speeds), jax.jacfwd(lambda th: response(th, speeds))(theta)
+    return value_and_jacfwd(lambda th: response(th, speeds))(theta)
 
 
 def fit_covariance(result, machine, fit_speeds, planes, unbalances=None):

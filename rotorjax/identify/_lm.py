@@ -21,6 +21,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._autodiff import value_and_jacfwd
+
 
 class AbstractJacobianResidual(eqx.Module):
     """A residual `r(theta)` that has its own (faster) `res_jac(theta) -> (r, dr/dtheta)`."""
@@ -39,7 +41,7 @@ def res_jac(r, theta):
     (faster) one, else forward-mode autodiff."""
     if isinstance(r, AbstractJacobianResidual):
         return r.res_jac(theta)
-    return r(theta), jax.jacfwd(r)(theta)
+    return value_and_jacfwd(r)(theta)
 
 
 #: `res_jac` compiled (one evaluation, as the benchmarks time it)

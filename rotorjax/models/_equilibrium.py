@@ -22,6 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import NumericalError
+from .._autodiff import value_and_jacfwd
 from .._newton import newton
 from ._contract import LinearMatrices
 from ._rotor_component import ShaftState
@@ -118,8 +119,8 @@ def static_equilibrium(scene, speed, guess=None, tol=1e-12, max_iter=200) -> Equ
     return _solve(scene, speed, q0, tol, max_iter)
 
 
-@eqx.filter_jit
-def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
+def _newton_solve(scene, speed, q0, tol, max_iter):
+    """`(q, iterations, K)`: Newton on the residual (module docstring) from `q0`."""
     K = scene._linear_about_rest(speed).K
     zero = jnp.zeros(scene.n_shaft)
 
@@ -127,15 +128,26 @@ def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
         return scene.F0 + equilibrium_force(scene, q, zero, speed) - K @ q
 
     q, (_, it) = newton(residual, q0, tol, max_iter, limit=_limit(scene))
-    r = residual(q)
+    return q, it, K
+
+
+def _verdict(scene, speed, q, r, it, K) -> Equilibrium:
+    """The equilibrium `q` with its residual `r` judged (relative size, journals inside)."""
     scale = jnp.linalg.norm(scene.F0) + jnp.linalg.norm(K @ q) + jnp.finfo(jnp.float64).tiny
     rel = jnp.linalg.norm(r) / scale
     inside = jnp.ones((), dtype=bool)
-    s = _state(scene, q, zero, speed)
+    s = _state(scene, q, jnp.zeros(scene.n_shaft), speed)
     for c in films(scene):
         inside = inside & (c.eccentricity(s) < 1.0)
     ok = jnp.isfinite(rel) & (rel < RESIDUAL_TOL) & inside
     return Equilibrium(q=q, speed=speed, residual=rel, iterations=it, converged=ok)
+
+
+@eqx.filter_jit
+def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
+    q, it, K = _newton_solve(scene, speed, q0, tol, max_iter)
+    r = scene.F0 + equilibrium_force(scene, q, jnp.zeros(scene.n_shaft), speed) - K @ q
+    return _verdict(scene, speed, q, r, it, K)
 
 
 def equilibrium_matrices(scene, speed) -> LinearMatrices:
@@ -146,19 +158,26 @@ def equilibrium_matrices(scene, speed) -> LinearMatrices:
     if is_concrete(speed) and not float(speed) > 0 and any(c.spins for c in films(scene)):
         raise InputError(f"the rotor's linear equations at {float(speed):g} rad/s: a journal bearing carries its "
                          f"load only while the shaft spins (its equilibrium and coefficients need a speed > 0)")
-    eq = static_equilibrium(scene, speed)
+    if is_concrete((scene.M, speed)):
+        _check(scene, speed)
+    eq, lm = _linearised(scene, speed, jnp.zeros(scene.n_shaft), 1e-12, 200)
     if is_concrete(eq.converged) and not bool(eq.converged):
         raise NumericalError(f"the rotor's linear equations at {float(speed):g} rad/s: its static equilibrium in "
                              f"the fluid films was not found (relative residual {float(eq.residual):.2e} after "
                              f"{int(eq.iterations)} Newton steps; a journal may be pressed against its wall)")
-    return _matrices(scene, speed, eq)
+    return lm
 
 
 @eqx.filter_jit
-def _matrices(scene, speed, eq) -> LinearMatrices:
+def _linearised(scene, speed, q0, tol, max_iter):
+    """The equilibrium (`static_equilibrium`'s) and the linear equations about it: the
+    residual there and `K_f`, `C_f` from one Jacobian of the forces in `(q, q')`, so
+    that the program holds two copies of the forces (Newton's and this), not four."""
+    q, it, K = _newton_solve(scene, speed, q0, tol, max_iter)
+    n = scene.n_shaft
+    f, j = value_and_jacfwd(lambda qv: equilibrium_force(scene, qv[:n], qv[n:], speed))(
+        jnp.concatenate([q, jnp.zeros(n)]))
+    eq = _verdict(scene, speed, q, scene.F0 + f - K @ q, it, K)
     lin = scene._linear_about_rest(speed)
-    zero = jnp.zeros(scene.n_shaft)
-    kf = -jax.jacfwd(lambda q: equilibrium_force(scene, q, zero, speed))(eq.q)
-    cf = -jax.jacfwd(lambda v: equilibrium_force(scene, eq.q, v, speed))(zero)
     bad = jnp.where(eq.converged, 0.0, jnp.nan)
-    return LinearMatrices(M=lin.M, C=lin.C + cf + bad, G=lin.G, K=lin.K + kf + bad)
+    return eq, LinearMatrices(M=lin.M, C=lin.C - j[:, n:] + bad, G=lin.G, K=lin.K - j[:, :n] + bad)

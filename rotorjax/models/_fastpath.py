@@ -26,7 +26,7 @@ checks them equal to the autodiff path at random states and parameters, and
 import jax.numpy as jnp
 
 from .._sincos import sincos
-from ._rotation import rotate
+from ._rotation import turn
 
 
 def planar_balancer_field(rotor, supports, balancer, speed, t, y):
@@ -44,10 +44,13 @@ def planar_balancer_field(rotor, supports, balancer, speed, t, y):
     a01 = 0.0
     rhs_x = rhs_y = 0.0
     per = []
+    # the weights' angles and the spin angle in one `sincos` (one copy of it in the program, not n_w + 2)
+    sines, cosines = sincos(jnp.stack([*(y[2 + j] for j in range(n_w)), jnp.asarray(th, dtype=y.dtype)]))
+    spin = (sines[n_w], cosines[n_w])
     for j in range(n_w):
         m = balancer.mass[j]
-        psi, psid = y[2 + j], y[4 + n_w + j]
-        s, c = sincos(psi)
+        psid = y[4 + n_w + j]
+        s, c = sines[j], cosines[j]
         px, py = cx0 + r1 * c, cy0 + r2 * s           # position
         tx, ty = -r1 * s, r2 * c                       # tangent
         kx, ky = -r1 * c, -r2 * s                      # curvature
@@ -57,14 +60,14 @@ def planar_balancer_field(rotor, supports, balancer, speed, t, y):
         # (k psid^2 + 2 thd J t psid + thdd J p - thd^2 p) m, rotor frame
         fx = fx - m * (kx * psid**2 - 2 * thd * ty * psid - thdd * py - thd**2 * px)
         fy = fy - m * (ky * psid**2 + 2 * thd * tx * psid + thdd * px - thd**2 * py)
-        rtx, rty = rotate(th, (tx, ty))                 # R t
+        rtx, rty = turn(spin, (tx, ty))                 # R t
         w = m / (K * tt)
         a00, a01, a11 = a00 - w * rtx * rtx, a01 - w * rtx * rty, a11 - w * rty * rty
         g = b / (K * tt)
         rhs_x, rhs_y = rhs_x - rtx * g, rhs_y - rty * g
         per.append((b, m, rtx, rty, tt))
     # fixed frame: R f - K_s C - C_s C'
-    rfx, rfy = rotate(th, (fx, fy))
+    rfx, rfy = turn(spin, (fx, fy))
     rhs_x = rhs_x + rfx - supports.kx * y[0] - supports.cx * y[2 + n_w]
     rhs_y = rhs_y + rfy - supports.ky * y[1] - supports.cy * y[3 + n_w]
     det = a00 * a11 - a01 * a01

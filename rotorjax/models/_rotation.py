@@ -13,7 +13,14 @@ from .._sincos import sincos
 
 def rotate(theta, v):
     """`R(theta) v`: `v` turned by `theta` (counter-clockwise)."""
-    s, c = sincos(theta)
+    return turn(sincos(theta), v)
+
+
+def turn(sc, v):
+    """`R v` for the rotation whose `(sin, cos)` is `sc`: one `sincos` serves every
+    vector turned by the same angle (each call of it is some thirty operations in a
+    program, which XLA compiles one by one before it folds the copies)."""
+    s, c = sc
     return jnp.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
@@ -25,13 +32,15 @@ def quarter_turn(v):
 def to_rotating_pair(theta, theta_dot, p, p_dot):
     """A fixed-frame position and velocity `(p, p')` seen in the frame spinning at
     angle `theta` and rate `theta_dot`: `u = R^T p`, `u' = R^T p' - theta_dot J u`."""
-    u = rotate(-theta, p)
-    return u, rotate(-theta, p_dot) - theta_dot * quarter_turn(u)
+    s, c = sincos(theta)
+    u = turn((-s, c), p)
+    return u, turn((-s, c), p_dot) - theta_dot * quarter_turn(u)
 
 
 def to_fixed_pair(theta, theta_dot, u, u_dot):
     """Inverse of `to_rotating_pair`: `p = R u`, `p' = R (u' + theta_dot J u)`."""
-    return rotate(theta, u), rotate(theta, u_dot + theta_dot * quarter_turn(u))
+    sc = sincos(theta)
+    return turn(sc, u), turn(sc, u_dot + theta_dot * quarter_turn(u))
 
 
 def quarter_turn_matrix(n_nodes: int):
