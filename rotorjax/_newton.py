@@ -3,8 +3,9 @@ loop, differentiable by the implicit function theorem (`lax.custom_root`: the
 derivative of the root with respect to anything `residual` closes over is
 `-R_x^{-1} R_theta`, one linear solve, not the iterations unrolled).
 
-Used by harmonic balance, shooting and limit cycles (`rotorjax.analysis`) and by a
-rotor's static equilibrium in its bearings (`rotorjax.models`)."""
+Used by harmonic balance, shooting, limit cycles, stationary regimes and the
+continuation core (`rotorjax.analysis`) and by a rotor's static equilibrium in its
+bearings (`rotorjax.models`)."""
 
 import jax
 import jax.numpy as jnp

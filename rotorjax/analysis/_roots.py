@@ -173,62 +173,55 @@ def secant_root(g: Callable, params, guess, iters: int = 6, slope0=None, with_st
     """The root near `guess` of `g(params, x)` (a scalar function, pure JAX), followed
     as `params` (a pytree) change, and the residual there: `(x*, g(params, x_n))`.
 
-    At most `iters` evaluations of `g` on `params` without derivatives, and one more,
+    At most `iters` evaluations of `g` on `params` without derivatives and one more,
     all at one place in the program: one `while_loop` whose body evaluates `g` once (a
     compiled program holds a copy of `g` for each place it is called, and compiling is
-    most of the cost: a model-000 stable range's program had 25 941 operations with
-    three places, 5 205 with one and the regime's own copies cut, 2026-12-06). The
-    first evaluation is at `guess`; the second a forward difference from it (`1e-6` of
-    it), or, given `slope0`, a Newton step with that slope; then secant steps
-    (superlinear) from the last two, each keeping the last usable slope where the
-    secant's is not (not finite, zero, of the other sign), until a step is within
-    1e-12 of `x` (no step more then: a secant through two points that close is the
-    residual's rounding noise, and it threw a converged root far away) or `iters`
-    evaluations. `x*` is the last step's end, the residual `g` where it started; the
-    one more evaluation is a forward difference from there, the slope of the
-    derivative: `x*`'s derivative is the implicit function theorem's `-(dg/dp) /
-    (dg/dx)` (a `custom_jvp`: `dg/dp` by forward mode at `x*`), with no derivatives
-    through the iterations. Vmappable over designs. A slope of the wrong sign or a root
+    most of the cost). The first evaluation is at `guess`; the second a forward
+    difference from it (`1e-6` of it), or, given `slope0`, a Newton step with that slope;
+    then secant steps (superlinear) from the last two, each keeping the last usable
+    slope where the secant's is not (not finite, zero, of the other sign), until a step
+    is within 1e-12 of `x` (no step more then: a secant through two points that close
+    is the residual's rounding noise, and it threw a converged root far away) or
+    `iters` evaluations. `x*` is the last step's end, the residual `g` where it
+    started; the one more evaluation is a forward difference from there, the slope of
+    the derivative. `g` is evaluated once more, on `params` as given, where the last
+    step started: `x*`'s derivative is the implicit function theorem's `-(dg/dp) /
+    (dg/dx)`, with no derivatives through the iterations, in either mode (two copies of
+    `g` in a program, where there were three: model 000's stable range, 25 941
+    operations with three, 10 039 with two and the regime's own copies cut, 2026-12-06).
+    Vmappable over designs. A slope of the wrong sign or a root
     that has gone leaves the residual large: the caller checks it (`with_step`: also
     the last step's size, which measures it in `x`'s units)."""
     x0 = jnp.float64(guess)
-    g_closed, consts = jax.closure_convert(g, params, x0)   # what `g` closes over that may be differentiated
+    frozen = frozen_tree(params)
     s0 = jnp.float64(jnp.nan if slope0 is None else slope0)
 
-    @jax.custom_jvp
-    def root(p, cs):
-        def body(c):
-            k, xp, gp, x, slope, phase, root, res, step = c
-            gx = g_closed(p, x, *cs)
-            secant = (gx - gp) / jnp.where(x == xp, 1.0, x - xp)
-            usable = (k > 0) & (x != xp) & jnp.isfinite(secant) & (secant != 0) & (
-                ~jnp.isfinite(slope) | (jnp.sign(secant) == jnp.sign(slope)) | (phase == 1))
-            slope = jnp.where(usable, secant, slope)
-            newton = x - gx / jnp.where(jnp.isfinite(slope) & (slope != 0), slope, 1.0)
-            probe = x + 1e-6 * jnp.maximum(jnp.abs(x), 1.0)           # a forward difference's second point
-            nxt = jnp.where((k == 0) & ~jnp.isfinite(slope), probe, newton)
-            iterating = phase == 0
-            moved = jnp.abs(nxt - x)
-            # converged (or out of steps): the answer is this step's end; one more evaluation, a forward
-            # difference from the point the step started at, is the slope of the derivative
-            last = iterating & ((moved <= 1e-12 * jnp.maximum(jnp.abs(nxt), 1.0)) | (k + 1 >= iters))
-            return (k + 1, x, gx, jnp.where(last, probe, nxt), slope, jnp.where(iterating, last.astype(int), 2),
-                    jnp.where(iterating, nxt, root), jnp.where(iterating, gx, res), jnp.where(iterating, moved, step))
+    def body(c):
+        k, xp, gp, x, slope, phase, root, res, step, origin = c
+        gx = g(frozen, x)
+        secant = (gx - gp) / jnp.where(x == xp, 1.0, x - xp)
+        usable = (k > 0) & (x != xp) & jnp.isfinite(secant) & (secant != 0) & (
+            ~jnp.isfinite(slope) | (jnp.sign(secant) == jnp.sign(slope)) | (phase == 1))
+        slope = jnp.where(usable, secant, slope)
+        newton = x - gx / jnp.where(jnp.isfinite(slope) & (slope != 0), slope, 1.0)
+        probe = x + 1e-6 * jnp.maximum(jnp.abs(x), 1.0)           # a forward difference's second point
+        nxt = jnp.where((k == 0) & ~jnp.isfinite(slope), probe, newton)
+        iterating = phase == 0
+        moved = jnp.abs(nxt - x)
+        # converged (or out of steps): the answer is this step's end; one more evaluation, a forward
+        # difference from the point the step started at, is the slope of the derivative
+        last = iterating & ((moved <= 1e-12 * jnp.maximum(jnp.abs(nxt), 1.0)) | (k + 1 >= iters))
+        return (k + 1, x, gx, jnp.where(last, probe, nxt), slope, jnp.where(iterating, last.astype(int), 2),
+                jnp.where(iterating, nxt, root), jnp.where(iterating, gx, res), jnp.where(iterating, moved, step),
+                jnp.where(iterating, x, origin))
 
-        nan = jnp.float64(jnp.nan)
-        c = jax.lax.while_loop(lambda c: c[5] < 2, body, (0, x0, nan, x0, s0, 0, x0, nan, nan))
-        return c[6], c[7], c[8], c[4]
-
-    @root.defjvp
-    def _implicit(primals, tangents):
-        # dx* = -(dg/dp . dp) / (dg/dx): the first by forward mode at x*, the second the forward difference
-        p, cs = primals
-        out = root(p, cs)
-        _, dg = jax.jvp(lambda q, c: g_closed(q, out[0], *c), (p, cs), tangents)
-        zero = jnp.zeros_like(out[0])
-        return out, (-dg / out[3], zero, zero, zero)
-
-    x, residual, step, _ = root(params, tuple(consts))
+    nan = jnp.float64(jnp.nan)
+    c = jax.lax.while_loop(lambda c: c[5] < 2, body, (0, x0, nan, x0, s0, 0, x0, nan, nan, x0))
+    start, root, residual, step, slope = c[9], c[6], c[7], c[8], c[4]
+    # the derivative: g once more where the last step started, on `params` as given (its value is the loop's,
+    # so the root is unchanged): -(dg/dp) / slope, in forward or reverse mode, whichever g allows (a Floquet
+    # margin's ODE solve only reverse, a custom rule here would need forward)
+    x = root - (g(params, start) - residual) / slope
     if with_step:
         return x, residual, step
     return x, residual

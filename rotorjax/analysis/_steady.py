@@ -6,6 +6,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+
 from .._autodiff import value_and_jacfwd
 from .._newton import newton
 from ..models._contract import require

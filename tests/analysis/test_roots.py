@@ -136,3 +136,68 @@ def test_a_followed_root_stays_put_once_converged_on_a_noisy_function():
     assert float(x) == pytest.approx(1.0143481980647313, abs=1e-12)
     dx = jax.grad(lambda p: secant_root(lambda q, y: q * (y - 1.0) - 0.01, p, 1.3)[0])(jnp.float64(0.5))
     assert float(dx) == pytest.approx(-0.01 / 0.5**2, rel=1e-8)      # x* = 1 + 0.01 / p
+
+
+def _copies(fn, *args, op="stablehlo.cbrt"):
+    """How many copies of `op` a compiled program of `fn` holds (XLA compiles each)."""
+    return jax.jit(fn).lower(*args).as_text().count(op)
+
+
+def test_a_followed_root_calls_its_function_at_one_place():
+    """`secant_root` puts two copies of `g` into a program (its loop's body, and the evaluation
+    on the parameters as given that carries the derivative), where it had three (the first
+    step's and the last step's vmapped pairs, and the loop): a fluid-film onset or a stationary
+    regime's margin is most of a program, and XLA compiles each copy. The derivative is reverse
+    mode's as well as forward mode's, of a `g` that allows only reverse mode too (a Floquet
+    margin: an ODE solve whose adjoint is a `custom_vjp`)."""
+    from rotorjax.analysis._roots import secant_root
+
+    def g(p, x):       # a root at x = p^3 + 1; cbrt marks g's copies in the program
+        return jnp.cbrt(x - 1.0) - p
+
+    def root(p):
+        return secant_root(g, p, 1.5, iters=30)[0]
+
+    assert _copies(root, jnp.float64(0.9)) == 2
+    assert float(root(jnp.float64(0.9))) == pytest.approx(0.9**3 + 1.0, rel=1e-12)
+    assert float(jax.grad(root)(jnp.float64(0.9))) == pytest.approx(3 * 0.9**2, rel=1e-6)
+    assert float(jax.jacfwd(root)(jnp.float64(0.9))) == pytest.approx(3 * 0.9**2, rel=1e-6)
+    assert _copies(jax.grad(root), jnp.float64(0.9)) <= 2
+
+    @jax.custom_vjp
+    def shift(p):                   # reverse mode only
+        return p
+
+    shift.defvjp(lambda p: (p, None), lambda _, ct: (ct,))
+    dx = jax.grad(lambda p: secant_root(lambda q, x: g(shift(q), x), p, 1.5, iters=30)[0])(jnp.float64(0.9))
+    assert float(dx) == pytest.approx(3 * 0.9**2, rel=1e-6)
+
+
+def test_a_value_and_its_jacobian_come_from_one_pass():
+    """`value_and_jacfwd`: `f`'s value and `jax.jacfwd(f)`'s Jacobian, with one copy of `f` in the
+    program (calling both puts two)."""
+    from rotorjax._autodiff import value_and_jacfwd
+
+    def f(x, y):
+        return jnp.cbrt(x) * y[0] + jnp.stack([x[0] * y[1], x[1]])
+
+    x, y = jnp.array([1.3, -0.7]), jnp.array([2.0, 0.5])
+    v, (jx, jy) = value_and_jacfwd(f, argnums=(0, 1))(x, y)
+    np.testing.assert_array_equal(v, f(x, y))
+    for a, b in zip((jx, jy), jax.jacfwd(f, argnums=(0, 1))(x, y)):
+        np.testing.assert_array_equal(a, b)
+    assert _copies(value_and_jacfwd(f), x, y) == 1
+    assert _copies(lambda x, y: (f(x, y), jax.jacfwd(f)(x, y)), x, y) == 2
+
+
+def test_newton_with_a_unit_converges_on_a_root_at_zero():
+    """`rotorjax._newton.newton(unit=)`: a step relative to `max(|x|, unit)`, so that a root at 0
+    (a stationary regime on the axis) stops once the step is below `tol * unit`, its reported step
+    measured so (relative to an |x| that vanishes with the root, it would be about 1 at every step)."""
+    from rotorjax._newton import newton
+
+    def r(x):
+        return jnp.stack([x[0] + 0.1 * x[1] ** 2, x[1] - 0.2 * x[0] ** 3 + x[1] ** 3])
+
+    x, (step, it) = newton(r, jnp.array([0.3, -0.2]), 1e-13, 50, unit=1.0)
+    assert float(jnp.max(jnp.abs(x))) < 1e-13 and float(step) <= 1e-13 and float(it) < 12
