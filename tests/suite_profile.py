@@ -14,12 +14,17 @@ its subprocesses) and the events are JAX's monitoring durations:
 - `cache_saved`: `/jax/compilation_cache/compile_time_saved_sec` (the compile time those hits saved),
 - `programs`: the number of backend compilations.
 
+Each process also writes `DIR/programs-<pid>.json`, `{"program <- caller": [compilations, seconds]}`: the name
+JAX gives the backend compile event (a jitted function's, or an eager operation's primitive) and the innermost
+function of rotorjax (else of the tests or benchmarks) that called for it.
+
 `tools/suite_profile.py` joins these with a junit file into `benchmarks/results/suite_profile.json`."""
 
 import atexit
 import collections
 import json
 import os
+import sys
 
 EVENTS = {
     "/jax/core/compile/jaxpr_trace_duration": "trace",
@@ -30,6 +35,7 @@ EVENTS = {
 }
 _FILE = "ROTORJAX_SUITE_PROFILE_FILE"
 _totals = collections.defaultdict(lambda: collections.defaultdict(float))
+_programs = collections.defaultdict(lambda: [0, 0.0])   # {program name: [backend compilations, seconds]}
 
 
 def current_file(name):
@@ -45,6 +51,22 @@ def _listen(event, duration, **kwargs):
     where[key] += duration
     if key == "compile":
         where["programs"] += 1
+        named = _programs[f'{kwargs.get("fun_name", "?")} <- {_caller()}']
+        named[0] += 1
+        named[1] += duration
+
+
+def _caller():
+    """`module:function` of the innermost frame of rotorjax's code (else the tests') that led to this compile."""
+    frame, test = sys._getframe(2), None
+    while frame is not None:
+        path = frame.f_code.co_filename.replace(os.sep, "/")
+        if "/rotorjax/" in path and "/site-packages/" not in path:
+            return f"rotorjax/{path.rsplit('/rotorjax/', 1)[1]}:{frame.f_code.co_name}"
+        if test is None and ("/tests/" in path or "/benchmarks/" in path):
+            test = f"{path.rsplit('/', 2)[-2]}/{path.rsplit('/', 1)[-1]}:{frame.f_code.co_name}"
+        frame = frame.f_back
+    return test or "?"
 
 
 def write():
@@ -53,6 +75,8 @@ def write():
     if directory and _totals:
         with open(os.path.join(directory, f"{os.getpid()}.json"), "w") as f:
             json.dump({k: dict(v) for k, v in _totals.items()}, f)
+        with open(os.path.join(directory, f"programs-{os.getpid()}.json"), "w") as f:
+            json.dump(dict(_programs), f)
 
 
 def install():

@@ -2,6 +2,7 @@
 independent reference in every subsystem the issue that made it names, and lists only files that exist;
 the suite's profile tool reads a junit file and the compile events as documented."""
 
+import collections
 import json
 import os
 import subprocess
@@ -67,6 +68,33 @@ def test_the_profile_joins_junit_and_compile_events(tmp_path):
     assert rows["test_b.py"]["wall_s"] == 0.5 and rows["test_b.py"]["programs"] == 0
     assert out["benchmark_scripts"] == [{"script": "benchmarks/x.py", "compile": 7.0, "programs": 2}]
     assert out["total_worker_s"]["wall_s"] == 4.5 and out["total_worker_s"]["tests"] == 3
+    # the programs by name and caller, summed over the processes, the most compile time first
+    (events / "programs-1.json").write_text(json.dumps({"jit(march) <- a.py:f": [2, 3.0], "jit(add) <- ?": [9, 0.5]}))
+    (events / "programs-2.json").write_text(json.dumps({"jit(march) <- a.py:f": [1, 2.0]}))
+    out = suite_profile.build(str(tmp_path / "junit.xml"), str(events), wall=10.0)
+    assert out["programs_by_name"]["top"] == [{"name": "jit(march) <- a.py:f", "programs": 3, "compile": 5.0},
+                                              {"name": "jit(add) <- ?", "programs": 9, "compile": 0.5}]
+    assert out["programs_by_name"]["all"] == {"names": 2, "programs": 12, "compile": 5.5}
+
+
+def test_the_profile_names_each_program_and_its_caller(monkeypatch):
+    """The listener charges a compile to the program's name and the innermost rotorjax function that asked
+    for it (a lifted program is named after its function)."""
+    import jax
+    import jax.numpy as jnp
+
+    from rotorjax.solve._lift import call, lift
+    from tests import suite_profile
+
+    monkeypatch.setattr(suite_profile, "_programs", collections.defaultdict(lambda: [0, 0.0]))
+    monkeypatch.setattr(suite_profile, "_totals", collections.defaultdict(lambda: collections.defaultdict(float)))
+    jax.monitoring.register_event_duration_secs_listener(suite_profile._listen)
+    try:
+        f = lift(lambda x: jnp.sin(x) * 1.2345, jnp.ones(3))
+        call(f, jnp.ones(3) * 0.5)
+    finally:
+        jax.monitoring.unregister_event_duration_listener(suite_profile._listen)
+    assert "jit(call) <- rotorjax/solve/_lift.py:run" in suite_profile._programs
 
 
 def test_the_developing_page_states_what_the_suite_sets():

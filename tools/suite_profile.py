@@ -42,12 +42,27 @@ def junit_files(path):
 def profile_events(folder):
     """`{file: {event: seconds}}` summed over the processes' JSON files."""
     out = collections.defaultdict(lambda: collections.defaultdict(float))
-    for path in glob.glob(os.path.join(folder, "*.json")):
+    for path in glob.glob(os.path.join(folder, "[0-9]*.json")):
         with open(path) as f:
             for name, events in json.load(f).items():
                 for key, value in events.items():
                     out[name][key] += value
     return out
+
+
+def program_names(folder, top=40):
+    """The `top` program names by compile seconds, summed over the processes: `[{name, programs, compile}]`,
+    and the totals over every name."""
+    out = collections.defaultdict(lambda: [0, 0.0])
+    for path in glob.glob(os.path.join(folder, "programs-*.json")):
+        with open(path) as f:
+            for name, (count, seconds) in json.load(f).items():
+                out[name][0] += count
+                out[name][1] += seconds
+    rows = sorted(({"name": k, "programs": c, "compile": round(s, 2)} for k, (c, s) in out.items()),
+                  key=lambda r: -r["compile"])
+    return rows[:top], {"names": len(rows), "programs": sum(r["programs"] for r in rows),
+                        "compile": round(sum(r["compile"] for r in rows), 1)}
 
 
 def build(junit, folder, wall=None, label="", ci_run=None):
@@ -73,7 +88,8 @@ def build(junit, folder, wall=None, label="", ci_run=None):
             "note": "wall_s sums each file's tests (setup + call + teardown) over the workers; the compile "
                     "columns are JAX's monitoring events in the workers and in the benchmark smoke runners "
                     "(the scripts' rows are also counted in their group file's row)",
-            "files": rows, "benchmark_scripts": scripts}
+            "files": rows, "benchmark_scripts": scripts,
+            "programs_by_name": dict(zip(("top", "all"), program_names(folder)))}
 
 
 def main(argv=None):

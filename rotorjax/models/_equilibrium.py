@@ -107,7 +107,11 @@ def _limit(scene):
     return limit
 
 
-def static_equilibrium(scene, speed, guess=None, tol=1e-12, max_iter=200) -> Equilibrium:
+#: Newton's defaults for the static equilibrium: step tolerance and iterations
+TOL, MAX_ITER = 1e-12, 200
+
+
+def static_equilibrium(scene, speed, guess=None, tol=TOL, max_iter=MAX_ITER) -> Equilibrium:
     """The static equilibrium of a `RotorScene` at `speed` (rad/s) from `guess` (its
     shaft coordinates; default the straight shaft). Traceable and differentiable in
     the scene's parameters and the speed (one compiled program per rotor layout);
@@ -120,15 +124,17 @@ def static_equilibrium(scene, speed, guess=None, tol=1e-12, max_iter=200) -> Equ
 
 
 def _newton_solve(scene, speed, q0, tol, max_iter):
-    """`(q, iterations, K)`: Newton on the residual (module docstring) from `q0`."""
-    K = scene._linear_about_rest(speed).K
+    """`(q, iterations, lin)`: Newton on the residual (module docstring) from `q0`; `lin` the
+    linear equations about the straight shaft at rest (their `K` is the residual's)."""
+    lin = scene._linear_about_rest(speed)
+    K = lin.K
     zero = jnp.zeros(scene.n_shaft)
 
     def residual(q):
         return scene.F0 + equilibrium_force(scene, q, zero, speed) - K @ q
 
     q, (_, it) = newton(residual, q0, tol, max_iter, limit=_limit(scene))
-    return q, it, K
+    return q, it, lin
 
 
 def _verdict(scene, speed, q, r, it, K) -> Equilibrium:
@@ -145,9 +151,9 @@ def _verdict(scene, speed, q, r, it, K) -> Equilibrium:
 
 @eqx.filter_jit
 def _solve(scene, speed, q0, tol, max_iter) -> Equilibrium:
-    q, it, K = _newton_solve(scene, speed, q0, tol, max_iter)
-    r = scene.F0 + equilibrium_force(scene, q, jnp.zeros(scene.n_shaft), speed) - K @ q
-    return _verdict(scene, speed, q, r, it, K)
+    q, it, lin = _newton_solve(scene, speed, q0, tol, max_iter)
+    r = scene.F0 + equilibrium_force(scene, q, jnp.zeros(scene.n_shaft), speed) - lin.K @ q
+    return _verdict(scene, speed, q, r, it, lin.K)
 
 
 def equilibrium_matrices(scene, speed) -> LinearMatrices:
@@ -160,7 +166,7 @@ def equilibrium_matrices(scene, speed) -> LinearMatrices:
                          f"load only while the shaft spins (its equilibrium and coefficients need a speed > 0)")
     if is_concrete((scene.M, speed)):
         _check(scene, speed)
-    eq, lm = _linearised(scene, speed, jnp.zeros(scene.n_shaft), 1e-12, 200)
+    eq, lm = _linearised(scene, speed, jnp.zeros(scene.n_shaft), TOL, MAX_ITER)
     if is_concrete(eq.converged) and not bool(eq.converged):
         raise NumericalError(f"the rotor's linear equations at {float(speed):g} rad/s: its static equilibrium in "
                              f"the fluid films was not found (relative residual {float(eq.residual):.2e} after "
@@ -173,11 +179,10 @@ def _linearised(scene, speed, q0, tol, max_iter):
     """The equilibrium (`static_equilibrium`'s) and the linear equations about it: the
     residual there and `K_f`, `C_f` from one Jacobian of the forces in `(q, q')`, so
     that the program holds two copies of the forces (Newton's and this), not four."""
-    q, it, K = _newton_solve(scene, speed, q0, tol, max_iter)
+    q, it, lin = _newton_solve(scene, speed, q0, tol, max_iter)
     n = scene.n_shaft
     f, j = value_and_jacfwd(lambda qv: equilibrium_force(scene, qv[:n], qv[n:], speed))(
         jnp.concatenate([q, jnp.zeros(n)]))
-    eq = _verdict(scene, speed, q, scene.F0 + f - K @ q, it, K)
-    lin = scene._linear_about_rest(speed)
+    eq = _verdict(scene, speed, q, scene.F0 + f - lin.K @ q, it, lin.K)
     bad = jnp.where(eq.converged, 0.0, jnp.nan)
     return eq, LinearMatrices(M=lin.M, C=lin.C - j[:, n:] + bad, G=lin.G, K=lin.K - j[:, :n] + bad)

@@ -180,7 +180,11 @@ def compiled(fn):
         s = f.structure
         jf = s.compiled.get(fn)
         if jf is None:
-            jf = s.compiled[fn] = jax.jit(lambda consts, *a: fn(Lifted(s, consts), *a))
+            def lifted(consts, *a):
+                return fn(Lifted(s, consts), *a)
+
+            lifted.__name__ = lifted.__qualname__ = fn.__name__   # compile logs name the function
+            jf = s.compiled[fn] = jax.jit(lifted)
         return jf(f.consts, *args)
 
     run.__doc__ = fn.__doc__
