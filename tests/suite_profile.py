@@ -14,9 +14,9 @@ its subprocesses) and the events are JAX's monitoring durations:
 - `cache_saved`: `/jax/compilation_cache/compile_time_saved_sec` (the compile time those hits saved),
 - `programs`: the number of backend compilations.
 
-Each process also writes `DIR/programs-<pid>.json`, `{"program <- caller": [compilations, seconds]}`: the name
-JAX gives the backend compile event (a jitted function's, or an eager operation's primitive) and the innermost
-function of rotorjax (else of the tests or benchmarks) that called for it.
+Each process also writes `DIR/programs-<pid>.json`, `{"program <- callers": [compilations, seconds]}`: the name
+JAX gives the backend compile event (a jitted function's, or an eager operation's primitive), the innermost
+function of rotorjax that called for it and that function's caller in another file (`_caller`).
 
 `tools/suite_profile.py` joins these with a junit file into `benchmarks/results/suite_profile.json`."""
 
@@ -56,17 +56,30 @@ def _listen(event, duration, **kwargs):
         named[1] += duration
 
 
+def _where(path):
+    """A frame's file as the profile names it: `rotorjax/...`, `tests/...` or `benchmarks/...`; None elsewhere."""
+    path = path.replace(os.sep, "/")
+    if "/site-packages/" in path:
+        return None
+    for root in ("rotorjax", "tests", "benchmarks"):
+        if f"/{root}/" in path:
+            return f"{root}/{path.rsplit(f'/{root}/', 1)[1]}"
+    return None
+
+
 def _caller():
-    """`module:function` of the innermost frame of rotorjax's code (else the tests') that led to this compile."""
-    frame, test = sys._getframe(2), None
+    """Where a compile was asked for: the innermost frame of rotorjax's code (else of the tests' or
+    benchmarks'), then the next frame in another of those files (its caller), as `file:function < file:function`."""
+    frames, frame = [], sys._getframe(2)
     while frame is not None:
-        path = frame.f_code.co_filename.replace(os.sep, "/")
-        if "/rotorjax/" in path and "/site-packages/" not in path:
-            return f"rotorjax/{path.rsplit('/rotorjax/', 1)[1]}:{frame.f_code.co_name}"
-        if test is None and ("/tests/" in path or "/benchmarks/" in path):
-            test = f"{path.rsplit('/', 2)[-2]}/{path.rsplit('/', 1)[-1]}:{frame.f_code.co_name}"
+        where = _where(frame.f_code.co_filename)
+        if where:
+            frames.append((where, frame.f_code.co_name))
         frame = frame.f_back
-    return test or "?"
+    first = next((i for i, (w, _) in enumerate(frames) if w.startswith("rotorjax/")), 0)
+    chain = frames[first:first + 1]
+    chain += [f for f in frames[first + 1:] if chain and f[0] != chain[0][0]][:1]
+    return " < ".join(f"{w}:{n}" for w, n in chain) or "?"
 
 
 def write():

@@ -94,7 +94,8 @@ def test_the_profile_names_each_program_and_its_caller(monkeypatch):
         call(f, jnp.ones(3) * 0.5)
     finally:
         jax.monitoring.unregister_event_duration_listener(suite_profile._listen)
-    assert "jit(call) <- rotorjax/solve/_lift.py:run" in suite_profile._programs
+    assert "jit(call) <- rotorjax/solve/_lift.py:run < tests/test_suite_tiers.py:" \
+        "test_the_profile_names_each_program_and_its_caller" in suite_profile._programs
 
 
 def test_the_developing_page_states_what_the_suite_sets():
@@ -129,3 +130,10 @@ def test_the_developing_page_states_the_committed_profile():
               f"{n(total['compile'])} s of it XLA compiling {n(total['programs'])} programs, {n(total['trace'])} s "
               f"tracing and {n(total['lower'])} s lowering")
     assert stated in page, stated
+    top = {r["name"]: r for r in profile["programs_by_name"]["top"]}
+    march = top["jit(march) <- rotorjax/solve/_lift.py:run"]
+    assert f"`jit(march) <- rotorjax/solve/_lift.py:run` ({march['programs']} programs, {march['compile']:.0f} s" in page
+    for name, words in (("jit(Partial) <- rotorjax/sweep.py:sweep", "the vmapped scans of `rotorjax.sweep`"),
+                        ("jit(_buffered_impl) <- rotorjax/solve/_batch.py:simulate_batch", "the batch integrator"),
+                        ("jit(_solve) <- rotorjax/solve/_simulate.py:simulate", "`simulate`")):
+        assert f"{words} ({top[name]['programs']} programs, {top[name]['compile']:.0f} s)" in page, name
