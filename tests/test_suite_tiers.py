@@ -132,7 +132,8 @@ def test_the_developing_page_states_the_committed_profile():
     assert stated in page, stated
     top = {r["name"]: r for r in profile["programs_by_name"]["top"]}
     march = top["jit(march) <- rotorjax/solve/_lift.py:run"]
-    assert f"`jit(march) <- rotorjax/solve/_lift.py:run` ({march['programs']} programs, {march['compile']:.0f} s" in page
+    assert (f"`jit(march) <- rotorjax/solve/_lift.py:run` ({march['programs']} programs, "
+            f"{march['compile']:.0f} s") in page
     for name, words in (("jit(Partial) <- rotorjax/sweep.py:sweep", "the vmapped scans of `rotorjax.sweep`"),
                         ("jit(_buffered_impl) <- rotorjax/solve/_batch.py:simulate_batch", "the batch integrator"),
                         ("jit(_solve) <- rotorjax/solve/_simulate.py:simulate", "`simulate`")):
