@@ -33,7 +33,8 @@ def set_csv_field(line_no, field, value):
 #: locally 2026-11-28: 317, 299 and about 330 s): one interpreter for all of them passed the 1200 s after which
 #: pytest ends a worker (pyproject.toml) once ROSS and AUTO-07p were installed
 SMOKE_GROUPS = (
-    ("auto07p", "auto_balancing_range", "balance_grid", "continuation", "design", "fe_identification", "flexible"),
+    ("auto07p", "auto_balancing_range", "balance_grid", "continuation", "design", "fe_identification", "flexible",
+     "threshold_scan"),
     ("gpu_batch", "harmonic_balance", "identification", "identification_coverage", "journal_bearings", "limiters",
      "peers_001", "periodic_defaults", "periodic_jaxcont"),
     ("ross_parity", "rotor_scene", "solver_choice", "stability_map", "startup", "step_cost", "stiff_defaults",

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from .helpers import documentation
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
@@ -286,3 +288,23 @@ def test_continuation_auto07p_times_are_the_json():
             f"{c['ratio_rotorjax_median_over_auto_run']:.1f}x") in docs
     assert len(c["rotorjax"]["folds"]) == 4
     assert (f"still {b['rotorjax']['median_s']:.1f} s against {b['auto']['run_s']:.3f} s") in docs
+
+
+def test_the_speed_page_states_the_threshold_scan():
+    """docs/speed.md's row of benchmarks/threshold_scan.py is its JSON's."""
+    rows = {r["case"]: r for r in json.loads((BENCH / "results" / "threshold_scan.json").read_text())["cases"]}
+    order = ("journal_rig", "tapered_36", "model_001_floquet")
+
+    def joined(key, fmt):
+        return " / ".join(format(rows[c][key], fmt) for c in order)
+
+    page = documentation("docs/speed.md")
+    assert (f"first call {joined('points_cold_s', '.2f')} s; repeated {joined('points_warm_s', '.3f')} s "
+            f"| the vmapped scan (the margin compiled twice): {joined('vmap_cold_s', '.2f')} s; "
+            f"{joined('vmap_warm_s', '.3f')} s | first call {joined('cold_ratio_vmap_over_points', '.1f')}x sooner; "
+            f"repeated {joined('warm_ratio_vmap_over_points', '.2f')}x |") in page
+    # what was scanned: the journal rig's oil whirl (~207.6 rad/s, benchmarks/journal_bearings.py), model 001's
+    # three crossings at the paper's weight damping (notebooks/stability_boundaries.py), the tapered rotor stable
+    assert rows["journal_rig"]["thresholds"] == pytest.approx([207.55], abs=0.01)
+    assert rows["model_001_floquet"]["thresholds"] == pytest.approx([1.014348, 5.049930, 8.322286], abs=1e-5)
+    assert rows["tapered_36"]["thresholds"] == [] and {r["n_scan"] for r in rows.values()} == {200}

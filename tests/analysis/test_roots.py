@@ -82,6 +82,17 @@ def test_critical_speeds_is_the_shared_finder():
     roots = find_roots(jax.jit(margin), 0.0, 20.0, n_scan=50, xtol=1e-12)
     assert [c.speed for c in found] == [r.x for r in roots]
     assert [c.stable_side for c in found] == ["above" if r.values[1] < 0 else "below" for r in roots]
+    # the scan point by point (the CPU's default) and vmapped: the same samples, so the same thresholds; the
+    # closed form's roots (sin s = -0.1 exp(0.1 s)) to the bisection's tolerance
+    (_, (x_p, v_p)), (vm, (x_v, v_v)) = (critical_speeds(margin, 0.0, 20.0, n_scan=50, xtol=1e-12, return_scan=True,
+                                                         scan=m) for m in ("points", "vmap"))
+    np.testing.assert_array_equal(x_p, x_v)
+    np.testing.assert_allclose(v_p, v_v, rtol=1e-14, atol=1e-15)
+    assert [c.speed for c in vm] == pytest.approx([c.speed for c in found], rel=1e-12)
+    for c in found:
+        assert abs(np.sin(c.speed) + 0.1 * np.exp(0.1 * c.speed)) < 1e-11
+    with pytest.raises(InputError, match="scan must be one of auto, points, vmap, got 'chunks'"):
+        critical_speeds(margin, 0.0, 20.0, scan="chunks")
 
 
 def test_root_gradient_matches_the_closed_form():
