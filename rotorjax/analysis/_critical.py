@@ -9,7 +9,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
 
 from ..models._validate import InputError
 from ..models._contract import AbstractScene, require
@@ -41,13 +40,15 @@ SCANS = ("auto", "points", "vmap")
 def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 200,
                     xtol: float = 1e-10, chunk_size: int = 100, return_scan: bool = False,
                     progress: bool = False, scan: str = "auto"):
-    """Scan `margin(speed)` (a JAX-traceable scalar function) over `[lo, hi]`, then refine each sign change by bisection to `xtol` (the shared
-    root finder, `rotorjax.analysis.find_roots`).
+    """Scan `margin(speed)` (a JAX-traceable scalar function) over `[lo, hi]`, then refine
+    each sign change by bisection to `xtol` (the shared root finder,
+    `rotorjax.analysis.find_roots`).
 
     A range with no sign change returns `[]`. Non-finite margins at scan points are
     skipped (and make the bracket around them unusable). With `return_scan`,
     returns `(found, (speeds, margins))`, the scan included (for plots). With
-    `progress`, a bar shows the scan (in at least 8 chunks) and the bisections.
+    `progress`, a bar shows the scan (per speed; vmapped, in at least 8 chunks) and the
+    bisections.
     `margin` may be a scene with `linear_matrices`: the margin of its reference
     motion's linearisation (`linear_margin`). `scan`: "points" (the bisection's compiled
     program, point by point: one compilation of the margin), "vmap" (a vmapped sweep in
@@ -79,6 +80,8 @@ def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 2
             # the bisection's program: one compilation of the margin, not two (on a CPU a first call 0.7-3 s
             # sooner; a repeated call of a linear margin ~0.3 ms a point slower, of a Floquet margin faster:
             # vmapped lanes integrate in lock-step; benchmarks/results/threshold_scan.json)
+            from tqdm.auto import tqdm      # here: the CLI's start imports no library it does not use
+
             bar = tqdm(speeds, desc="scan", unit="speed", leave=False, disable=not progress)
             return np.array([float(point(c)) for c in bar])
         # a Partial, not a fresh lambda: another call with the same margin (or an `eqx.Partial` of the same
