@@ -1,9 +1,16 @@
 """Runs benchmark scripts' smoke modes one after another in this one interpreter
-(`python tests/benchmark_smoke_runner.py OUT.json NAME...`): each as `__main__`
-with `--smoke`, its output captured, its exit recorded; the imports (jax, rotorjax,
-scipy, numba, matplotlib) and the compilations the scripts share are paid once.
+(`python tests/benchmark_smoke_runner.py [--host-devices N] OUT.json NAME...`): each as
+`__main__` with `--smoke`, its output captured, its exit recorded; the imports (jax,
+rotorjax, scipy, numba, matplotlib) and the compilations the scripts share are paid once.
 Writes `{name: {"ok", "seconds", "tail"}}` to OUT.json. Used by
-tests/test_benchmark_smoke*.py."""
+tests/test_benchmark_smoke*.py.
+
+Without `--host-devices` the runner keeps the XLA flags it inherits (the test workers'), so
+that the run's persistent compilation cache serves a program compiled by a worker to a
+script and back: JAX keys its cache by the XLA flags too. With `--host-devices N` (the
+scripts that split work over host devices: `tests.helpers.SMOKE_HOST_DEVICES`) it adds
+N host devices and XLA's Eigen threads off, as those scripts set them themselves when run
+alone."""
 
 import contextlib
 import io
@@ -14,13 +21,16 @@ import sys
 import time
 import traceback
 
-# as the scripts that split work over host devices set it (before jax is imported); added to the flags this
-# process inherits (pytest's, where importing rotorjax has already set one: `rotorjax._config`)
-_FLAGS = os.environ.get("XLA_FLAGS", "")
-for _flag in ("--xla_force_host_platform_device_count=2", "--xla_cpu_multi_thread_eigen=false"):
-    if _flag.split("=")[0] not in _FLAGS:
-        _FLAGS = f"{_FLAGS} {_flag}".strip()
-os.environ["XLA_FLAGS"] = _FLAGS
+if len(sys.argv) > 2 and sys.argv[1] == "--host-devices":
+    # before jax is imported; added to the flags this process inherits (pytest's, where importing rotorjax has
+    # already set one: `rotorjax._config`)
+    _FLAGS = os.environ.get("XLA_FLAGS", "")
+    for _flag in (f"--xla_force_host_platform_device_count={int(sys.argv[2])}", "--xla_cpu_multi_thread_eigen=false"):
+        if _flag.split("=")[0] not in _FLAGS:
+            _FLAGS = f"{_FLAGS} {_flag}".strip()
+    os.environ["XLA_FLAGS"] = _FLAGS
+    del sys.argv[1:3]
+
 BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks")
 
 

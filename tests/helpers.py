@@ -42,16 +42,21 @@ SMOKE_GROUPS = (
 )
 
 
+#: the scripts whose smoke runs split work over two host devices (their runner starts JAX with them)
+SMOKE_HOST_DEVICES = ("rotor_scene", "stability_map", "sweep_throughput")
+
+
 def run_benchmark_smokes(tmp, names):
     """`python tests/benchmark_smoke_runner.py` on the benchmark scripts `names` (their
-    `--smoke` runs, one after another in one fresh interpreter, in the folder `tmp`):
-    `(runs, tail, untouched)`, `runs` the runner's report `{name: {"ok", "seconds",
-    "tail"}}`, `tail` the end of its output, `untouched` whether `benchmarks/results/`
-    is as it was."""
+    `--smoke` runs, one after another in a fresh interpreter, in the folder `tmp`; those of
+    `SMOKE_HOST_DEVICES` in a second one, with two host devices): `(runs, tail, untouched)`,
+    `runs` the runners' report `{name: {"ok", "seconds", "tail"}}`, `tail` the end of their
+    output, `untouched` whether `benchmarks/results/` is as it was."""
     import json
     import os
     import subprocess
     import sys
+    import time
     from pathlib import Path
 
     here = Path(__file__).resolve().parent
@@ -59,16 +64,24 @@ def run_benchmark_smokes(tmp, names):
     env = dict(os.environ, MPLBACKEND="Agg")
     # $ROTORJAX_ROSS_PYTHON passes through: the ROSS paths run where .ci/run installed ROSS
     before = {p.name: p.stat().st_mtime for p in results.iterdir()}
-    report = Path(tmp) / "smoke.json"
-    try:   # within the 1200 s after which pytest's faulthandler ends the worker (pyproject.toml)
-        proc = subprocess.run([sys.executable, str(here / "benchmark_smoke_runner.py"), str(report), *names],
-                              cwd=tmp, env=env, capture_output=True, text=True, timeout=1000)
-        tail = f"{proc.stdout[-1500:]}{proc.stderr[-1500:]}"
-    except subprocess.TimeoutExpired as e:
-        tail = f"the smoke runs passed 1000 s: {str(e.stdout or '')[-1500:]}"
-    runs = json.loads(report.read_text()) if report.exists() else {}
+    runs, tails = {}, []
+    end = time.monotonic() + 1000   # within the 1200 s after which pytest's faulthandler ends the worker
+    for devices, part in ((None, [n for n in names if n not in SMOKE_HOST_DEVICES]),
+                          (2, [n for n in names if n in SMOKE_HOST_DEVICES])):
+        if not part:
+            continue
+        report = Path(tmp) / f"smoke-{devices or 1}.json"
+        argv = [] if devices is None else ["--host-devices", str(devices)]
+        try:
+            proc = subprocess.run([sys.executable, str(here / "benchmark_smoke_runner.py"), *argv, str(report), *part],
+                                  cwd=tmp, env=env, capture_output=True, text=True,
+                                  timeout=max(1.0, end - time.monotonic()))
+            tails.append(f"{proc.stdout[-1500:]}{proc.stderr[-1500:]}")
+        except subprocess.TimeoutExpired as e:
+            tails.append(f"the smoke runs passed 1000 s: {str(e.stdout or '')[-1500:]}")
+        runs.update(json.loads(report.read_text()) if report.exists() else {})
     after = {p.name: p.stat().st_mtime for p in results.iterdir()}
-    return runs, tail, before == after
+    return runs, "\n".join(tails), before == after
 
 
 def check_benchmark_smoke(name, smoke_runs):
