@@ -84,17 +84,16 @@ def test_readme_startup_table_is_the_json():
     # issue 61's targets on the 36-dof rotor, and whether the runs meet them, as the JSON's rows say
     v = out["targets"]
     assert v == startup.verdict(out["commands"])
-    flat = readme
     assert (f"The goal on the 36-dof rotor: a cached run under {v['cached_s']:g} s "
             f"({'met' if v['cached_met'] else 'not met'}: {v['slowest_cached_s']:.1f} s at the slowest) and a "
             f"first run under {v['first_s']:g} s ({'met' if v['first_met'] else 'not met'}: "
-            f"{v['slowest_first_s']:.1f} s).") in flat
+            f"{v['slowest_first_s']:.1f} s).") in readme
     sp = v["cached_split_median"]
     assert (f"interpreter start {sp['start_s']:.1f} s, imports {sp['import_s']:.1f} s, tracing and lowering "
             f"{sp['trace_s'] + sp['lower_s']:.1f} s, cache loads {sp['cache_load_s']:.1f} s, and the rest "
-            f"{sp['execute_other_s']:.1f} s") in flat
+            f"{sp['execute_other_s']:.1f} s") in readme
     if sp["import_s"] >= v["cached_s"]:
-        assert f"the imports alone take longer than the {v['cached_s']:g} s goal" in flat
+        assert f"the imports alone take longer than the {v['cached_s']:g} s goal" in readme
 
 
 def test_readme_stiff_defaults_table_is_the_json():
