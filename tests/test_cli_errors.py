@@ -646,6 +646,23 @@ CASES = [
      r"`periodic` starts from the scene's rest state; flexible-abb has none"),
     (["periodic", "elliptic-abb", "--param", "nu", "--range", "1", "2", "--set", "nu_dot=0.1"], 2,
      r"`periodic` needs a constant speed: elliptic-abb's scene runs at a RunUp"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf"], 2,
+     r"--from-hopf: .*'s equations depend on time \(a forcing, such as an unbalance\): limit cycles need an "
+     r"autonomous scene; set the forcing to zero \(--set unbalance0\.magnitude=0\)"),
+    (["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--from-hopf"], 2,
+     r"--from-hopf: .*cubic_rig\.toml has no reference motion with linear equations to find Hopf points of"),
+    (["periodic", "journal_rig.toml", "--param", "bearing0.viscosity", "--range", "0.02", "0.04", "--from-hopf"], 2,
+     r"--from-hopf: --param bearing0\.viscosity: Hopf points are found in the speed; give --param speed"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf", "--from", "0"], 2,
+     r"--from-hopf: --from does not apply"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf", "--method",
+      "shooting"], 2, r"--from-hopf: --method does not apply"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--hopf-amplitude", "1e-3"], 2,
+     r"--hopf-amplitude 0\.001: it sizes the first cycle of --from-hopf; give --from-hopf too"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf",
+      "--hopf-amplitude", "0"], 2, r"argument --hopf-amplitude: .*0"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "100", "150", "--from-hopf", "--set",
+      "unbalance0.magnitude=0"], 2, r"--from-hopf: --range 100 150: .* has no Hopf point in it \(`rotorjax hopf "),
 ]
 
 

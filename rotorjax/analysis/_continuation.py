@@ -848,7 +848,8 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
         if fold:
             borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
             z, r = _newton(None, 0.5 * (a + b), args=borders, compiled=fold_system)
-            events.append(BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=(i, i + 1)))
+            events.append(_fold_event(z, r, a, b, n, (i, i + 1), gtol,
+                                      max(curve.residuals[i], curve.residuals[i + 1])))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
             events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),
                                       residual=float(max(curve.residuals[i], curve.residuals[i + 1])),
@@ -866,6 +867,24 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
                 if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
                     events.append(dataclasses.replace(hopf, crossing=abs(int(n_unstable[i + 1] - n_unstable[i]))))
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
+
+
+def _fold_event(z, r, a, b, n, between, gtol, step_residual) -> BranchEvent:
+    """The fold between the branch's points `a` and `b` (rows `(u, p)`): refined to
+    `z` (Newton on the fold's defining system, residual `r`) where that converged
+    (`z` finite, `r <= gtol`, no farther from the step's midpoint than the step is
+    long, in every coordinate's largest change); else located to the step, at the
+    midpoint, with `step_residual` (the larger `max |F|` of the two points) and a note
+    saying why, never a non-finite point."""
+    a, b = np.asarray(a), np.asarray(b)
+    mid = 0.5 * (a + b)
+    if (np.all(np.isfinite(z)) and np.isfinite(r) and r <= gtol
+            and np.max(np.abs(z - mid)) <= np.max(np.abs(b - a))):
+        return BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=between)
+    why = f"residual {r:.1e} > {gtol:g}" if np.isfinite(r) and r > gtol else (
+        "a non-finite iterate" if not (np.all(np.isfinite(z)) and np.isfinite(r)) else "it left the step")
+    return BranchEvent(kind="fold", p=float(mid[n]), u=mid[:n], residual=float(step_residual), between=between,
+                       note=f"located to the step; not refined (Newton on the fold's defining system: {why})")
 
 
 def _fold_system(G, z, b, c):

@@ -488,20 +488,29 @@ def _secondary(event, w0, w):
     return dataclasses.replace(event, kind=kind, frequency=f)
 
 
-def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1, truncation=False):
+def branch_amplitude(scene_at, p, coefficients, node=None, period_at=None, subharmonic=1, truncation=False,
+                     periods=None):
     """`orbit_amplitude` at every point of a branch from `periodic_branch`
     (`p` its parameter values, `coefficients` `(points, 2H + 1, n)`), vmapped; with
     `truncation`, also each point's time-domain residual (`PeriodicSolution`'s
-    `time_residual`: the truncation error of the harmonics) as a second array."""
+    `time_residual`: the truncation error of the harmonics) as a second array.
+    `periods`: each point's period (a branch of limit cycles, `limit_cycle_branch`),
+    instead of the forcing's (`period_at(p)`, by default the scene's forcing period
+    times `subharmonic`)."""
     if period_at is None:
         def period_at(v):
             return forcing_period(scene_at(v), subharmonic)
-    orbit_amplitude(scene_at(float(p[0])), coefficients[0], period_at(float(p[0])), node=node)   # checks node
+    p, coefficients = jnp.asarray(p, dtype=jnp.float64), jnp.asarray(coefficients, dtype=jnp.float64)
+    if periods is not None:
+        periods = jnp.asarray(periods, dtype=jnp.float64)
+    orbit_amplitude(scene_at(float(p[0])), coefficients[0], period_at(float(p[0])) if periods is None else periods[0],
+                    node=node)   # checks node
 
-    def one(v, Y):
-        sc, T = scene_at(v), period_at(v)
+    def one(v, Y, *period):
+        sc = scene_at(v)
+        T = period[0] if period else period_at(v)
         return orbit_amplitude(sc, Y, T, node=node), _time_residual(sc, Y, T, 0.0, None)
 
-    p, coefficients = jnp.asarray(p, dtype=jnp.float64), jnp.asarray(coefficients, dtype=jnp.float64)
-    amp, res = vmapped(lift(one, p[0], coefficients[0]), p, coefficients)
+    given = () if periods is None else (periods,)
+    amp, res = vmapped(lift(one, p[0], coefficients[0], *(g[0] for g in given)), p, coefficients, *given)
     return (np.asarray(amp), np.asarray(res)) if truncation else np.asarray(amp)

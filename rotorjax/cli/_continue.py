@@ -205,7 +205,8 @@ def cmd_continue(args) -> int:
                 print(f"  crossing at ({c[key]:.6g}, {c[key2]:.6g}) not traced: {c['error']}")
         return 0
     for c in out.get("crossings", []) + out.get("events", []):
-        print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e})")
+        how = f"; {c['note']}" if "note" in c else ""
+        print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e}{how})")
     if "stopped" in out:
         print(f"  stopped: {out['stopped']}")
     return 0

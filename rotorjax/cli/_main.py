@@ -336,6 +336,15 @@ def build_parser():
                                     help="starting value of --param, a unit may follow as for --range (default: "
                                          "the preset's value where it lies in --range, else the range's end "
                                          "nearest to it)")),
+                 (("--from-hopf",), dict(action="store_true",
+                                         help="the limit cycles born at the lowest Hopf point of the reference "
+                                              "motion in --range (a journal rotor's oil whirl, model 004's "
+                                              "whirl): an autonomous scene (no unbalance), --param the speed; "
+                                              "harmonic balance, --harmonics auto taking 8")),
+                 (("--hopf-amplitude",), dict(type=positive, default=None, metavar="A",
+                                              help="--from-hopf: the first cycle's first-harmonic amplitude in "
+                                                   "the state where the critical mode is largest (default: 1e-2 "
+                                                   "of the equilibrium's largest state)")),
                  (("--harmonics",), dict(type=harmonic_count, default="auto", metavar="H",
                                          help="harmonics of the Fourier series: a number, or auto (each point's "
                                               "fewest of 1, 2, 4, ... --max-harmonics whose truncation error "

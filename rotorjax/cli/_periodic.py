@@ -153,6 +153,11 @@ def cmd_periodic(args) -> int:
             raise InputError(f"--range {lo:g} {hi:g}: {e}") from None
     if key == preset.speed_key and not lo > 0:
         raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
+    if args.from_hopf:
+        return _from_hopf(args, preset, params, key, lo, hi)
+    if args.hopf_amplitude is not None:
+        raise InputError(f"--hopf-amplitude {args.hopf_amplitude:g}: it sizes the first cycle of --from-hopf; "
+                         "give --from-hopf too, or leave it out")
     start, start_source = _start(preset, params, key, lo, hi, args.start)
     if args.ds_max is not None and args.ds is not None and args.ds_max < args.ds:
         raise InputError(f"--ds {args.ds:g} --ds-max {args.ds_max:g}: need DS <= DS_MAX")
@@ -193,6 +198,8 @@ def cmd_periodic(args) -> int:
                "meaning": MEANING[kind]}
         if e.frequency is not None and e.kind != "fold":
             row["frequency"] = float(e.frequency)
+        if e.note is not None:
+            row["note"] = e.note
         bifurcations.append(row)
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
@@ -240,8 +247,129 @@ def cmd_periodic(args) -> int:
               f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
         for b in bifurcations:
             second = f" {b['frequency']:.6g} rad per time unit" if b["kind"] == "neimark-sacker" else ""
+            how = f"; {b['note']}" if "note" in b else ""
             print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
-                  f"(residual {b['residual']:.1e}): {b['meaning']}{second}")
+                  f"(residual {b['residual']:.1e}{how}): {b['meaning']}{second}")
+        print(f"  stops: {'; '.join(br.stops)}")
+    if failed:
+        raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
+    return 0
+
+
+#: `--harmonics auto` for limit cycles (adaptive harmonics follow forced branches)
+HOPF_HARMONICS = 8
+
+
+def _autonomous(scene, y, speed):
+    """Whether `scene`'s equations do not depend on time (no forcing): its field at
+    `y` equal at two instants of the forcing's period."""
+    import jax.numpy as jnp
+
+    f0, f1 = (scene.vector_field(t, y, None) for t in (0.0, 0.37 * 2 * np.pi / speed))
+    return float(jnp.max(jnp.abs(f1 - f0))) <= 1e-12 * float(jnp.max(jnp.abs(f0))) + 1e-300
+
+
+def _forcing_keys(params):
+    """The rotor file's unbalance magnitudes that are not zero (what makes it forced)."""
+    return [k for k, v in params.items() if k.startswith("unbalance") and k.endswith(".magnitude") and v]
+
+
+def _from_hopf(args, preset, params, key, lo, hi):
+    """`periodic --from-hopf`: the limit cycles born at the lowest Hopf point of the
+    reference motion in the range, continued away from it by harmonic balance."""
+    from rotorjax.analysis import StraightRunning, branch_amplitude, hopf_cycle_branch, reference_hopf_points
+    from rotorjax.plot import plot_periodic_branch
+    from ._common import save_figure
+
+    for given, option in ((args.start is not None, "--from"), (args.method != "hb", "--method"),
+                          (args.subharmonic != 1, "--subharmonic")):
+        if given:
+            raise InputError(f"--from-hopf: {option} does not apply (the limit cycles start at the Hopf point, "
+                             "by harmonic balance, at their own period); leave it out")
+    if key != preset.speed_key:
+        raise InputError(f"--from-hopf: --param {key}: Hopf points are found in the speed; give --param "
+                         f"{preset.speed_key}")
+    setup = build(preset, dict(params, **{key: lo}))
+    if not isinstance(setup.reference, StraightRunning):
+        raise InputError(f"--from-hopf: {preset.name} has no reference motion with linear equations to find Hopf "
+                         "points of (a rotor file on fluid films, or model 004, has)")
+    if setup.y0 is None:
+        raise InputError(f"--from-hopf: {preset.name} has no rest state to start from")
+    scene_at, guess = _periodic_scene(_scene_at(preset, dict(params, **{key: lo}), key, setup), setup.scene,
+                                      setup.y0)
+    if not _autonomous(scene_at(lo), guess, lo):
+        keys = _forcing_keys(params)
+        hint = (" (--set " + " ".join(f"{k}=0" for k in keys) + ")") if keys else ""
+        raise InputError(f"--from-hopf: {preset.name}'s equations depend on time (a forcing, such as an "
+                         f"unbalance): limit cycles need an autonomous scene; set the forcing to zero{hint}")
+    amplitude_of = _amplitude_of(setup.scene, setup.y0, args.node)
+    report = reference_hopf_points(setup.reference, lo, hi, progress=not args.json)
+    if not report.points:
+        raise InputError(f"--from-hopf: --range {lo:g} {hi:g}: {setup.reference.label} has no Hopf point in "
+                         f"it (`rotorjax hopf {preset.name} --range LO HI` searches a wider range)")
+    hopf = report.points[0]
+    at_hopf = build(preset, dict(params, **{key: hopf.speed}))
+    _, y_eq = _periodic_scene(scene_at, at_hopf.scene, at_hopf.y0)
+    y_eq = np.concatenate([np.asarray(y_eq)[:y_eq.size // 2], np.zeros(y_eq.size - y_eq.size // 2)])
+    harmonics = HOPF_HARMONICS if args.harmonics == "auto" else args.harmonics
+    prepare_out(args.out)
+    stem = out_stem(args.out, preset, "periodic_", f"_{key}_hopf")
+    br, coefficients, periods, p_first = hopf_cycle_branch(
+        scene_at, hopf, y_eq, (lo, hi), harmonics, amplitude=args.hopf_amplitude, name=key,
+        **({"ds": args.ds} if args.ds is not None else {}), **({"ds_max": args.ds_max} if args.ds_max else {}),
+        max_points=args.max_points, progress=not args.json)
+    amp, residual = branch_amplitude(scene_at, br.p, coefficients, node=args.node, periods=periods,
+                                     truncation=True)
+    events = sorted(br.events, key=lambda e: e.p)
+    bifurcations = []
+    if events:
+        ev_amp = branch_amplitude(scene_at, np.array([e.p for e in events]),
+                                  np.stack([np.reshape(e.u, coefficients.shape[1:]) for e in events]),
+                                  node=args.node, periods=np.interp([e.p for e in events], br.p, periods))
+        for i, e in enumerate(events):
+            kind = e.kind.replace("_", "-")
+            bifurcations.append({"kind": kind, key: float(e.p), "amplitude": float(ev_amp[i]),
+                                 "residual": float(e.residual), "meaning": MEANING[kind]})
+    criticality = "subcritical" if p_first < hopf.speed else "supercritical"
+    out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
+           "amplitude_of": amplitude_of, "method": "harmonic-balance", "harmonics": harmonics,
+           "range": [lo, hi], "start": p_first, "start_source": "--from-hopf",
+           "hopf": {key: hopf.speed, "frequency": hopf.frequency, "criticality": criticality,
+                    "first_cycle": {key: p_first, "period": float(periods[br.curve.start])}},
+           "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "period": np.asarray(periods).tolist(),
+                         "stable": br.stable.tolist(), "margin": br.margin.tolist(),
+                         "time_residual": residual.tolist(), "harmonics": [harmonics] * int(br.p.size),
+                         # each cycle's state at phase 0: the series' mean plus its cosines (start a run on it)
+                         "state_at_phase_0": (coefficients[:, 0] + coefficients[:, 1::2].sum(axis=1)).tolist(),
+                         "n_points": int(br.p.size), "stop": br.curve.stop, "stops": list(br.stops)}],
+           "bifurcations": bifurcations}
+    np.savetxt(stem + ".csv", np.column_stack([br.p, amp, periods, br.stable.astype(int), br.margin]),
+               delimiter=",", header=f"{key},amplitude,period,stable,margin", comments="", fmt="%.17g")
+    unit = f" ({preset.length_unit})" if preset.length_unit else ""
+    save_figure(plot_periodic_branch(br.p, amp, br.stable, [dict(b, p=b[key]) for b in bifurcations],
+                                     x_label=key, y_label=f"amplitude{unit}",
+                                     title=f"{os.path.basename(preset.name)}: limit cycles from the Hopf point "
+                                           f"at {key} = {hopf.speed:.6g}; amplitude: {amplitude_of}"),
+                stem + ".png")
+    out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
+    write_json(stem + ".json", out, indent=2)
+    failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
+    worst = int(np.argmax(residual))
+    if residual[worst] > args.max_time_residual:
+        failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed cycle is "
+                      f"{residual[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
+                      f"{br.p[worst]:.8g}; raise --harmonics")
+    if args.json:
+        print(json.dumps(out, indent=2))
+    else:
+        print(f"{preset.name}: limit cycles born at the Hopf point {key} = {hopf.speed:.8g} (whirl frequency "
+              f"{hopf.frequency:.6g}, {criticality}), by harmonic balance with {harmonics} harmonics; wrote "
+              f"{stem}.csv, .json, .png")
+        print(f"  {key} in [{lo:g}, {hi:g}]; {br.p.size} cycles, {int(np.sum(~br.stable))} unstable, amplitude "
+              f"{float(np.min(amp)):.4g} to {float(np.max(amp)):.4g} {preset.length_unit} ({amplitude_of})")
+        for b in bifurcations:
+            print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
+                  f"(residual {b['residual']:.1e}): {b['meaning']}")
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
         raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")

@@ -67,6 +67,29 @@ def test_duffing_branch_folds_and_fold_curve_match_the_closed_form():
     assert err < 1e-8
 
 
+@pytest.mark.parametrize("z, r, why", [
+    (np.array([np.nan, 1.2]), np.nan, "a non-finite iterate"),
+    (np.array([0.5, 1.2]), 3e-2, "residual 3.0e-02 > 1e-08"),
+    (np.array([0.5, 9.0]), 1e-14, "it left the step"),
+    (np.array([0.9, 1.05]), 1e-14, "it left the step"),
+])
+def test_a_fold_whose_refinement_fails_is_located_to_the_step_never_nan(z, r, why):
+    """A fold's Newton on its defining system that diverges (non-finite), stalls
+    (residual above the branch's gtol) or runs off the step is not reported as
+    refined: the fold is placed at the step's midpoint with the points' residual and
+    a note (it was printed as `fold at speed = nan` before; issue 62)."""
+    from rotorjax.analysis._continuation import _fold_event
+
+    a, b = np.array([0.4, 1.0]), np.array([0.6, 1.1])
+    e = _fold_event(z, r, a, b, 1, (3, 4), 1e-8, 2e-10)
+    assert (e.kind, e.p, e.residual, e.between) == ("fold", 1.05, 2e-10, (3, 4))
+    assert np.allclose(e.u, [0.5]) and np.all(np.isfinite(e.u))
+    assert e.note == f"located to the step; not refined (Newton on the fold's defining system: {why})"
+    assert e.as_dict()["note"] == e.note
+    refined = _fold_event(np.array([0.51, 1.04]), 1e-14, a, b, 1, (3, 4), 1e-8, 2e-10)
+    assert (refined.p, refined.residual, refined.note) == (1.04, 1e-14, None)
+
+
 def test_fold_system_jacobian_equals_differentiating_the_jacobian():
     """The fold refinement's Jacobian (`G`'s and the bordered test function's
     gradient `-w^T (G_u)_z v`, by n + 1 directional derivatives) equals forward

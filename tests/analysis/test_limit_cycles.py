@@ -23,7 +23,8 @@ import numpy as np
 import pytest
 
 import rotorjax
-from rotorjax.analysis import (coefficients_from_samples, hill_exponents, hopf_cycle, limit_cycle,
+from rotorjax.analysis import (HopfPoint, branch_amplitude, coefficients_from_samples, hill_exponents, hopf_cycle,
+                               hopf_cycle_branch, limit_cycle,
                                limit_cycle_branch, periodic_orbit)
 from rotorjax.models import AbstractScene, ConstantSpeed
 from rotorjax.solve import RESULTS, code_of
@@ -138,6 +139,36 @@ def test_subcritical_branch_folds_where_the_closed_form_says():
     r = radius(coefs)
     assert np.array_equal(np.asarray(br.stable), r ** 2 > 0.5)             # stable beyond the fold
     assert br.stops[-1] == "box edge (p = 0.2)"
+
+
+@pytest.mark.parametrize("a, c", [(-1.0, 0.0), (1.0, 1.0)])
+def test_hopf_cycle_branch_from_the_hopf_point_in_closed_form(a, c):
+    """`hopf_cycle_branch` (what `rotorjax periodic --from-hopf` runs) on the normal
+    form shifted to its Hopf point at p = 2 (mu = p - 2): supercritical, the cycles
+    r^2 = mu above it to the range's top; subcritical, below it through the fold of
+    cycles at mu = -1/4 (r^2 = 1/2) and back up to the range's top. The radii,
+    periods and the fold against the closed forms; each cycle's amplitude
+    (`branch_amplitude` at the branch's own periods) is its radius."""
+    def scene_at(p):
+        return NormalForm(p - 2.0, a=a, c=c)
+
+    hopf = HopfPoint(speed=2.0, frequency=OM, slope=1.0, margin_at_speed=0.0)
+    br, coefs, periods, p_first = hopf_cycle_branch(scene_at, hopf, jnp.zeros(2), (1.5, 2.5), harmonics=4,
+                                                    amplitude=0.1, ds_max=0.2)
+    mu, r = np.asarray(br.p) - 2.0, radius(coefs)
+    assert abs(p_first - 2.0 - (-a * 0.1**2 + c * 0.1**4)) < 1e-12      # r = 0.1: mu = -a r^2 + c r^4
+    assert (p_first > 2.0) == (a < 0)                                   # the side of the first cycle: criticality
+    assert br.stops[0] == "start" and br.stops[1] == "box edge (p/2 = 1.25)"
+    assert np.max(np.abs(mu + a * r**2 - c * r**4)) < 1e-9
+    assert np.max(np.abs(periods - 2 * np.pi / (OM + B * r**2))) < 1e-9
+    folds = [e for e in br.events if e.kind == "fold"]
+    if a > 0:
+        assert len(folds) == 1 and abs(folds[0].p - 1.75) < 1e-8 and folds[0].note is None
+        assert np.array_equal(np.asarray(br.stable), r**2 > 0.5)
+    else:
+        assert not folds and bool(np.all(br.stable))
+    amp = branch_amplitude(scene_at, br.p, coefs, periods=periods)
+    assert np.max(np.abs(amp - r)) < 1e-9
 
 
 @pytest.fixture(scope="module")
