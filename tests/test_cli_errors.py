@@ -649,6 +649,8 @@ CASES = [
     (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf"], 2,
      r"--from-hopf: .*'s equations depend on time \(a forcing, such as an unbalance\): limit cycles need an "
      r"autonomous scene; set the forcing to zero \(--set unbalance0\.magnitude=0\)"),
+    (["periodic", "cantilever-limiters", "--param", "N", "--range", "13", "15", "--from-hopf"], 2,
+     r"--from-hopf: cantilever-limiters's equations depend on time .* set the forcing to zero \(--set eps=0\)"),
     (["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--from-hopf"], 2,
      r"--from-hopf: .*cubic_rig\.toml has no reference motion with linear equations to find Hopf points of"),
     (["periodic", "journal_rig.toml", "--param", "bearing0.viscosity", "--range", "0.02", "0.04", "--from-hopf"], 2,

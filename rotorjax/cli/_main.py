@@ -338,9 +338,9 @@ def build_parser():
                                          "nearest to it)")),
                  (("--from-hopf",), dict(action="store_true",
                                          help="the limit cycles born at the lowest Hopf point of the reference "
-                                              "motion in --range (a journal rotor's oil whirl, model 004's "
-                                              "whirl): an autonomous scene (no unbalance), --param the speed; "
-                                              "harmonic balance, --harmonics auto taking 8")),
+                                              "motion in --range (a journal rotor's oil whirl): an autonomous "
+                                              "scene (no unbalance), --param the speed; harmonic balance, "
+                                              "--harmonics auto taking 8")),
                  (("--hopf-amplitude",), dict(type=positive, default=None, metavar="A",
                                               help="--from-hopf: the first cycle's first-harmonic amplitude in "
                                                    "the state where the critical mode is largest (default: 1e-2 "

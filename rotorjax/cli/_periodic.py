@@ -269,9 +269,23 @@ def _autonomous(scene, y, speed):
     return float(jnp.max(jnp.abs(f1 - f0))) <= 1e-12 * float(jnp.max(jnp.abs(f0))) + 1e-300
 
 
-def _forcing_keys(params):
-    """The rotor file's unbalance magnitudes that are not zero (what makes it forced)."""
-    return [k for k, v in params.items() if k.startswith("unbalance") and k.endswith(".magnitude") and v]
+def _forcing_keys(preset, params, key, start):
+    """The parameters that make the scene forced: a rotor file's unbalance magnitudes
+    that are not zero, else each non-zero parameter whose zero leaves the scene
+    autonomous (a preset's unbalance, e.g. model 004's `eps`)."""
+    keys = [k for k, v in params.items() if k.startswith("unbalance") and k.endswith(".magnitude") and v]
+    if keys:
+        return keys
+    for k, v in params.items():
+        if k == key or isinstance(v, bool) or not isinstance(v, float) or v == 0:
+            continue
+        try:
+            setup = build(preset, dict(params, **{k: 0.0, key: start}))
+        except InputError:
+            continue
+        if setup.y0 is not None and _autonomous(setup.scene, setup.y0, start):
+            keys.append(k)
+    return keys
 
 
 def _from_hopf(args, preset, params, key, lo, hi):
@@ -298,7 +312,7 @@ def _from_hopf(args, preset, params, key, lo, hi):
     scene_at, guess = _periodic_scene(_scene_at(preset, dict(params, **{key: lo}), key, setup), setup.scene,
                                       setup.y0)
     if not _autonomous(scene_at(lo), guess, lo):
-        keys = _forcing_keys(params)
+        keys = _forcing_keys(preset, params, key, lo)
         hint = (" (--set " + " ".join(f"{k}=0" for k in keys) + ")") if keys else ""
         raise InputError(f"--from-hopf: {preset.name}'s equations depend on time (a forcing, such as an "
                          f"unbalance): limit cycles need an autonomous scene; set the forcing to zero{hint}")
