@@ -186,21 +186,8 @@ def cmd_periodic(args) -> int:
     used = _harmonics_used(br.harmonics)
     amp, truncation = branch_amplitude(scene_at, br.p, coefficients, node=args.node,
                                        subharmonic=args.subharmonic, truncation=True)
-    events = sorted(br.events, key=lambda e: e.p)
-    if events:
-        ev_amp = branch_amplitude(scene_at, np.array([e.p for e in events]),
-                                  np.stack([np.reshape(e.u, coefficients.shape[1:]) for e in events]),
-                                  node=args.node, subharmonic=args.subharmonic)
-    bifurcations = []
-    for i, e in enumerate(events):
-        kind = e.kind.replace("_", "-")
-        row = {"kind": kind, key: float(e.p), "amplitude": float(ev_amp[i]), "residual": float(e.residual),
-               "meaning": MEANING[kind]}
-        if e.frequency is not None and e.kind != "fold":
-            row["frequency"] = float(e.frequency)
-        if e.note is not None:
-            row["note"] = e.note
-        bifurcations.append(row)
+    bifurcations = _bifurcations(br.events, key, lambda events: branch_amplitude(
+        scene_at, *_event_motions(events, coefficients), node=args.node, subharmonic=args.subharmonic))
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
            **({"truncation_tol": args.truncation_tol, "max_harmonics": args.max_harmonics} if auto else {}),
@@ -231,11 +218,7 @@ def cmd_periodic(args) -> int:
                           f"--truncation-tol {args.truncation_tol:g} at {key} = {br.p[worst]:.8g} with "
                           f"--max-harmonics {args.max_harmonics}; raise --max-harmonics (or --truncation-tol)")
     else:
-        worst = int(np.argmax(truncation))
-        if truncation[worst] > args.max_time_residual:
-            failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed orbit is "
-                          f"{truncation[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
-                          f"{br.p[worst]:.8g}; raise --harmonics")
+        failed += _residual_too_large(truncation, br.p, key, args.max_time_residual, "orbit")
     if args.json:
         print(json.dumps(out, indent=2))
     else:
@@ -245,15 +228,56 @@ def cmd_periodic(args) -> int:
               + f"; wrote {stem}.csv, .json, .png")
         print(f"  {key} in [{lo:g}, {hi:g}] from {start:g} ({out['start_source']}); {br.p.size} points, "
               f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
-        for b in bifurcations:
-            second = f" {b['frequency']:.6g} rad per time unit" if b["kind"] == "neimark-sacker" else ""
-            how = f"; {b['note']}" if "note" in b else ""
-            print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
-                  f"(residual {b['residual']:.1e}{how}): {b['meaning']}{second}")
+        _print_bifurcations(bifurcations, key)
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
         raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
     return 0
+
+
+def _event_motions(events, coefficients):
+    """The events' parameter values and coefficients `(events, 2H + 1, n)`."""
+    return (np.array([e.p for e in events]),
+            np.stack([np.reshape(e.u, coefficients.shape[1:]) for e in events]))
+
+
+def _bifurcations(events, key, amplitude):
+    """The JSON rows of a branch's events in order of the parameter: kind, value, the
+    motion's amplitude there (`amplitude(events)`), residual, meaning, and a
+    secondary frequency or a note where the event has one."""
+    events = sorted(events, key=lambda e: e.p)
+    if not events:
+        return []
+    amp = amplitude(events)
+    rows = []
+    for e, a in zip(events, amp):
+        kind = e.kind.replace("_", "-")
+        row = {"kind": kind, key: float(e.p), "amplitude": float(a), "residual": float(e.residual),
+               "meaning": MEANING[kind]}
+        if e.frequency is not None and e.kind != "fold":
+            row["frequency"] = float(e.frequency)
+        if e.note is not None:
+            row["note"] = e.note
+        rows.append(row)
+    return rows
+
+
+def _print_bifurcations(bifurcations, key):
+    for b in bifurcations:
+        second = f" {b['frequency']:.6g} rad per time unit" if b["kind"] == "neimark-sacker" else ""
+        how = f"; {b['note']}" if "note" in b else ""
+        print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
+              f"(residual {b['residual']:.1e}{how}): {b['meaning']}{second}")
+
+
+def _residual_too_large(residual, p, key, limit, what):
+    """`[why]` where a point's time-domain residual (the truncation error of the
+    harmonics) exceeds `--max-time-residual`, else `[]`."""
+    worst = int(np.argmax(residual))
+    if not residual[worst] > limit:
+        return []
+    return [f"harmonics insufficient: the time-domain residual of the reconstructed {what} is {residual[worst]:.2e} "
+            f"> --max-time-residual {limit:g} at {key} = {p[worst]:.8g}; raise --harmonics"]
 
 
 #: `--harmonics auto` for limit cycles (adaptive harmonics follow forced branches)
@@ -323,8 +347,7 @@ def _from_hopf(args, preset, params, key, lo, hi):
                          f"it (`rotorjax hopf {preset.name} --range LO HI` searches a wider range)")
     hopf = report.points[0]
     at_hopf = build(preset, dict(params, **{key: hopf.speed}))
-    _, y_eq = _periodic_scene(scene_at, at_hopf.scene, at_hopf.y0)
-    y_eq = np.concatenate([np.asarray(y_eq)[:y_eq.size // 2], np.zeros(y_eq.size - y_eq.size // 2)])
+    _, y_eq = _periodic_scene(scene_at, at_hopf.scene, at_hopf.y0)   # a guess: the cycle's mean is solved for
     harmonics = HOPF_HARMONICS if args.harmonics == "auto" else args.harmonics
     prepare_out(args.out)
     stem = out_stem(args.out, preset, "periodic_", f"_{key}_hopf")
@@ -334,16 +357,10 @@ def _from_hopf(args, preset, params, key, lo, hi):
         max_points=args.max_points, progress=not args.json)
     amp, residual = branch_amplitude(scene_at, br.p, coefficients, node=args.node, periods=periods,
                                      truncation=True)
-    events = sorted(br.events, key=lambda e: e.p)
-    bifurcations = []
-    if events:
-        ev_amp = branch_amplitude(scene_at, np.array([e.p for e in events]),
-                                  np.stack([np.reshape(e.u, coefficients.shape[1:]) for e in events]),
-                                  node=args.node, periods=np.interp([e.p for e in events], br.p, periods))
-        for i, e in enumerate(events):
-            kind = e.kind.replace("_", "-")
-            bifurcations.append({"kind": kind, key: float(e.p), "amplitude": float(ev_amp[i]),
-                                 "residual": float(e.residual), "meaning": MEANING[kind]})
+    # an event's period: its step's mean (the events carry the coefficients, not the frequency)
+    bifurcations = _bifurcations(br.events, key, lambda events: branch_amplitude(
+        scene_at, *_event_motions(events, coefficients), node=args.node,
+        periods=[0.5 * (periods[e.between[0]] + periods[e.between[1]]) for e in events]))
     criticality = "subcritical" if p_first < hopf.speed else "supercritical"
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": "harmonic-balance", "harmonics": harmonics,
@@ -368,11 +385,7 @@ def _from_hopf(args, preset, params, key, lo, hi):
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
     failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
-    worst = int(np.argmax(residual))
-    if residual[worst] > args.max_time_residual:
-        failed.append(f"harmonics insufficient: the time-domain residual of the reconstructed cycle is "
-                      f"{residual[worst]:.2e} > --max-time-residual {args.max_time_residual:g} at {key} = "
-                      f"{br.p[worst]:.8g}; raise --harmonics")
+    failed += _residual_too_large(residual, br.p, key, args.max_time_residual, "cycle")
     if args.json:
         print(json.dumps(out, indent=2))
     else:
@@ -381,9 +394,7 @@ def _from_hopf(args, preset, params, key, lo, hi):
               f"{stem}.csv, .json, .png")
         print(f"  {key} in [{lo:g}, {hi:g}]; {br.p.size} cycles, {int(np.sum(~br.stable))} unstable, amplitude "
               f"{float(np.min(amp)):.4g} to {float(np.max(amp)):.4g} {preset.length_unit} ({amplitude_of})")
-        for b in bifurcations:
-            print(f"  {b['kind']} at {key} = {b[key]:.8g}, amplitude {b['amplitude']:.4g} "
-                  f"(residual {b['residual']:.1e}): {b['meaning']}")
+        _print_bifurcations(bifurcations, key)
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
         raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
