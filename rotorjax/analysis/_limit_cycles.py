@@ -219,8 +219,8 @@ def hopf_cycle_branch(scene_at, hopf, y_eq, p_bounds, harmonics=8, *, amplitude=
     """The branch of limit cycles born at a Hopf point, continued away from it
     through `p_bounds`: `hopf_cycle` at a small amplitude, then `limit_cycle_branch`
     in `p` relative to the Hopf point's (the steps `ds`, `ds_max` are in that ratio
-    and in the unknowns scaled by the start's sizes: from a small cycle the amplitude
-    grows by orders of magnitude, hence the large `ds_max`).
+    and in the unknowns divided by the first cycle's largest coefficient: from a
+    small cycle the amplitude grows by orders of magnitude, hence the large `ds_max`).
 
     `scene_at(p)`: the autonomous scene at `p`; `hopf`: a `HopfPoint` (its `speed`
     the parameter, its `frequency` the crossing pair's); `y_eq`: the equilibrium
