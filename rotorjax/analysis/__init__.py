@@ -66,6 +66,7 @@ from ._continuation import FloquetCrossing as FloquetCrossing
 from ._continuation import boundary_points as boundary_points
 from ._continuation import boundary_sensitivity as boundary_sensitivity
 from ._continuation import continue_branch as continue_branch
+from ._continuation import switch_branch as switch_branch
 from ._continuation import floquet_crossings as floquet_crossings
 from ._continuation import fold_curve as fold_curve
 from ._continuation import fold_gradient as fold_gradient

@@ -55,7 +55,7 @@ import numpy as np
 
 from .._autodiff import value_and_jacfwd
 from ..solve._lift import Lifted, batched, call, compiled, jacobian, lift
-from . import _arclength
+from . import _arclength, _branch_points
 from ._roots import bisect, root_gradient
 
 
@@ -656,17 +656,24 @@ class BranchEvent:
     - `kind`: `"fold"` (refined by Newton on `F = 0` and `F_u` singular, a
       bordered test function), `"hopf"`
       (refined by bisection along the branch on the crossing pair's real part) or
-      `"branch_point"` (a sign change of the bordered determinant, located to the
-      step, not refined); on a branch of periodic motions (`periodic_branch`) a
-      crossing pair is a `"period-doubling"` or a `"neimark-sacker"` point.
+      `"branch_point"` (a sign change of the bordered determinant, refined by
+      Newton on Moore and Keller's extended system, `_branch_points`); on a
+      branch of periodic motions (`periodic_branch`) a crossing pair is a
+      `"period-doubling"` or a `"neimark-sacker"` point.
     - `p`, `u`: the parameter and the state there.
-    - `residual`: max |.| of the defining system there (for a branch point, the
-      larger residual of the two branch points around it).
+    - `residual`: max |.| of the defining system there (where the refinement
+      failed and the event is located to the step, with a `note`: the larger
+      `max |F|` of the two points around it).
     - `between`: `(i, i + 1)`, the branch's points it lies between.
     - `frequency`: a Hopf point's `|Im lambda|` of the crossing pair (a
       Neimark-Sacker or period-doubling point's exponent frequency; None for the
       other kinds).
-    - `note`: a remark on how it was located (branch points), else None.
+    - `note`: a remark on how it was located (an event located to the step, not
+      refined: why), else None.
+    - `tangent`: at a refined branch point, the unit tangent `(u, p)` of the
+      branch that crosses this one there (towards increasing `p`), the start of
+      `switch_branch`; None for the other kinds, and on periodic branches (their
+      events' `u` are the physical coefficients, not the continuation's unknowns).
     - `crossing`: at a Hopf point, how many stability exponents cross there (the
       change in the number of unstable ones): 2 for a complex pair; on a branch of
       periodic motions 1 for a real multiplier through -1 (a period doubling), 2
@@ -683,13 +690,14 @@ class BranchEvent:
     frequency: float = None
     note: str = None
     crossing: int = None
+    tangent: np.ndarray = None
 
     def __post_init__(self):
         object.__setattr__(self, "between", tuple(int(i) for i in self.between))
 
     def as_dict(self) -> dict:
         """JSON-ready: `{"kind", "p", "u": [...], "frequency" (Hopf), "residual",
-        "between": [i, i + 1], "note", "crossing" (when set)}`."""
+        "between": [i, i + 1], "note", "crossing", "tangent" (when set)}`."""
         out = {"kind": self.kind, "p": self.p, "u": np.asarray(self.u).tolist()}
         if self.frequency is not None:
             out["frequency"] = self.frequency
@@ -698,6 +706,8 @@ class BranchEvent:
             out["note"] = self.note
         if self.crossing is not None:
             out["crossing"] = self.crossing
+        if self.tangent is not None:
+            out["tangent"] = np.asarray(self.tangent).tolist()
         return out
 
     def __getitem__(self, key):
@@ -851,9 +861,8 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
             events.append(_fold_event(z, r, a, b, n, (i, i + 1), gtol,
                                       max(curve.residuals[i], curve.residuals[i + 1])))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
-            events.append(BranchEvent(kind="branch_point", p=float(0.5 * (a[n] + b[n])), u=0.5 * (a[:n] + b[:n]),
-                                      residual=float(max(curve.residuals[i], curve.residuals[i + 1])),
-                                      between=(i, i + 1), note="located to the step; not refined"))
+            events.append(_branch_point_event(Gl, a, b, n, (i, i + 1), gtol,
+                                              max(curve.residuals[i], curve.residuals[i + 1])))
         if n_unstable[i] != n_unstable[i + 1] and not fold:   # at a fold a real eigenvalue crosses
             # the eigenvalue that crossed: the least unstable one on the more unstable
             # side (not the one nearest the axis, which may be a lightly damped
@@ -869,22 +878,69 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
-def _fold_event(z, r, a, b, n, between, gtol, step_residual) -> BranchEvent:
-    """The fold between the branch's points `a` and `b` (rows `(u, p)`): refined to
-    `z` (Newton on the fold's defining system, residual `r`) where that converged
-    (`z` finite, `r <= gtol`, no farther from the step's midpoint than the step is
-    long, in every coordinate's largest change); else located to the step, at the
-    midpoint, with `step_residual` (the larger `max |F|` of the two points) and a note
-    saying why, never a non-finite point."""
+def switch_branch(F: Callable, event: BranchEvent, p_bounds=(-np.inf, np.inf), h=None, ds=0.01,
+                  start_tol=1e-8, **options) -> Branch:
+    """The branch of `F(u, p) = 0` that crosses another at its branch point `event`
+    (a refined `"branch_point"` of `continue_branch` on the same `F`, holding the
+    crossing branch's `tangent`): its first point `h` (default `ds`) from the
+    branch point along that tangent, corrected by Newton on the hyperplane normal
+    to it, then `continue_branch` from there (`p_bounds`, `ds`, `start_tol` and
+    `options` as there; traced both ways by default, so through the branch point to
+    the crossing branch's other side). A ValueError where `event` is not a refined
+    branch point, or the first point does not converge (give a smaller `h`)."""
+    if event.kind != "branch_point" or event.tangent is None:
+        raise ValueError(f"switch_branch needs a refined branch point (its tangent); got a {event.kind!r} event"
+                         + (f" ({event.note})" if event.note else ""))
+    u = np.asarray(event.u, dtype=float)
+    n = u.size
+
+    def G(x):
+        return F(x[:n], x[n])
+
+    x0 = np.concatenate([u, [event.p]])
+    Gl = lift(G, jnp.asarray(x0))
+    h = ds if h is None else h
+    t = np.asarray(event.tangent, dtype=float)
+    y = np.asarray(_on_branch(Gl, jnp.asarray(x0 + h * t), jnp.asarray(t)))
+    r = float(np.max(np.abs(np.asarray(call(Gl, jnp.asarray(y))))))
+    if not (np.all(np.isfinite(y)) and r <= start_tol):
+        raise ValueError(f"switch_branch: the first point on the crossing branch, {h:g} from the branch point, "
+                         f"did not converge (residual {r:.1e} > {start_tol:g}); give a smaller h")
+    return continue_branch(F, y[:n], y[n], p_bounds=p_bounds, ds=ds, start_tol=start_tol, **options)
+
+
+def _fold_event(z, r, a, b, n, between, gtol, step_residual, kind="fold",
+                system="the fold's defining system") -> BranchEvent:
+    """The fold (or other `kind` of event) between the branch's points `a` and `b`
+    (rows `(u, p)`): refined to `z` (Newton on its defining `system`, residual `r`)
+    where that converged (`z` finite, `r <= gtol`, no farther from the step's
+    midpoint than the step is long, in every coordinate's largest change); else
+    located to the step, at the midpoint, with `step_residual` (the larger `max |F|`
+    of the two points) and a note saying why, never a non-finite point."""
     a, b = np.asarray(a), np.asarray(b)
     mid = 0.5 * (a + b)
     if (np.all(np.isfinite(z)) and np.isfinite(r) and r <= gtol
             and np.max(np.abs(z - mid)) <= np.max(np.abs(b - a))):
-        return BranchEvent(kind="fold", p=float(z[n]), u=z[:n], residual=r, between=between)
+        return BranchEvent(kind=kind, p=float(z[n]), u=z[:n], residual=r, between=between)
     why = f"residual {r:.1e} > {gtol:g}" if np.isfinite(r) and r > gtol else (
         "a non-finite iterate" if not (np.all(np.isfinite(z)) and np.isfinite(r)) else "it left the step")
-    return BranchEvent(kind="fold", p=float(mid[n]), u=mid[:n], residual=float(step_residual), between=between,
-                       note=f"located to the step; not refined (Newton on the fold's defining system: {why})")
+    return BranchEvent(kind=kind, p=float(mid[n]), u=mid[:n], residual=float(step_residual), between=between,
+                       note=f"located to the step; not refined (Newton on {system}: {why})")
+
+
+def _branch_point_event(G, a, b, n, between, gtol, step_residual) -> BranchEvent:
+    """The branch point between the branch's points `a` and `b` (`G` lifted), refined
+    on Moore and Keller's extended system (`_branch_points.refine`), with the
+    crossing branch's unit tangent; else located to the step as `_fold_event` says."""
+    mid = 0.5 * (np.asarray(a) + np.asarray(b))
+    x, phi, r, _ = _branch_points.refine(G, jacobian(G, jnp.asarray(mid)), a, b)
+    event = _fold_event(x, r, a, b, n, between, gtol, step_residual, kind="branch_point",
+                        system="the branch point's extended system")
+    if event.note is not None:
+        return event
+    chord = (np.asarray(b) - np.asarray(a)) / np.linalg.norm(np.asarray(b) - np.asarray(a))
+    tangent, note = _branch_points.other_tangent(G, x, phi, jacobian(G, jnp.asarray(x)), chord)
+    return dataclasses.replace(event, tangent=tangent, note=note)
 
 
 def _fold_system(G, z, b, c):

@@ -205,7 +205,8 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
     periods = 2 * np.pi / (w0 * u[:, m])
     events = []
     for e in br.events:
-        e = dataclasses.replace(e, u=(np.asarray(e.u)[:m].reshape(shape) * np.asarray(scale)).ravel())
+        e = dataclasses.replace(e, u=(np.asarray(e.u)[:m].reshape(shape) * np.asarray(scale)).ravel(),
+                                tangent=None)   # in the scaled unknowns, as in `_periodic_branch._physical`
         if e.kind == "hopf":
             i = e.between[0]
             e = _secondary(e, w0, 2 * np.pi / periods[i])

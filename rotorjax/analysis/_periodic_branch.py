@@ -79,7 +79,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
     in physical units (`H` the most any point has; zeros above a point's own).
     `branch.events` (`u`: the coefficients there, flattened, physical units):
-    `"fold"` (refined: Newton on the balance and `det dR/dY = 0`), `"branch_point"` (located to the step), and where a
+    `"fold"` (refined: Newton on the balance and `det dR/dY = 0`), `"branch_point"` (refined on Moore and
+    Keller's extended system, as in `continue_branch`), and where a
     complex pair of Hill's exponents crosses, refined by bisection along the
     branch, `"period-doubling"` (its frequency half the motion's: a multiplier
     through -1) or `"neimark-sacker"` (a pair of multipliers `exp(+-i 2 pi f / w)`
@@ -214,7 +215,7 @@ def _shooting_branch(scene_at, p0, guess, bounds, H, period_at, scale, steps, L,
     br = continue_branch(F, np.asarray(y / scale), p0, p_bounds=bounds, exponents=exponents, **options)
     events = []
     for e in br.events:
-        e = dataclasses.replace(e, u=np.asarray(e.u) * np.asarray(scale))
+        e = dataclasses.replace(e, u=np.asarray(e.u) * np.asarray(scale), tangent=None)   # as `_physical`
         if e.kind == "hopf":
             e = _secondary(e, w0, float(2 * np.pi / period_at(e.p)))
         events.append(e)
@@ -467,8 +468,9 @@ PERIOD_DOUBLING_TOL = 1e-3
 def _physical(event, scale, w0, period_at):
     """An event of the scaled continuation in physical units, a crossing pair
     classified."""
+    # a branch point's crossing tangent is in the continuation's scaled unknowns: not carried over
     event = dataclasses.replace(event, u=(np.asarray(event.u).reshape((-1,) + scale.shape[1:])
-                                          * np.asarray(scale)).ravel())
+                                          * np.asarray(scale)).ravel(), tangent=None)
     if event.kind == "hopf":
         event = _secondary(event, w0, float(2 * np.pi / period_at(event.p)))
     return event
