@@ -29,6 +29,7 @@ from ._harmonic_balance import truncation_error as truncation_error
 from ._harmonic_balance import orbit_amplitude as orbit_amplitude
 from ._limit_cycles import hopf_cycle as hopf_cycle
 from ._limit_cycles import hopf_cycle_branch as hopf_cycle_branch
+from ._limit_cycles import is_autonomous as is_autonomous
 from ._limit_cycles import limit_cycle as limit_cycle
 from ._limit_cycles import limit_cycle_branch as limit_cycle_branch
 from ._periodic_branch import balance_grid as balance_grid

@@ -14,7 +14,7 @@ from ..models._validate import InputError, as_count, as_param, check_type, is_co
 from ..solve._results import RESULTS
 from ._continuation import continue_branch
 from ._harmonic_balance import (PeriodicSolution, _checked, _newton, _outcome, _physical_exponents, _with_floquet,
-                                balance_residual)
+                                balance_residual, forcing_period)
 from ._periodic_branch import _checked_range, _secondary
 
 
@@ -213,6 +213,16 @@ def limit_cycle_branch(scene_at, p0, start, p_bounds, *, phase=None, scale=None,
         events.append(e)
     br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
     return br, u[:, :m].reshape((-1,) + shape) * np.asarray(scale), periods
+
+
+def is_autonomous(scene, y) -> bool:
+    """Whether `scene`'s equations do not depend on time (no forcing, such as an
+    unbalance): its field at the state `y` equal (to 1e-12 relative) at two instants
+    of its forcing period (`forcing_period`). Limit cycles (`limit_cycle`,
+    `hopf_cycle_branch`) need an autonomous scene. (`check_autonomous` asks the same
+    of the rotating frame, where stationary regimes live.)"""
+    f0, f1 = (scene.vector_field(t, jnp.asarray(y), None) for t in (0.0, 0.37 * forcing_period(scene)))
+    return float(jnp.max(jnp.abs(f1 - f0))) <= 1e-12 * float(jnp.max(jnp.abs(f0))) + 1e-300
 
 
 def hopf_cycle_branch(scene_at, hopf, y_eq, p_bounds, harmonics=8, *, amplitude=None, name="p", ds=0.02,

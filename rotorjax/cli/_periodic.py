@@ -284,38 +284,11 @@ def _residual_too_large(residual, p, key, limit, what):
 HOPF_HARMONICS = 8
 
 
-def _autonomous(scene, y, speed):
-    """Whether `scene`'s equations do not depend on time (no forcing): its field at
-    `y` equal at two instants of the forcing's period."""
-    import jax.numpy as jnp
-
-    f0, f1 = (scene.vector_field(t, y, None) for t in (0.0, 0.37 * 2 * np.pi / speed))
-    return float(jnp.max(jnp.abs(f1 - f0))) <= 1e-12 * float(jnp.max(jnp.abs(f0))) + 1e-300
-
-
-def _forcing_keys(preset, params, key, start):
-    """The parameters that make the scene forced: a rotor file's unbalance magnitudes
-    that are not zero, else each non-zero parameter whose zero leaves the scene
-    autonomous (a preset's unbalance, e.g. model 004's `eps`)."""
-    keys = [k for k, v in params.items() if k.startswith("unbalance") and k.endswith(".magnitude") and v]
-    if keys:
-        return keys
-    for k, v in params.items():
-        if k == key or isinstance(v, bool) or not isinstance(v, float) or v == 0:
-            continue
-        try:
-            setup = build(preset, dict(params, **{k: 0.0, key: start}))
-        except InputError:
-            continue
-        if setup.y0 is not None and _autonomous(setup.scene, setup.y0, start):
-            keys.append(k)
-    return keys
-
-
 def _from_hopf(args, preset, params, key, lo, hi):
     """`periodic --from-hopf`: the limit cycles born at the lowest Hopf point of the
     reference motion in the range, continued away from it by harmonic balance."""
-    from rotorjax.analysis import StraightRunning, branch_amplitude, hopf_cycle_branch, reference_hopf_points
+    from rotorjax.analysis import (StraightRunning, branch_amplitude, hopf_cycle_branch, is_autonomous,
+                                   reference_hopf_points)
     from rotorjax.plot import plot_periodic_branch
     from ._common import save_figure
 
@@ -335,8 +308,8 @@ def _from_hopf(args, preset, params, key, lo, hi):
         raise InputError(f"--from-hopf: {preset.name} has no rest state to start from")
     scene_at, guess = _periodic_scene(_scene_at(preset, dict(params, **{key: lo}), key, setup), setup.scene,
                                       setup.y0)
-    if not _autonomous(scene_at(lo), guess, lo):
-        keys = _forcing_keys(preset, params, key, lo)
+    if not is_autonomous(scene_at(lo), guess):
+        keys = preset.forcing_keys(params, {key: lo})
         hint = (" (--set " + " ".join(f"{k}=0" for k in keys) + ")") if keys else ""
         raise InputError(f"--from-hopf: {preset.name}'s equations depend on time (a forcing, such as an "
                          f"unbalance): limit cycles need an autonomous scene; set the forcing to zero{hint}")

@@ -380,6 +380,28 @@ class Preset:
             params[key] = self.check(key, value)
         return params
 
+    def forcing_keys(self, params: dict, held: dict) -> list:
+        """The parameters that make the scene forced (its equations depend on time):
+        a rotor file's unbalance magnitudes that are not zero, else each non-zero
+        parameter whose zero leaves the scene autonomous (`analysis.is_autonomous`,
+        at its rest state; e.g. model 004's `eps`). `held`: values kept while each is
+        tried (the speed); a combination that does not build is skipped."""
+        from ..analysis import is_autonomous
+
+        keys = [k for k, v in params.items() if k.startswith("unbalance") and k.endswith(".magnitude") and v]
+        if keys:
+            return keys
+        for k, v in params.items():
+            if k in held or isinstance(v, bool) or not isinstance(v, float) or v == 0:
+                continue
+            try:
+                setup = self.build(dict(params, **held, **{k: 0.0}))
+            except (InputError, ZeroDivisionError):
+                continue
+            if setup.y0 is not None and is_autonomous(setup.scene, setup.y0):
+                keys.append(k)
+        return keys
+
     def info(self) -> list:
         """One dict per parameter: key, default, unit, valid values, meaning."""
         return [{"key": k, "default": v, "unit": self.units[k],
