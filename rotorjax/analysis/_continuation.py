@@ -55,6 +55,7 @@ import numpy as np
 
 from .._autodiff import value_and_jacfwd
 from ..solve._lift import Lifted, batched, call, compiled, jacobian, lift
+from ..solve._results import RESULTS, code_of
 from . import _arclength, _branch_points
 from ._roots import bisect, root_gradient
 
@@ -75,6 +76,17 @@ def _stop_kind(reason):
         if reason.startswith(kind):
             return kind
     return reason.split(" at ")[0]
+
+
+#: the outcome of an end by how its reason begins; an end for any other reason (a caller's `watch`) is a failure
+STOP_RESULTS = {"box edge": RESULTS.successful, "closed loop": RESULTS.successful, "start": RESULTS.successful,
+                "max_points reached": RESULTS.max_points_reached, "corrector failed": RESULTS.solver_failure,
+                "non-finite": RESULTS.nonfinite, "no periodic motion": RESULTS.root_not_converged}
+
+
+def stop_result(reason):
+    """The `RESULTS` item of a curve's end stopped for `reason` (see `Curve`)."""
+    return next((r for kind, r in STOP_RESULTS.items() if reason.startswith(kind)), RESULTS.solver_failure)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -124,6 +136,20 @@ class Curve:
         object.__setattr__(self, "stops", tuple(self.stops))
 
     @property
+    def results(self) -> tuple:
+        """The outcome at each end (`stops`) as a `rotorjax.solve.RESULTS` item:
+        `successful` on the box's edge, round a closed loop and at a one-way start;
+        `max_points_reached`, `solver_failure` (the corrector failed at the smallest
+        step), `nonfinite` or `root_not_converged` where it ended inside its box."""
+        return tuple(stop_result(s) for s in self.stops)
+
+    @property
+    def complete(self) -> bool:
+        """Whether both ends are where the curve ends (`results` all `successful`),
+        not cut short inside the box."""
+        return all(r == RESULTS.successful for r in self.results)
+
+    @property
     def stop(self) -> str:
         """The stop reasons in one word each: `"box edge"` when both ends are on the
         box's edge (likewise `"closed loop"`, ...), else `"low end: <kind>; high end:
@@ -159,6 +185,7 @@ class Curve:
         out = {k: self.x[:, i].tolist() for i, k in enumerate(names) if k is not None}
         out.update({"residuals": self.residuals.tolist(), "steps": self.steps.tolist(),
                     "stop": self.stop, "stopped": self.stopped, "stops": list(self.stops),
+                    "stop_codes": [code_of(r) for r in self.results],
                     "start": int(self.start), "n_points": int(self.x.shape[0])})
         if self.errors is not None:
             out.update({"interpolation_errors": self.errors.tolist(),
@@ -751,7 +778,8 @@ class Branch:
         return {"p": self.p.tolist(), "margin": self.margin.tolist(), "stable": self.stable.tolist(),
                 "events": [e.as_dict() for e in self.events],
                 "residual_max": float(self.curve.residuals.max()), "stopped": self.curve.stopped,
-                "stops": list(self.curve.stops), "start": int(self.curve.start), "n_points": int(self.p.size)}
+                "stops": list(self.curve.stops), "stop_codes": [code_of(r) for r in self.curve.results],
+                "start": int(self.curve.start), "n_points": int(self.p.size)}
 
 
 def _borders(J0):

@@ -22,14 +22,12 @@ MEANING = {
     "hopf": "a pair of exponents crosses the imaginary axis",
 }
 
-#: the branch ends that complete it: on the range's edge, or round a closed loop; any other end (the corrector
-#: failed, a non-finite value, max_points reached) leaves part of the range untraced: exit 3
-COMPLETE_STOPS = ("box edge", "closed loop", "start")
-
-#: what to change, per way a branch can stop inside the range
-REMEDY = {"max_points reached": "raise --max-points (or --ds-max, for longer steps)",
-          "corrector failed": "lower --ds-max, or raise --harmonics (--max-harmonics with auto)",
-          "non-finite": "lower --ds-max, or narrow --range"}
+#: what to change, per way a branch can stop inside the range (`Curve.results`: an end that is not `successful`,
+#: on the range's edge or round a closed loop, leaves part of the range untraced: exit 3), by the outcome's name
+REMEDY = {"max_points_reached": "raise --max-points (or --ds-max, for longer steps)",
+          "solver_failure": "lower --ds-max, or raise --harmonics (--max-harmonics with auto)",
+          "nonfinite": "lower --ds-max, or narrow --range",
+          "root_not_converged": "raise --max-harmonics, or narrow --range"}
 
 
 def _scene_at(preset, params, key, setup):
@@ -115,15 +113,19 @@ def _start(preset, params, key, lo, hi, given):
     return start, f"the end of --range nearest to the preset's value {own:g}"
 
 
-def _incomplete(stops, p, key, lo, hi, max_points):
-    """The reasons (with what to change) why a branch ended inside the range, one per
-    end that did not reach the range's edge or close a loop."""
+def _incomplete(curve, p, key, lo, hi, max_points):
+    """The reasons (with what to change) why a branch (its `Curve`) ended inside the
+    range, one per end whose outcome is not `successful` (the range's edge, a closed
+    loop)."""
+    from rotorjax.solve import RESULTS
+
     out = []
-    for end, stop in zip((p[0], p[-1]), stops):
-        if stop.startswith(COMPLETE_STOPS):
+    for end, stop, result in zip((p[0], p[-1]), curve.stops, curve.results):
+        if result == RESULTS.successful:
             continue
-        remedy = next((r for k, r in REMEDY.items() if stop.startswith(k)), "lower --ds-max")
-        at = f" (--max-points {max_points}) at {key} = {float(end):.8g}" if stop.startswith("max_points") else ""
+        remedy = next((r for k, r in REMEDY.items() if result == getattr(RESULTS, k)), "lower --ds-max")
+        at = f" (--max-points {max_points}) at {key} = {float(end):.8g}" if result == RESULTS.max_points_reached \
+            else ""
         out.append(f"the branch stopped inside --range {lo:g} {hi:g}: {stop}{at}; {remedy}")
     return out
 
@@ -210,7 +212,7 @@ def cmd_periodic(args) -> int:
                                            f"({used}); amplitude: {amplitude_of}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
-    failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
+    failed = _incomplete(br.curve, br.p, key, lo, hi, args.max_points)
     if auto:     # the target, held at every point unless --max-harmonics ran out
         worst = int(np.argmax(br.truncation))
         if not br.truncation[worst] <= args.truncation_tol:
@@ -357,7 +359,7 @@ def _from_hopf(args, preset, params, key, lo, hi):
                 stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     write_json(stem + ".json", out, indent=2)
-    failed = _incomplete(br.stops, br.p, key, lo, hi, args.max_points)
+    failed = _incomplete(br.curve, br.p, key, lo, hi, args.max_points)
     failed += _residual_too_large(residual, br.p, key, args.max_time_residual, "cycle")
     if args.json:
         print(json.dumps(out, indent=2))

@@ -36,6 +36,8 @@ class RESULTS(eqx.Enumeration):
     - `harmonics_insufficient` (5): harmonic balance converged, but its harmonics
       do not resolve the motion: the time-domain residual of the reconstructed
       orbit stays above its tolerance at the most harmonics allowed.
+    - `max_points_reached` (6): a continuation's point budget (`max_points`) ran
+      out before the branch reached the edge of its box (or closed).
     """
 
     successful = ""
@@ -45,6 +47,7 @@ class RESULTS(eqx.Enumeration):
     root_not_converged = "Newton iteration or root find did not converge to its tolerance"
     harmonics_insufficient = ("the harmonics do not resolve the motion (time-domain residual above its tolerance at "
                               "the most harmonics allowed)")
+    max_points_reached = "max_points reached before the branch reached the edge of its box"
 
 
 def _items():

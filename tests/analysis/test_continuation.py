@@ -499,3 +499,27 @@ def test_boundary_crossing_without_a_branch_carries_its_error_in_the_row():
         assert c["error"] == c.error and "error" in c
     with pytest.raises(dataclasses.FrozenInstanceError):
         c.branch = 0
+
+
+@pytest.mark.parametrize("reason, result", [
+    ("box edge (p = 2.0)", "successful"),
+    ("closed loop", "successful"),
+    ("start", "successful"),
+    ("max_points reached", "max_points_reached"),
+    ("max_points reached (no parameter box given)", "max_points_reached"),
+    ("corrector failed (step below ds_min) at p = 1.5", "solver_failure"),
+    ("non-finite F at p = 1.5", "nonfinite"),
+    ("no periodic motion with more harmonics than 3 at speed = 210 (Newton iteration ...)", "root_not_converged"),
+    ("harmonics raised", "solver_failure"),
+])
+def test_each_way_a_curve_ends_is_a_results_item(reason, result):
+    """Stops are `RESULTS` items (issue 62): `Curve.results` per end, `complete`
+    where both are `successful`, and the JSON's `stop_codes`; an end for a reason of
+    the caller's own (a watch that was not handled) counts as a failure."""
+    from rotorjax.analysis._continuation import stop_result
+
+    assert stop_result(reason) == getattr(RESULTS, result)
+    curve = Curve(x=np.zeros((2, 2)), residuals=np.zeros(2), steps=np.zeros(2), iterations=np.zeros(2, int),
+                  stopped="", stops=("box edge (p = 0.0)", reason))
+    assert curve.complete == (result == "successful")
+    assert curve.as_dict()["stop_codes"] == [0, code_of(getattr(RESULTS, result))]

@@ -27,7 +27,7 @@ def test_names_codes_and_messages():
     assert issubclass(RESULTS, eqx.Enumeration) and rj.RESULTS is RESULTS
     # the historical codes of SimulationResult.code are kept; new outcomes are appended
     names = ("successful", "max_steps_reached", "nonfinite", "solver_failure", "root_not_converged",
-             "harmonics_insufficient")
+             "harmonics_insufficient", "max_points_reached")
     assert [code_of(getattr(RESULTS, k)) for k in names] == list(range(len(names))) and len(RESULTS) == len(names)
     assert RESULTS[RESULTS.successful] == ""
     assert "max_steps" in RESULTS[RESULTS.max_steps_reached]
@@ -35,6 +35,7 @@ def test_names_codes_and_messages():
     assert "solver failure" in RESULTS[RESULTS.solver_failure]
     assert "did not converge" in RESULTS[RESULTS.root_not_converged]
     assert "harmonics do not resolve" in RESULTS[RESULTS.harmonics_insufficient]
+    assert "max_points" in RESULTS[RESULTS.max_points_reached]
     with pytest.raises(TypeError, match="RESULTS"):
         code_of(diffrax.RESULTS.successful)
 
