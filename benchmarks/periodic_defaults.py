@@ -12,13 +12,19 @@ the former default, eight harmonics everywhere, on two rotors:
   unbalance) over 90..110 rad/s by `periodic_branch`: auto (1e-6) against the most
   harmonics auto used, fixed; first call and warm.
 
+- the jump boundary of `cubic_rig.toml` (issue 62, item 7): the same branch with
+  `--param2 cubic_bearing0.k3 --range2 1e12 6e12` (both folds continued in (speed, k3),
+  the amplitude's derivative in k3 at every point), cold and warm.
+
 Errors: the folds' difference between the two runs (cubic_rig), each branch's
-largest truncation error estimate (`truncation_error`).
+largest truncation error estimate (`truncation_error`), the fold curves' largest
+relative distance from `synchronous_branch`'s folds at three interior points each.
 
 Run: python benchmarks/periodic_defaults.py [--repeats 3] [--smoke]
 Writes benchmarks/results/periodic_defaults.json (`--smoke`: cubic_rig over 100..100.5
-in process against 2 harmonics, one call per timing, the variant over 99.5..100 with at
-most 2 harmonics; prints, writes nothing).
+in process against 2 harmonics, one call per timing, its jump boundary there (no fold:
+the derivative only), the variant over 99.5..100 with at most 2 harmonics; prints,
+writes nothing).
 """
 
 import argparse
@@ -86,6 +92,42 @@ def cubic_rig(lo, hi, repeats, cold, former=8):
     return out
 
 
+#: the jump boundary (issue 62, item 7): the folds in (speed, this stiffness), the amplitude's derivative in it
+K3 = "cubic_bearing0.k3"
+
+
+def jump_boundary(lo, hi, range2, repeats, cold, checked=3):
+    """`periodic ... --param2 cubic_bearing0.k3`: cold and warm as `cubic_rig`, and the
+    error of the fold curves: at `checked` interior points of each, the relative
+    distance of its speed to the nearest fold of `synchronous_branch` (the rotating
+    frame's rest points, a different problem) solved at that point's k3."""
+    from rotorjax import presets
+    from rotorjax.analysis import synchronous_branch
+
+    with tempfile.TemporaryDirectory() as tmp:
+        argv = cli_argv(lo, hi, "auto", tmp) + ["--node", "1", "--param2", K3, "--range2", *map(str, range2)]
+        row = {}
+        if cold:
+            row["cold_s"], d = cli_cold(argv)
+        warm, first, d = timed_first(lambda: cli_in_process(argv), repeats)
+    preset = presets.get("cubic_rig.toml")
+    errors = []
+    for c in d["fold_curves"]:
+        speed, k3 = np.array(c["speed"]), np.array(c[K3])
+        for i in np.linspace(0, len(k3) - 1, checked + 2).astype(int)[1:-1]:
+            scene = preset.build(dict(preset.params(), **{K3: float(k3[i])})).scene
+            ref = [e.p for e in synchronous_branch(scene, (lo, hi)).events if e.kind == "fold"]
+            errors.append(min(abs(r / speed[i] - 1) for r in ref))
+    row.update(warm_s=warm, first_in_process_s=first, branch_points=d["branches"][0]["n_points"],
+               fold_curves=[{"from": c["from"]["speed"], "points": c["n_points"], "stop": c["stop"],
+                             "speed": [min(c["speed"]), max(c["speed"])], K3: [min(c[K3]), max(c[K3])],
+                             "residual_max": c["residual_max"]} for c in d["fold_curves"]],
+               fold_error_max=max(errors) if errors else None, checked_points=len(errors),
+               d_amplitude_d_k3=[min(d["branches"][0]["d_amplitude_d_param2"]),
+                                 max(d["branches"][0]["d_amplitude_d_param2"])])
+    return row
+
+
 def anisotropic(lo, hi, repeats, max_harmonics=32):
     import equinox as eqx
 
@@ -127,18 +169,22 @@ def main():
     args = ap.parse_args()
     if args.smoke:
         res = {"cubic_rig": cubic_rig(100.0, 100.5, 0, cold=False, former=2),
+               "jump_boundary": jump_boundary(100.0, 100.5, (2.9e12, 3.1e12), 0, cold=False),
                "anisotropic": anisotropic(99.5, 100.0, 0, max_harmonics=2)}
         print(json.dumps(res, indent=1))
         print("smoke run: nothing written")
         return
     res = {"benchmark": "periodic_defaults", "machine": machine(), "date": today(),
            "cubic_rig": cubic_rig(100.0, 106.0, args.repeats, cold=True),
+           "jump_boundary": jump_boundary(100.0, 106.0, (1e12, 6e12), args.repeats, cold=True),
            "anisotropic": anisotropic(90.0, 110.0, args.repeats)}
-    c = res["cubic_rig"]
+    c, j = res["cubic_rig"], res["jump_boundary"]
     res["headline"] = {"cubic_rig_cold_s": {"auto": c["auto"]["cold_s"], "8": c["8"]["cold_s"]},
                        "cubic_rig_warm_s": {"auto": c["auto"]["warm_s"], "8": c["8"]["warm_s"]},
                        "cold_ratio": c["8"]["cold_s"] / c["auto"]["cold_s"],
-                       "warm_ratio": c["8"]["warm_s"] / c["auto"]["warm_s"]}
+                       "warm_ratio": c["8"]["warm_s"] / c["auto"]["warm_s"],
+                       "jump_boundary": {"cold_s": j["cold_s"], "warm_s": j["warm_s"],
+                                         "fold_error_max": j["fold_error_max"]}}
     print(json.dumps(res["headline"], indent=1))
     write_results("periodic_defaults", res)
 

@@ -25,6 +25,8 @@ ROSS_SAVED = os.path.join(os.path.dirname(os.path.abspath(__file__)), "io", "dat
 S, A, R, F, C, B = ("simulate", "elliptic-abb"), ("anisotropic-abb",), ("ross-compare",), ("flexible-abb",), \
     ("cantilever-limiters",), ("balancing-machine",)
 FR, FU = ("flexible_rig.toml",), ("--fit-unbalance", "2,4")
+#: the periodic branch of the shipped cubic rig, and its cubic stiffness (`--param2`)
+P, K3 = ("cubic_rig.toml", "--param", "speed", "--range", "100", "106"), "cubic_bearing0.k3"
 
 CASES = [
     # --- simulate: presets and --set ---
@@ -665,6 +667,22 @@ CASES = [
       "--hopf-amplitude", "0"], 2, r"argument --hopf-amplitude: .*0"),
     (["periodic", "journal_rig.toml", "--param", "speed", "--range", "100", "150", "--from-hopf", "--set",
       "unbalance0.magnitude=0"], 2, r"--from-hopf: --range 100 150: .* has no Hopf point in it \(`rotorjax hopf "),
+    # periodic --param2 / --range2: the jump boundary
+    (["periodic", *P, "--range2", "1e12", "6e12"], 2, r"--range2 1e\+12 6e\+12: it is the range of --param2"),
+    (["periodic", *P, "--param2", "zz"], 2, r"--param2 zz: unknown parameter"),
+    (["periodic", *P, "--param2", "speed"], 2, r"--param2 speed: the two parameters must differ"),
+    (["periodic", *P, "--param2", "disk0.node"], 2, r"--param2 disk0.node: .*structure"),
+    (["periodic", "cubic_rig.toml", "--param", "cubic_bearing0.k3", "--range", "1e12", "6e12", "--param2",
+      "bearing0.kxx"], 2, r"--param2 bearing0.kxx: the folds are continued in \(speed, bearing0.kxx\); give --param "
+                          r"speed"),
+    (["periodic", *P, "--param2", K3, "--method", "shooting"], 2, r"--param2 .*: --method shooting does not apply"),
+    (["periodic", *P, "--param2", K3, "--from-hopf"], 2, r"--param2 .*: --from-hopf does not apply"),
+    (["periodic", *P, "--param2", K3, "--range2", "6e12", "1e12"], 2, r"--range2 6e\+12 1e\+12: need LO < HI"),
+    (["periodic", *P, "--param2", K3, "--range2", "-1", "6e12"], 2, r"--range2 -1 6e\+12: .*k3"),
+    (["periodic", *P, "--param2", K3, "--range2", "4e12", "6e12"], 2,
+     r"--range2 4e\+12 6e\+12: cubic_bearing0.k3 = 3e\+12 \(the branch's\) lies outside"),
+    (["periodic", *P, "--param2", K3, "--range2", "1", "2", "rpm"], 2, r"--range2"),
+    (["periodic", *P, "--param2", "shaft0.L"], 2, r"--param2 shaft0.L: .*(affinely|structure|shape)"),
 ]
 
 

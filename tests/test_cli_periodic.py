@@ -242,3 +242,91 @@ def test_a_rotor_file_entry_is_continued_where_the_scene_is_affine_in_it(tmp_pat
     assert min(abs(s - 103.0) for s in speeds) < 1e-6 * 103.0
     assert main(argv + ["shaft0.od", "--range", "0.04", "0.06"]) == 2
     assert "--param shaft0.od: the scene's arrays do not depend affinely on shaft0.od" in capsys.readouterr().err
+
+
+#: the jump boundary: the folds continued in (speed, a cubic stiffness), and the amplitude's derivative in it
+K3, RANGE2 = "cubic_bearing0.k3", (1e12, 6e12)
+#: docs/cli.md's command for it (run here only: tests/test_readme.py's `RUN_ELSEWHERE`)
+JUMP_COMMAND = f"{DOCS_COMMAND} --node {NODE} --param2 {K3} --range2 1e12 6e12"
+
+
+@pytest.fixture(scope="module")
+def jump(tmp_path_factory):
+    out = tmp_path_factory.mktemp("jump")
+    import io
+    from contextlib import redirect_stderr, redirect_stdout
+
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with redirect_stdout(stdout), redirect_stderr(stderr):
+        rc = main(JUMP_COMMAND.split()[1:] + ["--json", "--out", str(out)])
+    assert rc == 0, stderr.getvalue()
+    return json.loads(stdout.getvalue()), out
+
+
+def _scene_with(k3):
+    preset = presets.get(ROTOR)
+    return preset.build(dict(preset.params(), **{K3: float(k3)})).scene
+
+
+def test_the_jump_boundary_is_the_synchronous_branchs_folds(jump, run):
+    """Each fold of the branch continued in (speed, k3) (issue 62, item 7): it starts
+    at the branch's fold, spans the k3 range to its edges, and at two of its interior
+    points the fold speed equals the rotating-frame branch's (`synchronous_branch`, a
+    different problem, solved at that k3) to 1e-6."""
+    from rotorjax.analysis import synchronous_branch
+
+    d, _ = jump
+    assert (d["param2"], d["range2"], d["param2_value"]) == (K3, list(RANGE2), 3e12)
+    doc = " ".join(documentation("docs/cli.md").split())
+    assert "both folds run to the edges of the `k3` range" in doc and "`synchronous_branch`, solved at that `k3`) to " \
+        "1e-6, and the derivative equals central differences of harmonic balance to 1e-5" in doc
+    folds = sorted(e["speed"] for e in run[0]["bifurcations"] if e["kind"] == "fold")
+    curves = d["fold_curves"]
+    assert [c["from"]["speed"] for c in curves] == pytest.approx(folds, rel=1e-12)
+    for c in curves:
+        speed, k3 = np.array(c["speed"]), np.array(c[K3])
+        assert c["stop"] == "box edge" and c["stop_codes"] == [0, 0] and c["residual_max"] < 1e-9
+        assert k3.min() == RANGE2[0] or k3.max() == RANGE2[1]
+        for i in (len(k3) // 3, 2 * len(k3) // 3):
+            ref = [e.p for e in synchronous_branch(_scene_with(k3[i]), (100.0, 106.0)).events
+                   if e.kind == "fold"]
+            assert min(abs(r / speed[i] - 1) for r in ref) < 1e-6
+
+
+def test_the_amplitude_derivative_in_k3_equals_finite_differences(jump):
+    """`d_amplitude_d_param2` at the range's ends (one motion each) equals central
+    differences of `harmonic_balance` solved at k3 (1 -+ 1e-4) to 1e-5."""
+    from rotorjax.analysis import harmonic_balance, orbit_amplitude
+
+    d, _ = jump
+    (b,) = d["branches"]
+    for i in (0, len(b["speed"]) - 1):
+        w = b["speed"][i]
+        T = 2 * np.pi / w
+
+        def amplitude(k3):
+            import equinox as eqx
+
+            sc = eqx.tree_at(lambda s: s.speed.constant, _scene_with(k3), w)
+            hb = harmonic_balance(sc, T, sc.rest_state(), harmonics=1, stability=False)
+            assert int(hb.code) == 0
+            return float(orbit_amplitude(sc, hb.coefficients, T, node=NODE))
+
+        h = 1e-4 * 3e12
+        fd = (amplitude(3e12 + h) - amplitude(3e12 - h)) / (2 * h)
+        np.testing.assert_allclose(b["d_amplitude_d_param2"][i], fd, rtol=1e-5)
+        assert b["amplitude"][i] == pytest.approx(amplitude(3e12), rel=1e-8)
+
+
+def test_the_jump_boundary_files(jump):
+    d, out = jump
+    stem = os.path.join(str(out), "periodic_cubic_rig_speed")
+    assert d["files"]["fold_curves"] == stem + "_folds.csv" and d["files"]["fold_plot"] == stem + "_folds.png"
+    assert all(os.path.getsize(f) > 0 for f in d["files"].values())
+    with open(stem + ".csv") as f:
+        assert f.readline().strip() == f"speed,amplitude,stable,margin,d_amplitude_d_{K3}"
+    rows = np.loadtxt(stem + "_folds.csv", delimiter=",", skiprows=1)
+    with open(stem + "_folds.csv") as f:
+        assert f.readline().strip() == f"speed,{K3},fold_curve"
+    for i, c in enumerate(d["fold_curves"]):
+        np.testing.assert_allclose(rows[rows[:, 2] == i][:, :2], np.column_stack([c["speed"], c[K3]]))

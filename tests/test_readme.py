@@ -520,6 +520,8 @@ RUN_ELSEWHERE = {
     "rotorjax optimize elliptic-abb --set rho1=1.2 --vary delta_n=0.05:1 --vary delta_b=5:400 --range 0.5 6 "
     "--starts 3": ("tests/design/test_stable_range.py", "README_OPTIMIZE"),
     "rotorjax periodic cubic_rig.toml --param speed --range 100 106": ("tests/test_cli_periodic.py", "DOCS_COMMAND"),
+    "rotorjax periodic cubic_rig.toml --param speed --range 100 106 --node 1 --param2 cubic_bearing0.k3 --range2 "
+    "1e12 6e12": ("tests/test_cli_periodic.py", "JUMP_COMMAND"),
     "rotorjax periodic journal_rig.toml --param speed --range 200 210 --from-hopf --set unbalance0.magnitude=0 "
     "--node 2": ("tests/test_cli_from_hopf.py", "DOCS_COMMAND"),
 }

@@ -39,6 +39,7 @@ from ._periodic_branch import periodic_branch as periodic_branch
 from ._branch_harmonics import PeriodicBranch as PeriodicBranch
 from ._periodic_branch import periodic_fold_curve as periodic_fold_curve
 from ._periodic_branch import periodic_fold_gradient as periodic_fold_gradient
+from ._periodic_branch import branch_amplitude_gradient as branch_amplitude_gradient
 from ._periodic_orbit import periodic_orbit as periodic_orbit
 from ._roots import Root as Root
 from ._roots import find_roots as find_roots

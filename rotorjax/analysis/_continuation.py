@@ -45,6 +45,7 @@ stopped.
 """
 
 import dataclasses
+import re
 import warnings
 from typing import Callable
 
@@ -76,6 +77,21 @@ def _stop_kind(reason):
         if reason.startswith(kind):
             return kind
     return reason.split(" at ")[0]
+
+
+def physical_stops(stops, name, physical, lo=None, hi=None):
+    """`stops` (a curve's, traced in scaled units) with each `<name> = <value>`
+    rewritten as `physical(value)`, exactly `lo` or `hi` where it lands within 1e-9
+    of one (a box edge)."""
+    def back(m):
+        v = physical(float(m.group(1)))
+        for b in (lo, hi):
+            if b is not None and abs(v - b) <= 1e-9 * max(1.0, abs(b)):
+                v = b
+        return f"{name} = {v}"
+
+    pattern = re.compile(rf"{re.escape(name)} = ([-+.\deE]+|nan|inf)")
+    return tuple(pattern.sub(back, s) for s in stops)
 
 
 #: the outcome of an end by how its reason begins; an end for any other reason (a caller's `watch`) is a failure

@@ -18,7 +18,7 @@ from ..solve._lift import call, lift, vmapped
 from ..solve._results import RESULTS, code_of
 from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _series_harmonics,
                                 _series_tail, _truncated, _truncations)
-from ._continuation import continue_branch, fold_curve, fold_gradient
+from ._continuation import continue_branch, fold_curve, fold_gradient, physical_stops
 from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
                                 _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
@@ -352,15 +352,43 @@ def periodic_fold_curve(scene_at2, p, coefficients, *, period_at2=None, subharmo
     harmonic balance of `scene_at2(p1, p2)` folds, from a fold at `p = (p1, p2)`
     with its `coefficients` `(2H + 1, n)` (a `"fold"` event of `periodic_branch`
     with `p2` fixed: its `u` reshaped). `fold_curve` on the scaled balance; both
-    ways from the start unless `direction`; `bounds` `((lo1, lo2), (hi1, hi2))`.
-    Returns its `Curve` (rows `(u, p1, p2)`, the coefficients scaled)."""
-    F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
-    if bounds is not None:
-        lo, hi = (np.asarray(b, dtype=float) for b in bounds)
-        n = u0.size
-        bounds = (np.concatenate([np.full(n, np.nan), lo]), np.concatenate([np.full(n, np.nan), hi]))
-    return fold_curve(F, u0, p, ds=ds, ds_max=ds_max, max_points=max_points, tol=tol, bounds=bounds,
-                      direction=direction, names=names)
+    ways from the start unless `direction`; `bounds` `((lo1, lo2), (hi1, hi2))`:
+    then each parameter is continued relative to its side of the box (`(p - lo) /
+    (hi - lo)`: the steps `ds`, `ds_max` are fractions of the box, so that a speed in
+    rad/s and a cubic stiffness in N/m^3 weigh alike in the arclength), the points
+    and stops given back in the parameters' own units. Returns its `Curve` (rows
+    `(u, p1, p2)`, the coefficients scaled)."""
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    if bounds is None:
+        F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
+        return fold_curve(F, u0, p, ds=ds, ds_max=ds_max, max_points=max_points, tol=tol, direction=direction,
+                          names=names)
+    lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+    side = hi - lo
+    if not (lo.shape == hi.shape == (2,) and np.all(np.isfinite(side)) and np.all(side > 0)):
+        raise InputError(f"bounds must be ((lo1, lo2), (hi1, hi2)), finite, lo < hi; got {bounds!r}")
+
+    def scaled(f):
+        return lambda a, b: f(lo[0] + side[0] * a, lo[1] + side[1] * b)
+
+    x0 = (np.asarray(p, dtype=float) - lo) / side
+    F, u0, _ = _two_parameter_setup(scaled(scene_at2), x0, coefficients, scaled(period_at2), subharmonic)
+    n = u0.size
+    box = (np.concatenate([np.full(n, np.nan), [0.0, 0.0]]), np.concatenate([np.full(n, np.nan), [1.0, 1.0]]))
+    c = fold_curve(F, u0, x0, ds=ds, ds_max=ds_max, max_points=max_points, tol=tol, bounds=box,
+                   direction=direction, names=names)
+    x = np.concatenate([c.x[:, :n], lo + side * c.x[:, n:]], axis=1)
+    x[:, n:] = np.where(np.abs(c.x[:, n:]) < 1e-12, lo, np.where(np.abs(c.x[:, n:] - 1) < 1e-12, hi, x[:, n:]))
+    t = np.concatenate([c.tangents[:, :n], side * c.tangents[:, n:]], axis=1)
+    stops = c.stops
+    for k in (0, 1):
+        stops = physical_stops(stops, names[k], lambda v, k=k: lo[k] + side[k] * v, lo[k], hi[k])
+    stopped = physical_stops((c.stopped,), names[0], lambda v: lo[0] + side[0] * v, lo[0], hi[0])
+    stopped = physical_stops(stopped, names[1], lambda v: lo[1] + side[1] * v, lo[1], hi[1])[0]
+    return dataclasses.replace(c, x=x, tangents=t / np.linalg.norm(t, axis=1, keepdims=True), stops=stops,
+                               stopped=stopped)
 
 
 def periodic_fold_gradient(scene_at2, p, coefficients, *, period_at2=None, subharmonic=1):
@@ -369,6 +397,40 @@ def periodic_fold_gradient(scene_at2, p, coefficients, *, period_at2=None, subha
     theorem on the fold's defining system (`fold_gradient`)."""
     F, u0, _ = _two_parameter_setup(scene_at2, p, coefficients, period_at2, subharmonic)
     return fold_gradient(F, u0, p[0], p[1])
+
+
+def branch_amplitude_gradient(scene_at2, p, q, coefficients, node=None, *, period_at2=None, subharmonic=1):
+    """`d(amplitude)/dq` at every point of a branch of periodic motions in `p`
+    (`p` its parameter values, `coefficients` `(points, 2H + 1, n)` as
+    `periodic_branch` returns them) at the second parameter's value `q`: how the
+    motion's `orbit_amplitude` (of `node`) changes per unit of `q` at fixed `p`, by
+    the implicit function theorem on the balance, `dY/dq = -R_Y^{-1} R_q`, one
+    linear solve a point, vmapped (compiled once per structure of the scene). It
+    grows without bound towards a fold, where `R_Y` is singular. `scene_at2(p, q)`:
+    the scene; `period_at2(p, q)`: the period (default the forcing's times
+    `subharmonic`)."""
+    if period_at2 is None:
+        def period_at2(a, b):
+            return forcing_period(scene_at2(a, b), subharmonic)
+    p, coefficients = jnp.asarray(p, dtype=jnp.float64), jnp.asarray(coefficients, dtype=jnp.float64)
+    q = jnp.asarray(q, dtype=jnp.float64)
+    shape = coefficients.shape[1:]
+    orbit_amplitude(scene_at2(float(p[0]), float(q)), coefficients[0], period_at2(float(p[0]), float(q)),
+                    node=node)   # checks node
+
+    def one(a, Y, b):
+        def R(y, c):
+            return balance_residual(scene_at2(a, c), y.reshape(shape), period_at2(a, c)).ravel()
+
+        def A(y, c):
+            return orbit_amplitude(scene_at2(a, c), y.reshape(shape), period_at2(a, c), node=node)
+
+        RY, Rq = jax.jacfwd(R, argnums=(0, 1))(Y.ravel(), b)
+        gY, gq = jax.grad(A, argnums=(0, 1))(Y.ravel(), b)
+        return gq - gY @ jnp.linalg.solve(RY, Rq)
+
+    qs = jnp.full(p.shape, q)
+    return np.asarray(vmapped(lift(one, p[0], coefficients[0], qs[0]), p, coefficients, qs))
 
 
 def balance_grid(scene_at2, p1, p2, guess, harmonics=8, *, period_at2=None, subharmonic=1, node=None, rows=None,

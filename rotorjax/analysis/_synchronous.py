@@ -10,7 +10,6 @@ hardening bearing's response), their stability and Hopf points come with it.
 """
 
 import dataclasses
-import re
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -20,7 +19,7 @@ from .._errors import InputError, NumericalError
 from ..models._contract import require
 from ..models._speed import ConstantSpeed
 from ..models._validate import check_span
-from ._continuation import Branch, _newton, continue_branch
+from ._continuation import Branch, _newton, continue_branch, physical_stops
 from ._response import scene_unbalance_response
 from ._rotating import rotating_field
 
@@ -78,16 +77,7 @@ def synchronous_branch(scene, speed_range, speed0=None, ds=0.05, ds_max=0.5, max
     # back to physical units: a Hopf frequency, as the margin, is an eigenvalue of the scaled field (times 1/sp)
     events = [dataclasses.replace(e, p=e.p * sp, u=np.asarray(e.u) * np.asarray(scale),
                                   frequency=None if e.frequency is None else e.frequency * sp) for e in br.events]
-    stops = tuple(re.sub(r"speed = ([-+.\deE]+)", lambda m: f"speed = {_physical(float(m.group(1)) * sp, lo, hi)}",
-                         s) for s in br.curve.stops)
+    stops = physical_stops(br.curve.stops, "speed", lambda v: v * sp, lo, hi)
     curve = dataclasses.replace(br.curve, stops=stops)
     return Branch(u=br.u * np.asarray(scale), p=br.p * sp, margin=br.margin * sp, stable=br.stable,
                   events=events, curve=curve)
-
-
-def _physical(v, lo, hi):
-    """A bound back in physical units, exactly `lo` or `hi` where it is one."""
-    for b in (lo, hi):
-        if abs(v - b) <= 1e-9 * max(1.0, abs(b)):
-            return b
-    return v

@@ -115,6 +115,8 @@ class _OptionUnits:
         if (dest == "range" and self.command in ("continue", "periodic")) or (dest, self.command) == ("start",
                                                                                                      "periodic"):
             return self.args.get("param")
+        if (dest, self.command) == ("range2", "periodic"):
+            return self.args.get("param2")
         return self.preset.speed_key if dest in self.SPEED else None
 
     def __call__(self, dest):
@@ -373,6 +375,13 @@ def build_parser():
                  (("--ds-max",), dict(type=positive, default=None,
                                       help="largest arclength step (default: the range / 10)")),
                  (("--max-points",), dict(type=at_least(2), default=300, help="points per direction at most")),
+                 (("--param2",), dict(default=None, metavar="KEY",
+                                      help="a second --set key (--param the speed): each fold of the branch "
+                                           "continued in (speed, KEY), the jump boundary, and the amplitude's "
+                                           "derivative in KEY at every point (harmonic balance)")),
+                 (("--range2",), dict(nargs="+", action=SpanAction, metavar=("LO", "HI"), default=None,
+                                      help="range of --param2 for the fold curves, a unit may follow (default: "
+                                           "its value halved and doubled)")),
              ], kinds="rotor files (in speed); presets with a constant speed and a rest state",
              description="the branch of periodic motions forced at the speed (or a subharmonic of it), by harmonic "
                          "balance continued by pseudo-arclength through folds, from the rest state at --from: the "

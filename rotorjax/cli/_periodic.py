@@ -1,6 +1,7 @@
 """`periodic`: the branch of periodic forced motions in one parameter (harmonic
 balance continued through folds), its stability and bifurcations."""
 
+import dataclasses
 import json
 import os
 
@@ -30,7 +31,7 @@ REMEDY = {"max_points_reached": "raise --max-points (or --ds-max, for longer ste
           "root_not_converged": "raise --max-harmonics, or narrow --range"}
 
 
-def _scene_at(preset, params, key, setup):
+def _scene_at(preset, params, key, setup, option="--param"):
     """`p -> scene` with `key` at `p`, traceable in `p`: the speed leaf replaced
     where `key` is the speed; a rotor file's entry where the scene depends on it
     affinely (`presets.affine_scene`); else the preset rebuilt (refused where that
@@ -51,7 +52,7 @@ def _scene_at(preset, params, key, setup):
         try:
             return affine_scene(lambda p: preset.build(dict(params, **{key: p})).scene, params[key], key)
         except ValueError as e:
-            raise InputError(f"--param {key}: {e}") from None
+            raise InputError(f"{option} {key}: {e}") from None
 
     def at(p):
         return preset.build(dict(params, **{key: p})).scene
@@ -59,7 +60,7 @@ def _scene_at(preset, params, key, setup):
     try:
         jax.eval_shape(lambda p: at(p).vector_field(0.0, setup.y0, None), float(params[key]))
     except Exception:  # noqa: BLE001 - any failure to trace means the build is not a function of a traced value
-        raise InputError(f"--param {key}: {preset.name}'s scene cannot be built as a function of {key} "
+        raise InputError(f"{option} {key}: {preset.name}'s scene cannot be built as a function of {key} "
                          f"(it does not trace); continue in {preset.speed_key}") from None
     return at
 
@@ -138,7 +139,8 @@ def _harmonics_used(harmonics):
 
 def cmd_periodic(args) -> int:
     from rotorjax.analysis import branch_amplitude, periodic_branch
-    from rotorjax.plot import plot_periodic_branch
+    from rotorjax.plot import plot_boundaries, plot_periodic_branch
+    from rotorjax.solve import RESULTS
     from ._common import save_figure
 
     preset = get_preset(args.preset)
@@ -155,6 +157,7 @@ def cmd_periodic(args) -> int:
             raise InputError(f"--range {lo:g} {hi:g}: {e}") from None
     if key == preset.speed_key and not lo > 0:
         raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
+    range2 = _second_parameter(args, preset, params, key)
     if args.from_hopf:
         return _from_hopf(args, preset, params, key, lo, hi)
     if args.hopf_amplitude is not None:
@@ -176,6 +179,7 @@ def cmd_periodic(args) -> int:
     scene_at, guess = _periodic_scene(_scene_at(preset, dict(params, **{key: start}), key, setup), setup.scene,
                                       setup.y0)
     amplitude_of = _amplitude_of(setup.scene, setup.y0, args.node)
+    scene_at2 = None if range2 is None else _scene_at2(preset, dict(params, **{key: start}), args.param2, setup)
     prepare_out(args.out)
     stem = out_stem(args.out, preset, "periodic_", f"_{key}")
 
@@ -190,6 +194,10 @@ def cmd_periodic(args) -> int:
                                        subharmonic=args.subharmonic, truncation=True)
     bifurcations = _bifurcations(br.events, key, lambda events: branch_amplitude(
         scene_at, *_event_motions(events, coefficients), node=args.node, subharmonic=args.subharmonic))
+    second = None
+    if range2 is not None:
+        second = _jump_boundary(scene_at2, br, coefficients, key, args.param2, float(params[args.param2]),
+                                (lo, hi), range2, args)
     out = {"preset": preset.name, "param": key, "node": args.node, "amplitude_unit": preset.length_unit,
            "amplitude_of": amplitude_of, "method": METHODS[args.method], "harmonics": args.harmonics,
            **({"truncation_tol": args.truncation_tol, "max_harmonics": args.max_harmonics} if auto else {}),
@@ -201,8 +209,19 @@ def cmd_periodic(args) -> int:
                          "n_points": int(br.p.size),
                          "stop": br.curve.stop, "stops": list(br.stops)}],
            "bifurcations": bifurcations}
-    np.savetxt(stem + ".csv", np.column_stack([br.p, amp, br.stable.astype(int), br.margin]), delimiter=",",
-               header=f"{key},amplitude,stable,margin", comments="", fmt="%.17g")
+    columns, header = [br.p, amp, br.stable.astype(int), br.margin], f"{key},amplitude,stable,margin"
+    if second is not None:
+        sensitivity, curves = second
+        out.update({"param2": args.param2, "range2": list(range2), "param2_value": float(params[args.param2]),
+                    "fold_curves": [_fold_curve_row(c, e, key, args.param2) for e, c in curves]})
+        out["branches"][0]["d_amplitude_d_param2"] = sensitivity.tolist()
+        columns.append(sensitivity)
+        header += f",d_amplitude_d_{args.param2}"
+        np.savetxt(stem + "_folds.csv", np.concatenate(
+            [np.column_stack([c.x[:, -2:], np.full(len(c.x), i)]) for i, (_, c) in enumerate(curves)]
+            or [np.zeros((0, 3))]), delimiter=",", header=f"{key},{args.param2},fold_curve", comments="",
+            fmt="%.17g")
+    np.savetxt(stem + ".csv", np.column_stack(columns), delimiter=",", header=header, comments="", fmt="%.17g")
     unit = f" ({preset.length_unit})" if preset.length_unit else ""
     key_unit = preset.units.get(key, "")
     save_figure(plot_periodic_branch(br.p, amp, br.stable, [dict(b, p=b[key]) for b in bifurcations],
@@ -211,8 +230,20 @@ def cmd_periodic(args) -> int:
                                      title=f"{os.path.basename(preset.name)}: periodic motions in {key} "
                                            f"({used}); amplitude: {amplitude_of}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
+    if second is not None:
+        # the curves drawn through their points in (key, key2) (their tangents are in the unknowns too)
+        drawn = [dataclasses.replace(c, x=c.x[:, -2:], tangents=None) for _, c in second[1]]
+        save_figure(plot_boundaries(drawn, [], key=key, key2=args.param2,
+                                    box=(lo, hi, *range2),
+                                    title=f"{os.path.basename(preset.name)}: folds of the periodic motions (the "
+                                          "jump boundary)"), stem + "_folds.png")
+        out["files"].update({"fold_curves": stem + "_folds.csv", "fold_plot": stem + "_folds.png"})
     write_json(stem + ".json", out, indent=2)
     failed = _incomplete(br.curve, br.p, key, lo, hi, args.max_points)
+    if second is not None:
+        failed += [f"the fold curve from {key} = {e.p:.8g} stopped inside --range and --range2: {stop}; lower "
+                   "--ds-max" for e, c in second[1] for stop, r in zip(c.stops, c.results)
+                   if not r == RESULTS.successful]
     if auto:     # the target, held at every point unless --max-harmonics ran out
         worst = int(np.argmax(br.truncation))
         if not br.truncation[worst] <= args.truncation_tol:
@@ -232,9 +263,112 @@ def cmd_periodic(args) -> int:
               f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
         _print_bifurcations(bifurcations, key)
         print(f"  stops: {'; '.join(br.stops)}")
+        if second is not None:
+            _print_second(out, key, args.param2)
     if failed:
         raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
     return 0
+
+
+def _second_parameter(args, preset, params, key):
+    """`--param2` and `--range2` checked: the range of --param2 (its value halved and
+    doubled by default), or None without --param2."""
+    key2 = args.param2
+    if key2 is None:
+        if args.range2 is not None:
+            raise InputError(f"--range2 {' '.join(f'{v:g}' for v in args.range2)}: it is the range of --param2; "
+                             "give --param2 too, or leave it out")
+        return None
+    _check_key(preset, "--param2", key2)
+    if key2 == key:
+        raise InputError(f"--param2 {key2}: the two parameters must differ")
+    if key != preset.speed_key:
+        raise InputError(f"--param2 {key2}: the folds are continued in ({preset.speed_key}, {key2}); give --param "
+                         f"{preset.speed_key}")
+    for given, option in ((args.from_hopf, "--from-hopf"), (args.method != "hb", "--method shooting")):
+        if given:
+            raise InputError(f"--param2 {key2}: {option} does not apply (the fold curves and the amplitude's "
+                             "derivative are of the forced branch, by harmonic balance); leave it out")
+    if args.range2 is None:
+        return preset.continuation_range(float(params[key2]))
+    lo2, hi2 = args.range2
+    if not lo2 < hi2:
+        raise InputError(f"--range2 {lo2:g} {hi2:g}: need LO < HI")
+    for v in (lo2, hi2):
+        try:
+            preset.check(key2, v)
+        except InputError as e:
+            raise InputError(f"--range2 {lo2:g} {hi2:g}: {e}") from None
+    if not lo2 <= float(params[key2]) <= hi2:
+        raise InputError(f"--range2 {lo2:g} {hi2:g}: {key2} = {float(params[key2]):g} (the branch's) lies outside")
+    return lo2, hi2
+
+
+def _scene_at2(preset, params, key2, setup):
+    """`(speed, q) -> scene` with `key2` at `q` (traceable in both; see `_scene_at`),
+    without a work state where the scene keeps one."""
+    import equinox as eqx
+
+    from rotorjax.models import provides
+
+    at_q = _scene_at(preset, params, key2, setup, option="--param2")
+    drop = provides(setup.scene, "without_work")
+
+    def at(speed, q):
+        scene = eqx.tree_at(lambda s: s.speed.constant, at_q(q), speed)
+        return scene.without_work() if drop else scene
+
+    return at
+
+
+def _jump_boundary(scene_at2, br, coefficients, key, key2, q0, span, span2, args):
+    """`(sensitivity, [(fold event, Curve), ...])`: the amplitude's derivative in
+    `key2` at every point of the branch, and each refined fold continued in `(key,
+    key2)` within the two ranges (the jump boundary)."""
+    from rotorjax.analysis import branch_amplitude_gradient, periodic_fold_curve
+
+    sensitivity = branch_amplitude_gradient(scene_at2, br.p, q0, coefficients, node=args.node,
+                                            subharmonic=args.subharmonic)
+    curves = []
+    for e in sorted((e for e in br.events if e.kind == "fold" and e.note is None), key=lambda e: e.p):
+        if any(np.any(np.abs(c.meets(c.x.shape[1] - 1, q0)[:, -2] - e.p) <= 1e-3 * (span[1] - span[0]))
+               for _, c in curves):
+            continue     # on a curve already traced (the two folds of a branch meet at a cusp inside the box)
+        Y = np.reshape(e.u, coefficients.shape[1:])
+        rows = np.flatnonzero(np.any(Y != 0, axis=1))
+        Y = Y[:2 * max(1, (int(rows.max()) + 1) // 2 if rows.size else 1) + 1]   # the fold's own harmonics
+        try:
+            curve = periodic_fold_curve(scene_at2, (e.p, q0), Y, subharmonic=args.subharmonic,
+                                        bounds=((span[0], span2[0]), (span[1], span2[1])), ds=0.01, ds_max=0.05,
+                                        max_points=args.max_points, names=(key, key2))
+        except ValueError as err:
+            raise NumericalError(f"--param2 {key2}: the fold at {key} = {e.p:.8g} could not be continued: {err}") \
+                from None
+        curves.append((e, curve))
+    return sensitivity, curves
+
+
+def _fold_curve_row(curve, fold, key, key2):
+    """The JSON row of one fold curve: its points in `(key, key2)`, the fold it
+    starts from, residuals and stops."""
+    from rotorjax.solve import code_of
+
+    return {"from": {key: float(fold.p)}, key: curve.x[:, -2].tolist(), key2: curve.x[:, -1].tolist(),
+            "residual_max": float(np.max(curve.residuals)), "n_points": int(len(curve.x)), "stop": curve.stop,
+            "stops": list(curve.stops), "stop_codes": [code_of(r) for r in curve.results]}
+
+
+def _print_second(out, key, key2):
+    d = out["branches"][0]["d_amplitude_d_param2"]
+    print(f"  d(amplitude)/d({key2}) along the branch: {min(d):.4g} to {max(d):.4g} (at {key2} = "
+          f"{out['param2_value']:g}; unbounded towards a fold)")
+    lo2, hi2 = out["range2"]
+    if not out["fold_curves"]:
+        print(f"  no refined fold to continue in ({key}, {key2})")
+    for i, c in enumerate(out["fold_curves"], start=1):
+        print(f"  fold curve {i} (from {key} = {c['from'][key]:.8g}), the jump boundary in {key2} in [{lo2:g}, "
+              f"{hi2:g}]: {key} in [{min(c[key]):.6g}, {max(c[key]):.6g}], {c['n_points']} points, residual <= "
+              f"{c['residual_max']:.1e}; {c['stop']}")
 
 
 def _event_motions(events, coefficients):
