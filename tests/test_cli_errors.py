@@ -277,7 +277,7 @@ CASES = [
     (["continue", *R, "--param", "kxx"], 2, r"'ross-compare' has no stationary branch"),
     (["continue", *A, "--param", "sigma"], 2, r"--param sigma: .*structure"),
     (["continue", *A, "--param", "n", "--param2", "n"], 2, r"the two parameters must differ"),
-    (["continue", *A, "--param", "n", "--to", "6", "4"], 2, r"--to 6 4: need finite LO < HI"),
+    (["continue", *A, "--param", "n", "--to", "6", "4"], 2, r"--to 6 4: need LO < HI"),
     (["continue", *A, "--param", "n", "--to", "-1", "4"], 2, r"--to -1 4: n=-1"),
     (["continue", *A, "--param", "n", "--param2", "mu_w", "--box", "1", "0.5", "0.3", "1"], 2, r"--box 1 0.5 0.3 1"),
     (["continue", *A, "--param", "n", "--ds", "0"], 2, r"argument --ds: must be > 0"),

@@ -271,6 +271,22 @@ def check_range(option, lo, hi, positive_lo=False):
     return lo, hi
 
 
+def param_span(option, preset, key, lo, hi):
+    """`LO HI` of a range of the preset parameter `key` (`--range`, `--to`,
+    `--range2`): finite, `LO < HI`, each inside the key's valid values."""
+    text = f"{option} {lo:g} {hi:g}"
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise InputError(f"{text}: LO and HI must be finite")
+    if not lo < hi:
+        raise InputError(f"{text}: need LO < HI")
+    for v in (lo, hi):
+        try:
+            preset.check(key, v)
+        except InputError as e:
+            raise InputError(f"{text}: {e}") from None
+    return lo, hi
+
+
 def grid_spec(option, spec, preset, params, min_points=2, allowed=None):
     """`KEY LO HI N` of a grid over one preset parameter: the key exists and can be
     varied (not structural), `LO < HI` finite and inside the key's valid values,

@@ -5,7 +5,8 @@ import os
 
 import numpy as np
 
-from ._common import InputError, get_preset, out_stem, prepare_out, preset_params, stability_study, write_json
+from ._common import (InputError, get_preset, out_stem, param_span, prepare_out, preset_params, stability_study,
+                      write_json)
 
 #: the accuracy of a boundary's dense curve between its points (along --param, at fixed --param2)
 DENSE_TOL = 1e-6
@@ -46,15 +47,7 @@ def _param_range(preset, key, to, start):
     by default the start halved and doubled."""
     if to is None:
         return preset.continuation_range(start), "default (start halved and doubled)"
-    lo, hi = to
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-        raise InputError(f"--to {lo:g} {hi:g}: need finite LO < HI")
-    for v in (lo, hi):
-        try:
-            preset.check(key, v)
-        except InputError as e:
-            raise InputError(f"--to {lo:g} {hi:g}: {e}") from None
-    return (lo, hi), "--to"
+    return param_span("--to", preset, key, *to), "--to"
 
 
 def cmd_continue(args) -> int:

@@ -7,7 +7,8 @@ import os
 
 import numpy as np
 
-from ._common import InputError, NumericalError, build, get_preset, out_stem, prepare_out, preset_params, write_json
+from ._common import (InputError, NumericalError, build, get_preset, out_stem, param_span, prepare_out, preset_params,
+                      write_json)
 from ._continue import _check_key
 
 #: `--method` as the library names it
@@ -147,14 +148,7 @@ def cmd_periodic(args) -> int:
     params = preset_params(preset, args.set)
     key = args.param
     _check_key(preset, "--param", key)
-    lo, hi = args.range
-    if not lo < hi:
-        raise InputError(f"--range {lo:g} {hi:g}: need LO < HI")
-    for v in (lo, hi):
-        try:
-            preset.check(key, v)
-        except InputError as e:
-            raise InputError(f"--range {lo:g} {hi:g}: {e}") from None
+    lo, hi = param_span("--range", preset, key, *args.range)
     if key == preset.speed_key and not lo > 0:
         raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
     range2 = _second_parameter(args, preset, params, key)
@@ -291,14 +285,7 @@ def _second_parameter(args, preset, params, key):
                              "derivative are of the forced branch, by harmonic balance); leave it out")
     if args.range2 is None:
         return preset.continuation_range(float(params[key2]))
-    lo2, hi2 = args.range2
-    if not lo2 < hi2:
-        raise InputError(f"--range2 {lo2:g} {hi2:g}: need LO < HI")
-    for v in (lo2, hi2):
-        try:
-            preset.check(key2, v)
-        except InputError as e:
-            raise InputError(f"--range2 {lo2:g} {hi2:g}: {e}") from None
+    lo2, hi2 = param_span("--range2", preset, key2, *args.range2)
     if not lo2 <= float(params[key2]) <= hi2:
         raise InputError(f"--range2 {lo2:g} {hi2:g}: {key2} = {float(params[key2]):g} (the branch's) lies outside")
     return lo2, hi2

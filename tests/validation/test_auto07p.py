@@ -46,6 +46,11 @@ from tests.analysis.test_continuation import BETA, C, W0, duffing, duffing_fold_
 from tests.reference.auto07p import driver
 
 TOL = 1e-6
+#: rotorjax's points against AUTO's, asserted within about 100x the agreement measured (2026-12-07, AUTO-07p
+#: 0.9.2; issue 62): a point corrected onto AUTO's (5.8e-11 Duffing, 7.3e-11 Jeffcott), the folds and curve
+#: ends (2.2e-11, 3.1e-11 and 2.9e-11), the Hopf point and frequency (1.0e-11, 2.6e-11), AUTO's Duffing points
+#: against the closed form (9.8e-10); `TOL` stays for the dense curve between rotorjax's points (4.6e-8, 1.4e-7)
+POINT_TOL, ENDS_TOL, HOPF_TOL, CLOSED_FORM_TOL = 5e-9, 3e-9, 2e-9, 5e-8
 
 # (a) Duffing
 F0 = 0.05                       # forcing amplitude of the one-parameter branch
@@ -303,11 +308,12 @@ def test_duffing_fold_curve_agrees_with_auto(installation, tmp_path):
     assert len(auto["branch"].label("LP")) == 2
     d = duffing_deviation(auto, rotorjax_duffing())
     assert d["auto_points"] > 50 and d["corrector_residual_max"] < 1e-12
-    assert d["fold_points_max"] < TOL, d
-    assert d["corrected_max"] < TOL, d
+    assert d["fold_points_max"] < ENDS_TOL, d
+    assert d["corrected_max"] < POINT_TOL, d
     assert d["interpolated_max"] < TOL, d
-    assert d["ends_max"] < TOL and np.allclose(np.array(d["ends_auto"])[:, 1], FOLD_BOX[1][1], rtol=0, atol=1e-9), d
-    assert d["auto_vs_closed_form_rel_max"] < TOL and d["closed_form_undefined_points"] <= 2, d
+    assert d["ends_max"] < ENDS_TOL and np.allclose(np.array(d["ends_auto"])[:, 1], FOLD_BOX[1][1], rtol=0,
+                                                    atol=1e-9), d
+    assert d["auto_vs_closed_form_rel_max"] < CLOSED_FORM_TOL and d["closed_form_undefined_points"] <= 2, d
 
 
 def test_jeffcott_hopf_curve_agrees_with_auto(installation, tmp_path):
@@ -315,10 +321,10 @@ def test_jeffcott_hopf_curve_agrees_with_auto(installation, tmp_path):
     _assert_ran(auto, "hopf")
     d = jeffcott_deviation(auto, rotorjax_jeffcott())
     assert d["auto_points"] > 50 and d["corrector_residual_max"] < 1e-10
-    assert d["hopf_point"] < TOL and d["hopf_frequency"] < TOL, d
-    assert d["corrected_max"] < TOL, d
+    assert d["hopf_point"] < HOPF_TOL and d["hopf_frequency"] < HOPF_TOL, d
+    assert d["corrected_max"] < POINT_TOL, d
     assert d["interpolated_max"] < TOL, d
-    assert d["ends_max"] < TOL, d
+    assert d["ends_max"] < ENDS_TOL, d
     # the unbalance shifts the boundary off the linear closed form, by much more than TOL
     pts = auto_curve(auto["hopf"], ["PAR(1)", "PAR(2)"])
     assert np.max(np.abs(pts[:, 0] - (1 + pts[:, 1] / C_INT))) > 1e-3

@@ -31,7 +31,8 @@ four folds, two unstable (saddle) segments between them.
   Jacobian, which with NWTN = 3 is frozen at an earlier iterate and puts errors
   up to 2e-6 into them (2e-8 with NWTN = 7).
 
-Compared, to `TOL` = 1e-6: the fold speeds (relative); every AUTO point
+Compared (the fold speeds and the branch within about 100x the agreement measured,
+`FOLD_TOL`, `BRANCH_TOL`; the multipliers to `TOL` = 1e-6): the fold speeds (relative); every AUTO point
 `(Om, L2-NORM)` against rotorjax's branch (rotorjax's balance corrected from its
 nearest branch point onto the normal through AUTO's point, the L2-norm of the
 extended orbit from the Fourier coefficients by Parseval: the distance in the
@@ -57,6 +58,10 @@ from rotorjax.models import AbstractScene, AbstractSpeedProfile, ConstantSpeed, 
 from tests.reference.auto07p import driver
 
 TOL = 1e-6
+#: asserted within about 100x the agreement measured (2026-12-07, AUTO-07p 0.9.2; issue 62): the folds 3.5e-11,
+#: the branch 5.9e-11 (`TOL` stays for the multipliers, which AUTO's own Jacobian limits: 3.4e-8), Floquet's
+#: multipliers against Hill's 7.5e-12, the trivial ones 1.8e-14
+FOLD_TOL, BRANCH_TOL, HILL_TOL, TRIVIAL_TOL = 3e-9, 5e-9, 5e-10, 1e-12
 KX, KY, C, BETA, ECC = 1.0, 1.3, 0.02, 0.5, 0.01
 OM_RANGE = (0.5, 2.0)
 H = 9                        # harmonics: time_residual <= 1.2e-10 at every point of the branch
@@ -310,13 +315,13 @@ def test_rotorjax_branch_has_four_folds_and_converged_harmonics(rotorjax_result)
 
 def test_folds_agree_with_auto(compared):
     _, d = compared
-    assert len(d["folds_auto"]) == 4 and d["folds_rel_max"] < TOL, d
+    assert len(d["folds_auto"]) == 4 and d["folds_rel_max"] < FOLD_TOL, d
 
 
 def test_branch_agrees_with_auto(compared):
     _, d = compared
     assert d["auto_points"] > 50 and d["corrector_residual_max"] < 1e-10, d
-    assert d["branch_max"] < TOL, d
+    assert d["branch_max"] < BRANCH_TOL, d
     assert d["period_rel_max"] < 1e-9, d      # AUTO's free period follows 2 pi / Om
 
 
@@ -326,9 +331,9 @@ def test_floquet_multipliers_agree_with_auto(compared):
     assert sum(not x["auto_stable"] for x in m) >= 2 and sum(x["auto_stable"] for x in m) >= 3, m
     for x in m:
         assert x["auto_stable"] == x["rotorjax_stable"], x
-        assert x["floquet"] < TOL and x["hill"] < TOL and x["floquet_vs_hill"] < 1e-8, x
+        assert x["floquet"] < TOL and x["hill"] < TOL and x["floquet_vs_hill"] < HILL_TOL, x
         assert x["b_vs_d_file"] < 1e-5, x          # PVLS saw the point's own multipliers (d-file: 6 digits)
-        assert x["trivial"][0] < 1e-6 and x["trivial"][1] < 1e-6, x
+        assert x["trivial"][0] < TRIVIAL_TOL and x["trivial"][1] < TRIVIAL_TOL, x
 
 
 def test_run_up_and_run_down_jump_at_the_folds(rotorjax_result):
