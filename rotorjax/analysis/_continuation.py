@@ -902,7 +902,7 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
         if fold:
             borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
             z, r = _newton(None, 0.5 * (a + b), args=borders, compiled=fold_system)
-            events.append(_fold_event(z, r, a, b, n, (i, i + 1), gtol,
+            events.append(_refined_event(z, r, a, b, n, (i, i + 1), gtol,
                                       max(curve.residuals[i], curve.residuals[i + 1])))
         elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
             events.append(_branch_point_event(Gl, a, b, n, (i, i + 1), gtol,
@@ -953,9 +953,9 @@ def switch_branch(F: Callable, event: BranchEvent, p_bounds=(-np.inf, np.inf), h
     return continue_branch(F, y[:n], y[n], p_bounds=p_bounds, ds=ds, start_tol=start_tol, **options)
 
 
-def _fold_event(z, r, a, b, n, between, gtol, step_residual, kind="fold",
+def _refined_event(z, r, a, b, n, between, gtol, step_residual, kind="fold",
                 system="the fold's defining system") -> BranchEvent:
-    """The fold (or other `kind` of event) between the branch's points `a` and `b`
+    """A fold (or another `kind` of event) between the branch's points `a` and `b`
     (rows `(u, p)`): refined to `z` (Newton on its defining `system`, residual `r`)
     where that converged (`z` finite, `r <= gtol`, no farther from the step's
     midpoint than the step is long, in every coordinate's largest change); else
@@ -975,10 +975,10 @@ def _fold_event(z, r, a, b, n, between, gtol, step_residual, kind="fold",
 def _branch_point_event(G, a, b, n, between, gtol, step_residual) -> BranchEvent:
     """The branch point between the branch's points `a` and `b` (`G` lifted), refined
     on Moore and Keller's extended system (`_branch_points.refine`), with the
-    crossing branch's unit tangent; else located to the step as `_fold_event` says."""
+    crossing branch's unit tangent; else located to the step as `_refined_event` says."""
     mid = 0.5 * (np.asarray(a) + np.asarray(b))
     x, phi, r, _ = _branch_points.refine(G, jacobian(G, jnp.asarray(mid)), a, b)
-    event = _fold_event(x, r, a, b, n, between, gtol, step_residual, kind="branch_point",
+    event = _refined_event(x, r, a, b, n, between, gtol, step_residual, kind="branch_point",
                         system="the branch point's extended system")
     if event.note is not None:
         return event

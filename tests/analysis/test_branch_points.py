@@ -118,11 +118,11 @@ def test_switching_needs_a_refined_branch_point():
 
 
 def test_a_branch_point_whose_refinement_fails_is_located_to_the_step():
-    """As a fold's (`_fold_event`): the midpoint, the points' residual, the reason."""
-    from rotorjax.analysis._continuation import _fold_event
+    """As a fold's (`_refined_event`): the midpoint, the points' residual, the reason."""
+    from rotorjax.analysis._continuation import _refined_event
 
     a, b = np.array([0.4, 1.0]), np.array([0.6, 1.1])
-    e = _fold_event(np.array([0.5, 9.0]), 1e-14, a, b, 1, (3, 4), 1e-8, 2e-10, kind="branch_point",
+    e = _refined_event(np.array([0.5, 9.0]), 1e-14, a, b, 1, (3, 4), 1e-8, 2e-10, kind="branch_point",
                     system="the branch point's extended system")
     assert (e.kind, e.p, e.residual, e.tangent) == ("branch_point", 1.05, 2e-10, None)
     assert e.note == "located to the step; not refined (Newton on the branch point's extended system: it left the step)"

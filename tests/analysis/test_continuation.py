@@ -78,15 +78,15 @@ def test_a_fold_whose_refinement_fails_is_located_to_the_step_never_nan(z, r, wh
     (residual above the branch's gtol) or runs off the step is not reported as
     refined: the fold is placed at the step's midpoint with the points' residual and
     a note (it was printed as `fold at speed = nan` before; issue 62)."""
-    from rotorjax.analysis._continuation import _fold_event
+    from rotorjax.analysis._continuation import _refined_event
 
     a, b = np.array([0.4, 1.0]), np.array([0.6, 1.1])
-    e = _fold_event(z, r, a, b, 1, (3, 4), 1e-8, 2e-10)
+    e = _refined_event(z, r, a, b, 1, (3, 4), 1e-8, 2e-10)
     assert (e.kind, e.p, e.residual, e.between) == ("fold", 1.05, 2e-10, (3, 4))
     assert np.allclose(e.u, [0.5]) and np.all(np.isfinite(e.u))
     assert e.note == f"located to the step; not refined (Newton on the fold's defining system: {why})"
     assert e.as_dict()["note"] == e.note
-    refined = _fold_event(np.array([0.51, 1.04]), 1e-14, a, b, 1, (3, 4), 1e-8, 2e-10)
+    refined = _refined_event(np.array([0.51, 1.04]), 1e-14, a, b, 1, (3, 4), 1e-8, 2e-10)
     assert (refined.p, refined.residual, refined.note) == (1.04, 1e-14, None)
 
 
