@@ -79,16 +79,16 @@ def _stop_kind(reason):
     return reason.split(" at ")[0]
 
 
-def physical_stops(stops, name, physical, lo=None, hi=None):
+def physical_stops(stops, name, physical, lo=None, hi=None, as_name=None):
     """`stops` (a curve's, traced in scaled units) with each `<name> = <value>`
-    rewritten as `physical(value)`, exactly `lo` or `hi` where it lands within 1e-9
-    of one (a box edge)."""
+    rewritten as `physical(value)` (named `as_name`, where given), exactly `lo` or
+    `hi` where it lands within 1e-9 of one (a box edge)."""
     def back(m):
         v = physical(float(m.group(1)))
         for b in (lo, hi):
             if b is not None and abs(v - b) <= 1e-9 * max(1.0, abs(b)):
                 v = b
-        return f"{name} = {v}"
+        return f"{as_name or name} = {v}"
 
     pattern = re.compile(rf"{re.escape(name)} = ([-+.\deE]+|nan|inf)")
     return tuple(pattern.sub(back, s) for s in stops)

@@ -12,7 +12,7 @@ import numpy as np
 from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS
-from ._continuation import continue_branch
+from ._continuation import continue_branch, physical_stops
 from ._harmonic_balance import (PeriodicSolution, _checked, _newton, _outcome, _physical_exponents, _with_floquet,
                                 balance_residual, forcing_period)
 from ._periodic_branch import _checked_range, _secondary
@@ -257,7 +257,8 @@ def hopf_cycle_branch(scene_at, hopf, y_eq, p_bounds, harmonics=8, *, amplitude=
     r0, start = hopf_cycle(at, 1.0, y_eq, amplitude, harmonics, frequency=hopf.frequency, stability=False)
     r0 = float(r0)
     direction = -1 if r0 < 1.0 else 1
-    # the stops' and events' parameter is the ratio to the Hopf point's (named so)
+    # continued in the ratio to the Hopf point's parameter (named so while it runs: the progress bar); the
+    # branch, its events and its stops are given back in the parameter itself
     ratio = f"{name}/{float(p_h):.8g}"
     # every unknown scaled by the first cycle's largest coefficient (the equilibrium's size, where it is not the
     # origin), not each state by its own: the cycle's harmonics start tiny and grow by orders, and scaled by their
@@ -269,5 +270,10 @@ def hopf_cycle_branch(scene_at, hopf, y_eq, p_bounds, harmonics=8, *, amplitude=
                                                    direction=direction, progress=progress)
     p = float(p_h)
     events = tuple(dataclasses.replace(e, p=e.p * p) for e in br.events)
-    br = dataclasses.replace(br, p=np.asarray(br.p) * p, events=events)
+
+    def back(texts):
+        return physical_stops(texts, ratio, lambda v: v * p, lo, hi, as_name=name)
+
+    curve = dataclasses.replace(br.curve, stops=back(br.curve.stops), stopped=back((br.curve.stopped,))[0])
+    br = dataclasses.replace(br, p=np.asarray(br.p) * p, events=events, curve=curve)
     return br, coefficients, periods, r0 * p

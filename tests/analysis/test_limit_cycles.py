@@ -158,7 +158,7 @@ def test_hopf_cycle_branch_from_the_hopf_point_in_closed_form(a, c):
     mu, r = np.asarray(br.p) - 2.0, radius(coefs)
     assert abs(p_first - 2.0 - (-a * 0.1**2 + c * 0.1**4)) < 1e-12      # r = 0.1: mu = -a r^2 + c r^4
     assert (p_first > 2.0) == (a < 0)                                   # the side of the first cycle: criticality
-    assert br.stops[0] == "start" and br.stops[1] == "box edge (p/2 = 1.25)"
+    assert br.stops[0] == "start" and br.stops[1] == "box edge (p = 2.5)"
     assert np.max(np.abs(mu + a * r**2 - c * r**4)) < 1e-9
     assert np.max(np.abs(periods - 2 * np.pi / (OM + B * r**2))) < 1e-9
     folds = [e for e in br.events if e.kind == "fold"]
