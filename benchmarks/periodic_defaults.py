@@ -16,6 +16,11 @@ the former default, eight harmonics everywhere, on two rotors:
   `--param2 cubic_bearing0.k3 --range2 1e12 6e12` (both folds continued in (speed, k3),
   the amplitude's derivative in k3 at every point), cold and warm.
 
+- the stability exponents of one motion of the anisotropic variant at 100 rad/s with
+  8, 16 and 32 harmonics: Hill's eigenvalues against the Magnus monodromy that a
+  branch uses above `HILL_MAX` unknowns (warm), each margin against the integrated
+  monodromy's (`floquet` at rtol 1e-11).
+
 Errors: the folds' difference between the two runs (cubic_rig), each branch's
 largest truncation error estimate (`truncation_error`), the fold curves' largest
 relative distance from `synchronous_branch`'s folds at three interior points each.
@@ -23,7 +28,7 @@ relative distance from `synchronous_branch`'s folds at three interior points eac
 Run: python benchmarks/periodic_defaults.py [--repeats 3] [--smoke]
 Writes benchmarks/results/periodic_defaults.json (`--smoke`: cubic_rig over 100..100.5
 in process against 2 harmonics, one call per timing, its jump boundary there (no fold:
-the derivative only), the variant over 99.5..100 with at most 2 harmonics; prints,
+the derivative only), the variant over 99.5..100 with at most 2 harmonics, the exponents with 2; prints,
 writes nothing).
 """
 
@@ -129,24 +134,12 @@ def jump_boundary(lo, hi, range2, repeats, cold, checked=3):
 
 
 def anisotropic(lo, hi, repeats, max_harmonics=32):
-    import equinox as eqx
-
-    from rotorjax import presets
     from rotorjax.analysis import periodic_branch
-    from tests.validation.test_periodic_auto_harmonics import SHIPPED, variant
 
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "anisotropic_cubic.toml")
-        with open(SHIPPED) as f, open(path, "w") as g:
-            g.write(variant(f.read()))
-        preset = presets.get(path)
-        scene = preset.build(preset.params()).scene
-
-    def scene_at(w):
-        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+    scene_at, n = anisotropic_scene()
 
     def branch(h):
-        return periodic_branch(scene_at, lo, np.zeros(scene.state_size), (lo, hi), h, name="speed",
+        return periodic_branch(scene_at, lo, np.zeros(n), (lo, hi), h, name="speed",
                                max_harmonics=max_harmonics)
 
     out = {}
@@ -162,6 +155,61 @@ def anisotropic(lo, hi, repeats, max_harmonics=32):
     return out
 
 
+def anisotropic_scene():
+    """The anisotropic variant of `tests/validation/test_periodic_auto_harmonics.py`:
+    `speed -> scene`."""
+    import equinox as eqx
+
+    from rotorjax import presets
+    from tests.validation.test_periodic_auto_harmonics import SHIPPED, variant
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "anisotropic_cubic.toml")
+        with open(SHIPPED) as f, open(path, "w") as g:
+            g.write(variant(f.read()))
+        preset = presets.get(path)
+        scene = preset.build(preset.params()).scene
+
+    def scene_at(w):
+        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+
+    return scene_at, scene.state_size
+
+
+def exponents(speed, harmonics, repeats):
+    """A branch point's stability exponents on the anisotropic variant at `speed`:
+    Hill's (the eigenvalues of the balance's Jacobian, `(2H + 1) n` of them) against
+    the Magnus monodromy of the reconstructed orbit (`magnus_exponents`, what a
+    branch uses above `HILL_MAX` unknowns), warm, at each of `harmonics`; each
+    margin's distance from the integrated monodromy's (`floquet`, rtol 1e-11)."""
+    import jax
+
+    from rotorjax.analysis import floquet
+    from rotorjax.analysis._harmonic_balance import (_physical_exponents, balance_residual, harmonic_balance,
+                                                     magnus_exponents)
+
+    scene_at, n = anisotropic_scene()
+    sc, T = scene_at(speed), 2 * np.pi / speed
+    out, sol = {}, np.zeros(n)
+    for H in harmonics:
+        for h in [k for k in (1, 2, 4, 8, 16, 32) if k < H] + [H]:    # each from the one before
+            sol = harmonic_balance(sc, T, sol, h, stability=False)
+        assert int(sol.code) == 0, H
+        Y = sol.coefficients
+        hill = jax.jit(lambda Y: _physical_exponents(
+            jax.jacfwd(lambda x: -balance_residual(sc, x.reshape(Y.shape), T).ravel())(Y.ravel()), n, speed))
+        magnus = jax.jit(lambda Y: magnus_exponents(sc, Y, T))
+        t_hill, _, e_hill = timed_first(lambda: hill(Y), repeats)
+        t_magnus, _, e_magnus = timed_first(lambda: magnus(Y), repeats)
+        ref = float(floquet(sc, sol.initial_state(), T, 0.0, rtol=1e-11, atol=1e-13).margin)
+        out[str(H)] = {"unknowns": int(Y.size), "hill_s": t_hill, "magnus_s": t_magnus, "ratio": t_hill / t_magnus,
+                       "floquet_margin": ref,
+                       "hill_margin_error": abs(float(np.max(np.real(e_hill))) - ref) / abs(ref),
+                       "magnus_margin_error": abs(float(np.max(np.real(e_magnus))) - ref) / abs(ref),
+                       "time_residual": float(sol.time_residual)}
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
@@ -170,21 +218,24 @@ def main():
     if args.smoke:
         res = {"cubic_rig": cubic_rig(100.0, 100.5, 0, cold=False, former=2),
                "jump_boundary": jump_boundary(100.0, 100.5, (2.9e12, 3.1e12), 0, cold=False),
-               "anisotropic": anisotropic(99.5, 100.0, 0, max_harmonics=2)}
+               "anisotropic": anisotropic(99.5, 100.0, 0, max_harmonics=2),
+               "exponents": exponents(100.0, (2,), 0)}
         print(json.dumps(res, indent=1))
         print("smoke run: nothing written")
         return
     res = {"benchmark": "periodic_defaults", "machine": machine(), "date": today(),
            "cubic_rig": cubic_rig(100.0, 106.0, args.repeats, cold=True),
            "jump_boundary": jump_boundary(100.0, 106.0, (1e12, 6e12), args.repeats, cold=True),
-           "anisotropic": anisotropic(90.0, 110.0, args.repeats)}
+           "anisotropic": anisotropic(90.0, 110.0, args.repeats),
+           "exponents": exponents(100.0, (8, 16, 32), args.repeats)}
     c, j = res["cubic_rig"], res["jump_boundary"]
     res["headline"] = {"cubic_rig_cold_s": {"auto": c["auto"]["cold_s"], "8": c["8"]["cold_s"]},
                        "cubic_rig_warm_s": {"auto": c["auto"]["warm_s"], "8": c["8"]["warm_s"]},
                        "cold_ratio": c["8"]["cold_s"] / c["auto"]["cold_s"],
                        "warm_ratio": c["8"]["warm_s"] / c["auto"]["warm_s"],
                        "jump_boundary": {"cold_s": j["cold_s"], "warm_s": j["warm_s"],
-                                         "fold_error_max": j["fold_error_max"]}}
+                                         "fold_error_max": j["fold_error_max"]},
+                       "exponents_hill_over_magnus": {H: e["ratio"] for H, e in res["exponents"].items()}}
     print(json.dumps(res["headline"], indent=1))
     write_results("periodic_defaults", res)
 

@@ -55,7 +55,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._autodiff import value_and_jacfwd
-from ..solve._lift import Lifted, batched, call, compiled, jacobian, lift
+from ..solve._lift import Lifted, call, chunks, compiled, jacobian, lift
 from ..solve._results import RESULTS, code_of
 from . import _arclength, _branch_points
 from ._roots import bisect, root_gradient
@@ -883,16 +883,13 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
         return jacobian(Gl, jnp.concatenate([jnp.asarray(u), jnp.atleast_1d(p)]))[:, :n]
 
     xs = curve.x
-    (jacs,) = batched(_jacobians, Gl, (xs,), row_bytes=8 * n * (n + 1))   # [F_u F_p], one per point
     if exponents is None:
         def exponents(J, u, p):
             return np.linalg.eigvals(J)
-    eig = [np.asarray(exponents(J[:, :n], x[:n], x[n])) for J, x in zip(jacs, xs)]
+    tangents = curve.tangents     # oriented along the curve
+    eig, bordered, jacs = _point_checks(Gl, xs, tangents, exponents)
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
-    tangents = curve.tangents     # oriented along the curve
-    # the sign of the bordered determinant (slogdet's: a determinant of a few hundred unknowns overflows)
-    bordered = np.linalg.slogdet(np.concatenate([jacs, tangents[:, None, :]], axis=1))[0]
     fold_system = (lambda z, bb, cc: _fold_residual(Gl, z, bb, cc),   # F = 0 and F_u singular
                    lambda z, bb, cc: _fold_jacobian(Gl, z, bb, cc))
     events = []
@@ -920,6 +917,27 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
                 if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
                     events.append(dataclasses.replace(hopf, crossing=abs(int(n_unstable[i + 1] - n_unstable[i]))))
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
+
+
+def _point_checks(Gl, xs, tangents, exponents):
+    """At every point `x` of a branch of `G = 0` (`Gl` lifted; `tangents` along it):
+    the stability exponents (`exponents(F_u, u, p)`), the sign of the bordered
+    determinant `det [G_x; t]` (slogdet's: a determinant of a few hundred unknowns
+    overflows), and the Jacobians `[F_u F_p]` of the points on either side of a
+    fold (by index; only those are kept: all of a large system's would not fit in
+    memory)."""
+    n = xs.shape[1] - 1
+    turns = np.flatnonzero(np.sign(tangents[:-1, n]) != np.sign(tangents[1:, n]))
+    keep = set(turns) | set(turns + 1)
+    eig, bordered, jacs = [], [], {}
+    for first, (J,) in chunks(_jacobians, Gl, (xs,), row_bytes=8 * n * (n + 1)):
+        for j, Jx in enumerate(J):
+            i = first + j
+            eig.append(np.asarray(exponents(Jx[:, :n], xs[i, :n], xs[i, n])))
+            bordered.append(np.linalg.slogdet(np.concatenate([Jx, tangents[i][None]], axis=0))[0])
+            if i in keep:
+                jacs[i] = Jx
+    return eig, np.array(bordered), jacs
 
 
 def switch_branch(F: Callable, event: BranchEvent, p_bounds=(-np.inf, np.inf), h=None, ds=0.01,

@@ -482,6 +482,35 @@ def _physical_exponents(jac, n, omega):
     return jnp.real(lam[chosen]) + 1j * folded[chosen]
 
 
+def magnus_exponents(scene, Y, period, t0=0.0, args=None):
+    """Floquet exponents of the orbit of the coefficients `Y` (`(2H + 1, n)`) from
+    its monodromy: the product of the fourth-order Magnus propagators
+    `expm(h/2 (A1 + A2) + sqrt(3) h^2/12 [A2, A1])` over `2 N` steps `h` of the
+    period (`A1`, `A2` the field's Jacobian at the step's two Gauss points on the
+    reconstructed orbit; `N` the balance's instants). `n` exponents `log(mu) / T`,
+    `Im s` in `(-w/2, w/2]`, as `hill_exponents`' (the exponential keeps a stiff
+    rotor's fast modes stable at any step). Where Hill's matrix is large, far
+    cheaper than its eigenvalues (`benchmarks/periodic_defaults.py`, section
+    `exponents`), at a fourth-order error in the step. Damped modes whose
+    multipliers underflow get `-inf`."""
+    H, n = (Y.shape[0] - 1) // 2, Y.shape[1]
+    M = 2 * _samples(H, None)
+    h = period / M
+    gauss = jnp.asarray([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
+    ts = t0 + h * (jnp.arange(M, dtype=jnp.float64)[:, None] + gauss[None, :])
+    ys = _basis_at(2 * jnp.pi * (ts - t0) / period, H) @ Y
+    eye = jnp.eye(n)
+
+    def jac(t, y):   # columns by forward products, as in truncation_error
+        return jax.vmap(lambda v: jax.jvp(lambda z: scene.vector_field(t, z, args), (y,), (v,))[1], out_axes=1)(eye)
+
+    A = jax.vmap(jax.vmap(jac))(ts, ys)
+    A1, A2 = A[:, 0], A[:, 1]
+    steps = jax.vmap(jax.scipy.linalg.expm)(0.5 * h * (A1 + A2) + (np.sqrt(3) / 12) * h * h * (A2 @ A1 - A1 @ A2))
+    monodromy = jax.lax.scan(lambda P, E: (E @ P, None), eye, steps)[0]
+    return jnp.log(jnp.linalg.eigvals(monodromy).astype(jnp.complex128)) / period
+
+
 def hill_exponents(scene, solution, args=None):
     """Floquet exponents of a `PeriodicSolution` by Hill's method (the
     linearisation of the harmonic balance, no time integration): `n` complex

@@ -23,7 +23,7 @@ from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
                                 _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
                                 coefficients_from_samples, forcing_period, harmonic_balance, harmonic_ladder,
-                                orbit_amplitude)
+                                magnus_exponents, orbit_amplitude)
 
 
 def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_at=None, subharmonic=1, scale=None,
@@ -75,8 +75,9 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
 
     Returns `(branch, coefficients)`: the `PeriodicBranch` (`harmonics`: each
     point's count; `p`; `margin` the largest real
-    part of Hill's exponents in 1/s, see `hill_exponents`, and `stable` where it is
-    negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
+    part of Hill's exponents in 1/s, see `hill_exponents` (above `HILL_MAX`
+    unknowns the reconstructed orbit's monodromy's, `magnus_exponents`), and
+    `stable` where it is negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
     in physical units (`H` the most any point has; zeros above a point's own).
     `branch.events` (`u`: the coefficients there, flattened, physical units):
     `"fold"` (refined: Newton on the balance and `det dR/dY = 0`), `"branch_point"` (refined on Moore and
@@ -140,13 +141,29 @@ def _piece(scene_at, period_at, bounds, scale, w0, Y0, p0, options, watch=None):
         Y = u.reshape(shape) * scale
         return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0_)).ravel()
 
-    ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), jnp.asarray(p0))   # w / w0 at p
-    br = continue_branch(F, np.asarray(Y0 / scale).ravel(), p0, p_bounds=bounds, **options, watch=watch,
-                         exponents=lambda J, u, p: _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p))))
+    u0 = np.asarray(Y0 / scale).ravel()
+    if u0.size <= HILL_MAX:
+        ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), jnp.asarray(p0))   # w / w0 at p
+
+        def exponents(J, u, p):
+            return _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p)))
+    else:
+        magnus = lift(lambda u, p: magnus_exponents(scene_at(p), u.reshape(shape) * scale, period_at(p)) / w0_,
+                      jnp.asarray(u0), jnp.asarray(p0))
+
+        def exponents(J, u, p):
+            return call(magnus, jnp.asarray(u), jnp.asarray(p))
+    br = continue_branch(F, u0, p0, p_bounds=bounds, **options, watch=watch, exponents=exponents)
     events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
     coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
     return br, coefficients
+
+
+#: a branch's stability exponents by Hill's method (the eigenvalues of the balance's Jacobian) up to this many
+#: unknowns `(2H + 1) n`; above, by the monodromy of the reconstructed orbit (`magnus_exponents`: 15x faster at 1056
+#: unknowns, the margin within 1e-7 of the integrated monodromy's; benchmarks/periodic_defaults.py, `exponents`)
+HILL_MAX = 1024
 
 
 def _checked_range(p_bounds, p0):
@@ -500,14 +517,20 @@ def _span(lo, hi, p0):
     return span if np.isfinite(span) and span > 0 else max(abs(float(p0)), 1.0)
 
 
+#: the survey of a branch's scales solves its motions with at most this many harmonics (the scales are the largest
+#: coefficients, the low harmonics'; a start with 16 or 32 would take half a minute)
+SURVEY_HARMONICS = 4
+
+
 def _survey_scale(scene_at, period_at, Y0, lo, hi):
     """Each state's largest coefficient over the start and the motions solved from
-    it at `SURVEY` parameter values across a finite range (one vmapped Newton; the
-    ones that do not converge are left out), at least 1e-3 of the largest of all."""
+    it (cut to `SURVEY_HARMONICS`) at `SURVEY` parameter values across a finite range
+    (one vmapped Newton; the ones that do not converge are left out), at least 1e-3
+    of the largest of all."""
     top = jnp.max(jnp.abs(Y0), axis=0)
     if np.isfinite(lo) and np.isfinite(hi):
         ps = jnp.linspace(lo, hi, SURVEY)
-        sols = _survey(lift(scene_at, ps[0]), lift(period_at, ps[0]), Y0, ps)
+        sols = _survey(lift(scene_at, ps[0]), lift(period_at, ps[0]), Y0[:2 * SURVEY_HARMONICS + 1], ps)
         ok = (sols.code == 0)[:, None]
         top = jnp.maximum(top, jnp.max(jnp.where(ok, jnp.max(jnp.abs(sols.coefficients), axis=1), 0.0), axis=0))
     return jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)

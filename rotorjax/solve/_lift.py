@@ -221,11 +221,19 @@ def batched(fn, f, rows, *fixed, row_bytes=0):
     last chunk padded with copies of the first row (one compilation whatever the
     number of rows); the outputs (a tuple of arrays) joined row by row, as NumPy
     arrays."""
+    outs = [o for _, o in chunks(fn, f, rows, *fixed, row_bytes=row_bytes)]
+    return tuple(np.concatenate([o[j] for o in outs]) for j in range(len(outs[0])))
+
+
+def chunks(fn, f, rows, *fixed, row_bytes=0):
+    """`batched`'s chunks one at a time, for outputs too large to hold for every row
+    at once: yields `(first, outputs)`, `first` the index of the chunk's first row,
+    `outputs` its rows' (NumPy arrays, the padding cut)."""
     k = rows[0].shape[0]
     size = ROWS
     while size > 1 and size * row_bytes > 2 ** 28:
         size //= 2
     pad = np.concatenate([np.arange(k), np.zeros(-k % size, dtype=int)])
-    outs = [fn(f, *(jnp.asarray(np.asarray(a)[pad[i:i + size]]) for a in rows), *fixed)
-            for i in range(0, pad.size, size)]
-    return tuple(np.concatenate([np.asarray(o[j]) for o in outs])[:k] for j in range(len(outs[0])))
+    for i in range(0, pad.size, size):
+        out = fn(f, *(jnp.asarray(np.asarray(a)[pad[i:i + size]]) for a in rows), *fixed)
+        yield i, tuple(np.asarray(o)[:max(min(size, k - i), 0)] for o in out)

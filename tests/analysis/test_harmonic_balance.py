@@ -365,6 +365,43 @@ def test_hill_exponents_equal_floquet_multipliers(three):
         np.testing.assert_allclose(mu_hill, mu, atol=1e-8)
 
 
+def test_magnus_exponents_equal_floquet_multipliers(three):
+    """The monodromy of the reconstructed orbit by Magnus propagators (what a branch
+    uses where Hill's matrix is large) against the integrated monodromy's
+    multipliers, on the three coexisting motions with 16 harmonics."""
+    from rotorjax.analysis._harmonic_balance import magnus_exponents
+
+    scene, T, _, _, many = three
+    for s in many:
+        mu_magnus = np.sort_complex(np.exp(np.asarray(magnus_exponents(scene, s.coefficients, T)) * T))
+        mu = np.sort_complex(np.asarray(s.floquet.multipliers))
+        np.testing.assert_allclose(mu_magnus, mu, atol=1e-8)
+
+
+def test_a_branch_with_magnus_exponents_equals_hill_s(monkeypatch):
+    """A branch whose Hill matrix is above `HILL_MAX` takes its exponents from the
+    Magnus monodromy: the same stability and folds as Hill's, the margins within
+    1e-6 (the two differ by the truncation: 4e-3 with 4 harmonics, 4e-7 with 12)."""
+    from rotorjax.analysis import _periodic_branch, periodic_branch
+
+    def branch():
+        return periodic_branch(Duffing, 1.0, jnp.zeros(2), (1.0, 2.0), harmonics=12, ds=0.05, ds_max=0.1)[0]
+
+    hill = branch()
+    monkeypatch.setattr(_periodic_branch, "HILL_MAX", 0)
+    magnus = branch()
+    np.testing.assert_allclose(magnus.p, hill.p, rtol=1e-12)
+    np.testing.assert_allclose(magnus.margin, hill.margin, atol=1e-6)
+    assert np.array_equal(magnus.stable, hill.stable) and not np.all(hill.stable)
+    assert [(e.kind, e.between) for e in magnus.events] == [(e.kind, e.between) for e in hill.events]
+    assert [e.kind for e in hill.events] == ["fold", "fold"]
+    from tests.helpers import documentation
+
+    text = " ".join(documentation("docs/periodic.md").split())
+    assert (f"Above `HILL_MAX` ({_periodic_branch.HILL_MAX}) unknowns" in text
+            and "with 12 harmonics the two give the same stability and folds and margins within 1e-6" in text)
+
+
 def test_truncation_estimate_is_the_error_of_the_left_out_harmonics(three):
     """`truncation_error` of a series of H harmonics against its actual distance
     from the 16-harmonic motion (round-off there), state by state relative to each
