@@ -80,15 +80,16 @@ def _fields(br):
     return {f.name: getattr(br, f.name) for f in dataclasses.fields(Branch)}
 
 
-def _watch(scene_at, period_at, scale, shape, target, higher, lower):
-    """`watch` for `continue_branch` on a piece of `shape`'s harmonics: `"harmonics
-    raised"` where the truncation error estimate exceeds `target` (when `higher`:
-    more are allowed), `"harmonics lowered"` where the series cut to `lower`
-    harmonics (None: not tried) keeps it below `LOWER_MARGIN target`."""
+def _watch(scene_at, period_at, coefficients, shape, target, higher, lower):
+    """`watch` for `continue_branch` on a piece of `shape`'s harmonics
+    (`coefficients(u, p)`: a point's from its unknowns): `"harmonics raised"` where
+    the truncation error estimate exceeds `target` (when `higher`: more are
+    allowed), `"harmonics lowered"` where the series cut to `lower` harmonics (None:
+    not tried) keeps it below `LOWER_MARGIN target`."""
     cut = 2 * (lower or 0) + 1 if lower else shape[0]
 
     def code(x):
-        Y, p = x[:-1].reshape(shape) * scale, x[-1]
+        Y, p = coefficients(x[:-1], x[-1]), x[-1]
         sc, T = scene_at(p), period_at(p)
         r = truncation_error(sc, Y, T)
         raised = higher & ~(r <= target)
@@ -102,15 +103,12 @@ def _adaptive(piece, Y0, p0, options, target, ladder):
     """`periodic_branch(harmonics="auto")` by harmonic balance: pieces of branch of
     one count of harmonics each, each going on from where the one before ended,
     joined (see there)."""
-    scene_at, period_at, _, scale, _ = piece.args
-    n = Y0.shape[1]
+    scene_at, period_at = piece.args[:2]
 
     def run(Y, p, opts, lower_ok=True):
         H = (Y.shape[0] - 1) // 2
         k = ladder.index(H) if H in ladder else len(ladder) - 1
-        watch = _watch(scene_at, period_at, scale, Y.shape, target, higher=H < ladder[-1],
-                       lower=ladder[k - 1] if lower_ok and k > 0 else None)
-        br, co = piece(Y, p, opts, watch=watch)
+        br, co = piece(Y, p, opts, watch=(target, H < ladder[-1], ladder[k - 1] if lower_ok and k > 0 else None))
         return br, co, H, _truncations(scene_at, period_at, br.p, co)
 
     first = run(Y0, p0, options)
@@ -136,7 +134,7 @@ def _adaptive(piece, Y0, p0, options, target, ladder):
                         f"({RESULTS[sol.result]})")
                 break
             Ynew = Y if sol is None else np.asarray(sol.coefficients)
-            direction = np.concatenate([_resized(t[:-1].reshape(-1, n), Ynew.shape[0]).ravel(), t[-1:]])
+            direction = np.concatenate([_resized(t[:-1].reshape(2 * H + 1, -1), Ynew.shape[0]).ravel(), t[-1:]])
             last = run(jnp.asarray(Ynew), p, dict(options, direction=direction, max_points=budget + 1), lower_ok)
             budget -= last[0].p.size - 1
             pieces.append(last)
@@ -144,7 +142,7 @@ def _adaptive(piece, Y0, p0, options, target, ladder):
         if stop.startswith(REHARMONIZE):
             stop = "max_points reached"
         sides.append((pieces, stop))
-    return _joined(first, sides, scale)
+    return _joined(first, sides)
 
 
 def _resized(Y, m):
@@ -153,7 +151,7 @@ def _resized(Y, m):
     return np.concatenate([Y[:m], np.zeros((max(m - Y.shape[0], 0),) + Y.shape[1:])])
 
 
-def _joined(first, sides, scale):
+def _joined(first, sides):
     """One `PeriodicBranch` of the first piece (traced both ways, or one way) and
     the pieces that went on from its ends (`sides`: `(pieces, stop)` at the low end
     and at the high end, each piece traced outward from the end before, whose
@@ -162,7 +160,7 @@ def _joined(first, sides, scale):
     br0, co0, H0, tr0 = first
     if all(not pieces for pieces, _ in sides) and tuple(stop for _, stop in sides) == tuple(br0.stops):
         return PeriodicBranch(**_fields(br0), harmonics=np.full(br0.p.size, H0), truncation=tr0), co0
-    scale = np.asarray(scale)
+    n = co0.shape[-1]
     rows = 2 * max([H0] + [pc[2] for pieces, _ in sides for pc in pieces]) + 1
 
     def padded(v, H):     # scaled unknowns and parameter, the unknowns padded to `rows` harmonics
@@ -170,7 +168,8 @@ def _joined(first, sides, scale):
 
     def record(br, co, H, tr, i, sign, into):
         c = br.curve
-        return dict(p=float(br.p[i]), Y=_resized(co[i], rows), margin=float(br.margin[i]), stable=bool(br.stable[i]),
+        return dict(p=float(br.p[i]), Y=_resized(co[i], rows), u=padded(np.append(br.u[i], 0.0), H)[:-1],
+                    margin=float(br.margin[i]), stable=bool(br.stable[i]),
                     H=H, truncation=float(tr[i]), residual=float(c.residuals[i]),
                     tangent=sign * padded(c.tangents[i], H), into=into)
 
@@ -207,7 +206,7 @@ def _joined(first, sides, scale):
     into = [(0.0, 0, 0.0)] + [low[q]["into"] for q in range(len(low) - 1, 0, -1)] + [h["into"] for h in high[1:]]
     Y = np.stack([p["Y"] for p in pts])
     p_ = np.array([p["p"] for p in pts])
-    u = (Y / scale).reshape(len(pts), -1)
+    u = np.stack([p["u"] for p in pts])
     steps, iters, errs = (np.array([v[k] for v in into]) for k in range(3))
     stops = tuple(stop for _, stop in sides)
     one_way = stops[0] == "start"
@@ -219,7 +218,7 @@ def _joined(first, sides, scale):
     joined = []
     for e, side, (qa, qb) in events:
         ga, gb = sorted((at(side, qa), at(side, qb)))
-        H = (np.asarray(e.u).size // scale.shape[1] - 1) // 2
+        H = (np.asarray(e.u).size // n - 1) // 2
         joined.append(dataclasses.replace(e, u=_resized(np.reshape(e.u, (2 * H + 1, -1)), rows).ravel(),
                                           between=(ga, gb)))
     margin = np.array([p["margin"] for p in pts])

@@ -55,6 +55,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._autodiff import value_and_jacfwd
+from .._newton import newton
 from ..solve._lift import Lifted, call, chunks, compiled, jacobian, lift
 from ..solve._results import RESULTS, code_of
 from . import _arclength, _branch_points
@@ -1042,9 +1043,9 @@ HOPF_TOL = 1e-8
 
 
 def _refine_hopf(G, Fu, a, b, n, between, exponents) -> BranchEvent:
-    """Bisection between two branch points on the real part of the eigenvalue pair
-    nearest the imaginary axis (of `exponents(F_u, u, p)`, as in
-    `continue_branch`), each trial point corrected onto the branch (one compiled
+    """Bisection (Illinois' false position) between two branch points on the real
+    part of the eigenvalue pair nearest the imaginary axis (of `exponents(F_u, u,
+    p)`, as in `continue_branch`), each trial point corrected onto the branch (one compiled
     corrector per structure of `G(x) = F(x[:n], x[n])`, a `Lifted` function)."""
     tt = jnp.asarray((b - a) / np.linalg.norm(b - a))
 
@@ -1057,7 +1058,10 @@ def _refine_hopf(G, Fu, a, b, n, between, exponents) -> BranchEvent:
         cand = [e[j] for j in k if abs(e[j].imag) > 1e-10]
         return cand[0].real, abs(cand[0].imag)
 
-    s = bisect(lambda c: pair_real(corrected(c))[0], 0.0, 1.0, pair_real(a)[0], xtol=1e-14, max_iter=60).x
+    (ra, wa), (rb, wb) = pair_real(a), pair_real(b)
+    # to a real part well inside the refined point's tolerance (HOPF_TOL of the frequency)
+    s = bisect(lambda c: pair_real(corrected(c))[0], 0.0, 1.0, ra, rb, xtol=1e-12, max_iter=60, secant=True,
+               ftol=1e-3 * HOPF_TOL * min(wa, wb)).x
     y = corrected(s)
     re, omega = pair_real(y)
     return BranchEvent(kind="hopf", p=float(y[n]), u=y[:n], frequency=float(omega),
@@ -1067,11 +1071,11 @@ def _refine_hopf(G, Fu, a, b, n, between, exponents) -> BranchEvent:
 
 @compiled
 def _on_branch(G, xp, tt):
-    """Newton on `[G(y); tt . (y - xp)] = 0` from `xp` (eight steps, in one compiled
-    loop: `G` and its Jacobian traced once, not eight times)."""
+    """Newton on `[G(y); tt . (y - xp)] = 0` from `xp` (at most eight steps, to
+    round-off, in one compiled loop)."""
     def H(y):
         return jnp.concatenate([G(y), jnp.dot(tt, y - xp)[None]])
-    return jax.lax.fori_loop(0, 8, lambda _, y: y - jnp.linalg.solve(jax.jacfwd(H)(y), H(y)), xp)
+    return newton(H, xp, 1e-14, 8, floor=1e-12, unit=1.0)[0]
 
 
 def _correct_start(s, a, bounds, names, max_iter=30, axis=0):

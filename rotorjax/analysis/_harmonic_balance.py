@@ -19,6 +19,11 @@ samples back onto the harmonics, exact for trigonometric polynomials of degree
 without knowing its mass matrix. Newton's method with the exact Jacobian
 `dR/dY` by autodiff (forward mode) solves it, in one compiled loop.
 
+On a scene whose forces act at a few coordinates (`AbstractLocalScene`: an FE
+rotor's nonlinear bearings), Newton runs on those coordinates' harmonics alone, the
+rest of the motion their linear response (`_condensed`: the same iterates, a
+fraction of the unknowns).
+
 Self-checks returned with every solution: the balance residual `max |R|`, the
 Newton step at exit, and the time-domain residual of the reconstructed orbit
 `max_t |y'(t) - f(t, y(t))| / max_t |y'(t)|` on a grid four times finer than the
@@ -38,6 +43,8 @@ from ..models._contract import AbstractScene
 from ..models._speed import ConstantSpeed
 from ..models._validate import InputError, as_count, as_param, check_type, is_concrete
 from ..solve._results import RESULTS, AbstractOutcome, code_of
+from ._condensed import condensable, condensed_residual, expanded, read
+from ._fourier import _basis_at, _collocation, _derivative, _samples
 from ._floquet import FloquetResult, floquet
 
 
@@ -173,37 +180,6 @@ def orbit_amplitude(scene, coefficients, period, t0=0.0, node=None, n_points=Non
     return jnp.sqrt(jnp.max(jax.vmap(radius2)(ts, ys)))
 
 
-def _basis_at(phase, H):
-    """`[1, cos(phase), sin(phase), ..., cos(H phase), sin(H phase)]` along a new
-    last axis."""
-    k = jnp.arange(1, H + 1, dtype=jnp.float64).reshape((1,) * phase.ndim + (H,))
-    kp = phase[..., None] * k
-    cs = jnp.stack([jnp.cos(kp), jnp.sin(kp)], axis=-1).reshape(*phase.shape, 2 * H)
-    return jnp.concatenate([jnp.ones(phase.shape + (1,)), cs], axis=-1)
-
-
-def _collocation(H, N):
-    """`B` (N, 2H+1): the series at the N instants; `P` (2H+1, N): the projection
-    back (exact for N > 2H: `P B = I`)."""
-    phase = 2 * np.pi * np.arange(N) / N
-    k = np.arange(1, H + 1)
-    B = np.ones((N, 2 * H + 1))
-    B[:, 1::2] = np.cos(np.outer(phase, k))
-    B[:, 2::2] = np.sin(np.outer(phase, k))
-    weights = np.full(2 * H + 1, 2.0 / N)
-    weights[0] = 1.0 / N
-    return jnp.asarray(B), jnp.asarray(weights[:, None] * B.T)
-
-
-def _derivative(Y, omega):
-    """Coefficients of `y'` from those of `y`."""
-    H = (Y.shape[0] - 1) // 2
-    kw = (omega * jnp.arange(1, H + 1, dtype=jnp.float64))[:, None]
-    a, b = Y[1::2], Y[2::2]
-    d = jnp.stack([kw * b, -kw * a], axis=1).reshape(2 * H, -1)
-    return jnp.concatenate([jnp.zeros_like(Y[:1]), d], axis=0)
-
-
 def balance_residual(scene, Y, period, t0=0.0, n_samples=None, args=None):
     """`R(Y) = D(w) Y - P f(t_j, B Y)` (shape of `Y`): the harmonic-balance residual
     of `scene`'s vector field for the coefficients `Y` (`(2H + 1, n)`)."""
@@ -265,14 +241,6 @@ def truncation_error(scene, Y, period, t0=0.0, args=None):
     s = jnp.maximum(s, 1e-3 * jnp.max(s) + jnp.finfo(jnp.float64).tiny)
     return jnp.sqrt(jnp.sum(jnp.abs(dY / s) ** 2) / jnp.maximum(jnp.sum((Y / s) ** 2),
                                                                       jnp.finfo(jnp.float64).tiny))
-
-
-def _samples(H, n_samples):
-    """Default `N`: the smallest power of two above `4 (H + 1)` (a cubic term's
-    harmonics up to `3H` fold back only above harmonic `H`)."""
-    if n_samples is not None:
-        return n_samples
-    return int(2 ** np.ceil(np.log2(4 * (H + 1))))
 
 
 def _guess_coefficients(guess, H, n):
@@ -346,7 +314,7 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
         return _adapted(scene, period, guess, t0=t0, tol=tol, max_iter=max_iter, stability=stability, args=args,
                         rtol=rtol, atol=atol, truncation_tol=truncation_tol, max_harmonics=max_harmonics)
     Y0, period, t0, n_samples, max_iter = _checked(scene, period, guess, harmonics, t0, n_samples, tol, max_iter)
-    sol = _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args)
+    sol = _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args, args is None and condensable(scene))
     return _with_floquet(scene, sol, rtol, atol) if stability else sol
 
 
@@ -378,15 +346,25 @@ def _with_floquet(scene, sol, rtol=1e-10, atol=1e-12, y0=None) -> PeriodicSoluti
 
 
 @eqx.filter_jit
-def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args) -> PeriodicSolution:
+def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args, condense=False) -> PeriodicSolution:
     """One compiled Newton per scene structure and size (a new speed or guess
-    reuses it)."""
+    reuses it). `condense` (a `condensable` scene, `args` None): Newton on the read
+    coordinates' harmonics alone (`_condensed`), the motion their linear
+    response."""
     shape = Y0.shape
 
     def residual(x):
         return balance_residual(scene, x.reshape(shape), period, t0, n_samples, args).ravel()
 
-    x, (step, it) = _newton(residual, Y0.ravel(), tol, max_iter)
+    if condense:
+        local = scene.local_forces()
+        N = _samples((shape[0] - 1) // 2, n_samples)
+        Z0 = read(local, Y0)
+        z, (step, it) = _newton(lambda x: condensed_residual(local, x.reshape(Z0.shape), period, t0, N).ravel(),
+                                Z0.ravel(), tol, max_iter)
+        x = expanded(local, z.reshape(Z0.shape), period, t0, N).ravel()
+    else:
+        x, (step, it) = _newton(residual, Y0.ravel(), tol, max_iter)
     step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
     return _outcome(scene, x.reshape(shape), period, t0, jnp.max(jnp.abs(residual(x))), step, it, tol, args)
 

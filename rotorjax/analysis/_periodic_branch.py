@@ -14,10 +14,11 @@ import numpy as np
 from .._autodiff import value_and_jacfwd
 from .._errors import NumericalError
 from ..models._validate import InputError, as_count, as_param
-from ..solve._lift import call, lift, vmapped
+from ..solve._lift import batched, call, lift, vmapped
 from ..solve._results import RESULTS, code_of
-from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _series_harmonics,
-                                _series_tail, _truncated, _truncations)
+from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _rows,
+                                _series_harmonics, _series_tail, _truncated, _truncations, _watch)
+from ._condensed import condensable, condensed_residual, expanded, read
 from ._continuation import continue_branch, fold_curve, fold_gradient, physical_stops
 from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
@@ -77,7 +78,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     point's count; `p`; `margin` the largest real
     part of Hill's exponents in 1/s, see `hill_exponents` (above `HILL_MAX`
     unknowns the reconstructed orbit's monodromy's, `magnus_exponents`), and
-    `stable` where it is negative; `u` the scaled unknowns) and the coefficients `(points, 2H + 1, n)`
+    `stable` where it is negative; `u` the scaled unknowns: the coefficients,
+    or on a scene with local forces the read coordinates' (`_condensed`)) and the coefficients `(points, 2H + 1, n)`
     in physical units (`H` the most any point has; zeros above a point's own).
     `branch.events` (`u`: the coefficients there, flattened, physical units):
     `"fold"` (refined: Newton on the balance and `det dR/dY = 0`), `"branch_point"` (refined on Moore and
@@ -119,10 +121,16 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
         raise NumericalError(f"periodic_branch: no periodic motion at {name} = {p0} from the guess "
                              f"({RESULTS[start.result]})")
     Y0 = start.coefficients
+    condense = condensable(scene_at(p0))
+    reads = _reads(scene_at(p0), Y0.shape[1]) if condense else None
     if scale is None:
-        scale = _survey_scale(scene_at, period_at, Y0, lo, hi) * np.sqrt(Y0.shape[1])
+        scale = _survey_scale(scene_at, period_at, Y0, lo, hi, condense) * np.sqrt(Y0.shape[1])
     scale = jnp.broadcast_to(jnp.asarray(scale, dtype=jnp.float64), (Y0.shape[1],))[None, :] / L
-    piece = functools.partial(_piece, scene_at, period_at, (lo, hi), scale, float(2 * np.pi / period_at(p0)))
+    # condensed: the unknowns are the read coordinates' harmonics, each over its largest (that of the states'
+    # scales it reads), the block spanning about one length as the states' do
+    zscale = None if reads is None else (np.max(np.abs(reads) * np.asarray(scale).T, axis=0)
+                                         * np.sqrt(reads.shape[1] / Y0.shape[1]))[None, :]
+    piece = functools.partial(_piece, scene_at, period_at, (lo, hi), (scale, zscale), float(2 * np.pi / period_at(p0)))
     if not auto:
         br, coefficients = piece(Y0, p0, options)
         return (PeriodicBranch(**_fields(br), harmonics=np.full(br.p.size, top),
@@ -130,34 +138,80 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     return _adaptive(piece, Y0, p0, options, target, harmonic_ladder(top, BRANCH_HARMONICS))
 
 
-def _piece(scene_at, period_at, bounds, scale, w0, Y0, p0, options, watch=None):
+def _reads(scene, n):
+    """`(n, m)`: the read coordinates of a condensed balance from a motion's
+    coefficients, `Z = Y @ reads` (`_condensed.read`)."""
+    S = np.asarray(scene.local_forces().S)
+    return np.concatenate([S.T, np.zeros((n - S.shape[1], S.shape[0]))])
+
+
+def _piece(scene_at, period_at, bounds, scales, w0, Y0, p0, options, watch=None):
     """The branch by harmonic balance with `Y0`'s harmonics from `(Y0, p0)` (see
     `periodic_branch`; `w0` the start's forcing frequency, the unit of the scaled
-    equations' exponents): `(branch, coefficients)`."""
+    equations' exponents; `scales`: the states' and, for a condensed balance, the
+    read coordinates'; `watch`: `(target, higher, lower)` of `_watch`):
+    `(branch, coefficients)`."""
     shape = Y0.shape
+    scale, zscale = scales
     w0_ = jnp.asarray(w0)   # an array, not a literal: a branch of other values reuses the compilation
 
-    def F(u, p):   # a similarity transform (times L): Hill's exponents divided by w0
-        Y = u.reshape(shape) * scale
+    def whole(v, p):   # a similarity transform (times L): Hill's exponents divided by w0
+        Y = v.reshape(shape) * scale
         return -(balance_residual(scene_at(p), Y, period_at(p)) / (scale * w0_)).ravel()
 
-    u0 = np.asarray(Y0 / scale).ravel()
-    if u0.size <= HILL_MAX:
-        ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), jnp.asarray(p0))   # w / w0 at p
+    if zscale is None:
+        F, u0 = whole, np.asarray(Y0 / scale).ravel()
 
-        def exponents(J, u, p):
-            return _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p)))
+        def coefficients(u, p):
+            return u.reshape(shape) * scale
     else:
-        magnus = lift(lambda u, p: magnus_exponents(scene_at(p), u.reshape(shape) * scale, period_at(p)) / w0_,
-                      jnp.asarray(u0), jnp.asarray(p0))
+        N, zshape = _samples((shape[0] - 1) // 2, None), (shape[0], zscale.shape[1])
+
+        def F(u, p):
+            return (condensed_residual(scene_at(p).local_forces(), u.reshape(zshape) * zscale, period_at(p), 0.0, N)
+                    / zscale).ravel()
+
+        def coefficients(u, p):
+            return expanded(scene_at(p).local_forces(), u.reshape(zshape) * zscale, period_at(p), 0.0, N)
+
+        u0 = np.asarray(read(scene_at(p0).local_forces(), Y0) / zscale).ravel()
+    at = (jnp.asarray(u0), jnp.asarray(p0))
+    if Y0.size <= HILL_MAX:
+        ratio = lift(lambda p: 2 * jnp.pi / (w0_ * period_at(p)), at[1])   # w / w0 at p
+        if zscale is None:
+            def exponents(J, u, p):
+                return _hill(jnp.asarray(J), shape[1], call(ratio, jnp.asarray(p)))
+        else:
+            hill = lift(lambda u, p: jax.jacfwd(whole)((coefficients(u, p) / scale).ravel(), p), *at)
+
+            def exponents(J, u, p):
+                return _hill(call(hill, jnp.asarray(u), jnp.asarray(p)), shape[1], call(ratio, jnp.asarray(p)))
+    else:
+        magnus = lift(lambda u, p: magnus_exponents(scene_at(p), coefficients(u, p), period_at(p)) / w0_, *at)
 
         def exponents(J, u, p):
             return call(magnus, jnp.asarray(u), jnp.asarray(p))
+    if watch is not None:
+        watch = _watch(scene_at, period_at, coefficients, shape, *watch)
     br = continue_branch(F, u0, p0, p_bounds=bounds, **options, watch=watch, exponents=exponents)
-    events = tuple(_physical(e, scale, w0, period_at) for e in br.events)
+    if zscale is None:
+        physical = functools.partial(_scaled, scale)
+    else:
+        physical = functools.partial(_expand_rows, lift(lambda p, u: coefficients(u, p), at[1], at[0]))
+    events = tuple(_physical(e, physical, w0, period_at) for e in br.events)
     br = dataclasses.replace(br, margin=br.margin * w0, events=events)
-    coefficients = np.asarray(br.u).reshape((-1,) + shape) * np.asarray(scale)
-    return br, coefficients
+    return br, physical(np.asarray(br.p), np.asarray(br.u)).reshape((-1,) + shape)
+
+
+def _scaled(scale, p, u):
+    """Coefficients `(points, 2H + 1, n)` from unknowns `u` over `scale`."""
+    return np.asarray(u).reshape((len(p), -1, scale.shape[1])) * np.asarray(scale)
+
+
+def _expand_rows(coefficients, p, u):
+    """Coefficients `(points, 2H + 1, n)` of a condensed balance's unknowns `u`
+    (`coefficients` lifted: compiled once per structure)."""
+    return batched(_rows, coefficients, (np.asarray(p, dtype=float), np.asarray(u, dtype=float)))[0]
 
 
 #: a branch's stability exponents by Hill's method (the eigenvalues of the balance's Jacobian) up to this many
@@ -522,26 +576,26 @@ def _span(lo, hi, p0):
 SURVEY_HARMONICS = 4
 
 
-def _survey_scale(scene_at, period_at, Y0, lo, hi):
+def _survey_scale(scene_at, period_at, Y0, lo, hi, condense=False):
     """Each state's largest coefficient over the start and the motions solved from
-    it (cut to `SURVEY_HARMONICS`) at `SURVEY` parameter values across a finite range
-    (one vmapped Newton; the ones that do not converge are left out), at least 1e-3
-    of the largest of all."""
+    it (cut to `SURVEY_HARMONICS`; `condense`: by the condensed balance) at `SURVEY`
+    parameter values across a finite range (one vmapped Newton; the ones that do
+    not converge are left out), at least 1e-3 of the largest of all."""
     top = jnp.max(jnp.abs(Y0), axis=0)
     if np.isfinite(lo) and np.isfinite(hi):
         ps = jnp.linspace(lo, hi, SURVEY)
-        sols = _survey(lift(scene_at, ps[0]), lift(period_at, ps[0]), Y0[:2 * SURVEY_HARMONICS + 1], ps)
+        sols = _survey(lift(scene_at, ps[0]), lift(period_at, ps[0]), Y0[:2 * SURVEY_HARMONICS + 1], ps, condense)
         ok = (sols.code == 0)[:, None]
         top = jnp.maximum(top, jnp.max(jnp.where(ok, jnp.max(jnp.abs(sols.coefficients), axis=1), 0.0), axis=0))
     return jnp.maximum(top, 1e-3 * jnp.max(top) + jnp.finfo(jnp.float64).tiny)
 
 
-@jax.jit
-def _survey(scene_at, period_at, Y0, ps):
+@functools.partial(jax.jit, static_argnums=4)
+def _survey(scene_at, period_at, Y0, ps, condense):
     """The motions at `ps` from `Y0` (`scene_at`, `period_at` lifted: compiled once
     per structure)."""
     def one(p):
-        return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None)
+        return _solve(scene_at(p), Y0, period_at(p), jnp.asarray(0.0), None, 1e-10, 30, None, condense)
 
     return jax.vmap(one)(ps)
 
@@ -550,12 +604,12 @@ def _survey(scene_at, period_at, Y0, ps):
 PERIOD_DOUBLING_TOL = 1e-3
 
 
-def _physical(event, scale, w0, period_at):
-    """An event of the scaled continuation in physical units, a crossing pair
-    classified."""
+def _physical(event, physical, w0, period_at):
+    """An event of the scaled continuation in physical units (`physical(p, u)`:
+    points' coefficients from their unknowns), a crossing pair classified."""
     # a branch point's crossing tangent is in the continuation's scaled unknowns: not carried over
-    event = dataclasses.replace(event, u=(np.asarray(event.u).reshape((-1,) + scale.shape[1:])
-                                          * np.asarray(scale)).ravel(), tangent=None)
+    event = dataclasses.replace(event, u=physical(np.asarray([event.p]), np.asarray(event.u)[None]).ravel(),
+                                tangent=None)
     if event.kind == "hopf":
         event = _secondary(event, w0, float(2 * np.pi / period_at(event.p)))
     return event

@@ -18,6 +18,8 @@ by attribute):
 | `AbstractContactScene`  | `contact_indicator`,                     | `simulate_events`                    |
 |                         | `vector_field(t, y, active)`             |                                      |
 | `AbstractEnergyScene`   | `energy(y)` (+ a work state)             | energy-balance checks                |
+| `AbstractLocalScene`    | `local_forces()`: the linear part and    | harmonic balance condensed to the    |
+|                         | the forces at a few coordinates          | coordinates the forces read          |
 
 A missing capability raises `MissingCapability` (an `InputError`) naming the
 scene and what the analysis needed, never an `AttributeError` deep inside.
@@ -26,7 +28,7 @@ dimensionless `nu`, `n`, `N`, `omega` in the published ones, kept as aliases).
 """
 
 import abc
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import equinox as eqx
 import jax
@@ -259,6 +261,36 @@ class AbstractReducibleScene(AbstractScene):
         projects one of this scene on it, `P E = I`."""
 
 
+class LocalForces(eqx.Module):
+    """A scene's equations split into a linear part and forces that read a few
+    coordinates: with `y = (q, q')` (`q` the first `n_q = S.shape[1]` states),
+
+        y' = A y + a0 + E force(t, S q, S q'),
+
+    `A` `(n, n)`, `a0` `(n,)`, `S` `(m, n_q)` (the `m` read coordinates, a node's
+    displacements), `E` `(n, k)` and `force(t, x, v)` `(k,)` (the forces, at the read
+    coordinates and at others they do not depend on: an unbalance's). Harmonic
+    balance then solves for the `m` read coordinates' harmonics alone, the rest of the
+    motion a linear response to the forces (`rotorjax.analysis`, `_condensed`)."""
+
+    A: jax.Array
+    a0: jax.Array
+    S: jax.Array
+    E: jax.Array
+    force: Callable
+
+
+class AbstractLocalScene(AbstractScene):
+    """A scene whose nonlinear and time-dependent forces act at a few coordinates
+    (a finite-element rotor's bearings and unbalances at its nodes)."""
+
+    @abc.abstractmethod
+    def local_forces(self) -> LocalForces | None:
+        """The split of the equations (`LocalForces`), or None where this scene is
+        not of that form (components with coordinates of their own, a work state, a
+        speed that varies)."""
+
+
 def rotating_field(scene, t, z):
     """`dz/dt` of the rotating-frame state `z` of `scene` at time `t`, by the chain
     rule through `to_rotating` (one forward-mode product):
@@ -275,6 +307,7 @@ CAPABILITIES = {
     "n_dof": AbstractRotatingScene, "to_rotating": AbstractRotatingScene, "to_fixed": AbstractRotatingScene,
     "contact_indicator": AbstractContactScene, "energy": AbstractEnergyScene, "without_work": AbstractEnergyScene,
     "shaft": AbstractShaftModel, "linear_system": AbstractLinearSystem, "reduce": AbstractReducibleScene,
+    "local_forces": AbstractLocalScene,
 }
 
 _WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an AbstractLinearScene)",
@@ -285,7 +318,9 @@ _WHAT = {AbstractLinearScene: "no linear or linearisable part (it is not an Abst
                                "FlexibleRotor, a ReducedRotor or a CantileverRotor)",
          AbstractShaftModel: "no finite-element shaft layout (it is not an AbstractShaftModel: a FlexibleRotor, "
                              "ReducedRotor or RotorScene)",
-         AbstractReducibleScene: "no shaft to reduce (it is not an AbstractReducibleScene: a RotorScene)"}
+         AbstractReducibleScene: "no shaft to reduce (it is not an AbstractReducibleScene: a RotorScene)",
+         AbstractLocalScene: "no split into a linear part and local forces (it is not an AbstractLocalScene: a "
+                             "RotorScene)"}
 
 
 def provides(scene, capability: str) -> bool:

@@ -110,6 +110,12 @@ class AbstractRotorComponent(eqx.Module):
         return 0
 
     @property
+    def reads_motion(self) -> bool:
+        """Whether its force depends on the shaft's motion (not only on time and the
+        spin: an unbalance's does not)."""
+        return True
+
+    @property
     def in_equilibrium(self) -> bool:
         """Whether its force acts at rest and is part of the static equilibrium (a
         function of the shaft's state and speed alone: bearings, fluid films)."""

@@ -23,8 +23,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinearScene, AbstractReducibleScene,
-                        AbstractRotatingScene, AbstractShaftModel, LinearMatrices, MissingCapability)
+from ._contract import (AbstractContactScene, AbstractEnergyScene, AbstractLinearScene, AbstractLocalScene,
+                        AbstractReducibleScene, AbstractRotatingScene, AbstractShaftModel, LinearMatrices, LocalForces,
+                        MissingCapability)
 from ._fe_reduction import ReducedRotor, undamped_modes
 from ._fe_rotor import DOFS_PER_NODE, FlexibleRotor
 from ._base import Kinematics
@@ -76,7 +77,7 @@ def _assemble(rotor, table_speed, components):
 
 
 class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene, AbstractContactScene,
-                 AbstractEnergyScene, AbstractReducibleScene):
+                 AbstractEnergyScene, AbstractReducibleScene, AbstractLocalScene):
     """A finite-element rotor scene (see the module docstring).
 
     **Arguments:**
@@ -286,6 +287,47 @@ class RotorScene(AbstractLinearScene, AbstractShaftModel, AbstractRotatingScene,
         if has_films(self):
             return equilibrium_matrices(self, speed)
         return self._linear_about_rest(speed)
+
+    def local_forces(self) -> LocalForces | None:
+        """The equations at the constant speed `w` split (`LocalForces`): the linear
+        part `A` of `(q, q')` with `K + w K_s`, `C + w G1`, `a0` the static load's
+        acceleration, and the components' forces at their nodes (`force(t, x, v)`:
+        `x`, `v` the displacements and velocities `(x, y)` of the nodes whose forces
+        read the motion, in node order; the forces at those nodes, then at the others
+        with a force, an unbalance's). None with components that own coordinates or
+        load all dofs, a work state, or a speed that varies."""
+        if self.track_work or not isinstance(self.speed, ConstantSpeed) or any(c.n_coords for c in self.components):
+            return None
+        probe = self.shaft_state(0.0, jnp.zeros(self.n_shaft), jnp.zeros(self.n_shaft))
+        loads = [(c, c.force(probe, jnp.zeros(0), jnp.zeros(0))) for c in self.components]
+        if any(f is not None and not isinstance(f, NodeLoad) for _, f in loads):
+            return None
+        loaded = [c for c, f in loads if f is not None]
+        reads = sorted({c.node for c in loaded if c.reads_motion})
+        nodes = reads + sorted({c.node for c in loaded} - set(reads))
+        ns, w = self.n_shaft, self.speed.constant
+        K, C = self.L[:ns, :ns] + w * self.L[ns:2 * ns, :ns], self.L[:ns, ns:2 * ns] + w * self.L[ns:2 * ns, ns:2 * ns]
+        A = jnp.block([[jnp.zeros((ns, ns)), jnp.eye(ns)], [-self.Minv @ K, -self.Minv @ C]])
+        R = jnp.concatenate([self._node_rows(k) for k in nodes]) if nodes else jnp.zeros((0, ns))
+        E = jnp.concatenate([jnp.zeros((ns, R.shape[0])), self.Minv @ R.T])
+        # the read nodes' rows of an all-dof map from (x, v): each component reads its node as on the shaft
+        picks = np.zeros((DOFS_PER_NODE * self.full_rotor.n_nodes, 2 * len(reads)))
+        for i, k in enumerate(reads):
+            picks[DOFS_PER_NODE * k:DOFS_PER_NODE * k + 2, 2 * i:2 * i + 2] = np.eye(2)
+        picks = jnp.asarray(picks)
+
+        def force(t, x, v):
+            t = jnp.asarray(t, dtype=jnp.float64)
+            s = ShaftState(t=t, theta=self.speed.angle(t), theta_dot=self.speed.speed(t),
+                           theta_ddot=self.speed.acceleration(t), q=x, qd=v, E=picks)
+            total = {k: jnp.zeros(2) for k in nodes}
+            for c in loaded:
+                f = c.force(s, jnp.zeros(0), jnp.zeros(0))
+                total[f.node] = total[f.node] + f.f
+            return jnp.concatenate([total[k] for k in nodes]) if nodes else jnp.zeros(0)
+
+        return LocalForces(A=A, a0=jnp.concatenate([jnp.zeros(ns), self.Minv @ self.F0]),
+                           S=R[:2 * len(reads)], E=E, force=force)
 
     def _linear_about_rest(self, speed) -> LinearMatrices:
         """About the straight, resting shaft: the linear parts only."""

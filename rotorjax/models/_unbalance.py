@@ -37,6 +37,10 @@ class Unbalance(AbstractRotorComponent):
     def node(self):
         return self.node_index
 
+    @property
+    def reads_motion(self) -> bool:
+        return False
+
     def force(self, s, q, qd, active=None):
         a = s.theta + self.phase
         f = self.magnitude * (s.theta_dot**2 * jnp.stack([jnp.cos(a), jnp.sin(a)])

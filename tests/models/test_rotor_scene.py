@@ -12,8 +12,9 @@ import pytest
 import rotorjax
 from rotorjax.analysis import rotating_field, scene_unbalance_response
 from rotorjax.flexible import unbalance_response
-from rotorjax.models import (AbstractScene, BalancerAt, AutoBalancer, CubicBearing, Gravity, InternalDamping,
-                             LimitersAt, Limiters, MissingCapability, Race, RotorScene, RunUp, Unbalance, provides)
+from rotorjax.models import (AbstractScene, BalancerAt, AutoBalancer, ClearanceBearing, CubicBearing, Gravity,
+                             InternalDamping, JournalBearing, LimitersAt, Limiters, MissingCapability, Race,
+                             RotorScene, RunUp, Unbalance, provides)
 from rotorjax.presets._ross_compare import PRESET, build_rotor
 
 
@@ -68,6 +69,36 @@ def test_vector_field_equals_an_independent_assembly_at_random_states():
         got = np.asarray(sc.vector_field(t, jnp.asarray(y)))
         want = _numpy_field(rotor, t, y, 80.0, 3.0, 2e-3, 3, 0.4, 5e11, 6, 2e-4, 9.81)
         assert np.allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())
+
+
+def test_local_forces_split_the_equations_at_random_states():
+    """`local_forces()` (what harmonic balance condenses on): `y' = A y + a0 + E
+    force(t, S q, S q')` at random states and times, with every kind of force at a
+    node (cubic, clearance, journal film, limiters, unbalance) and whole-shaft linear
+    parts (internal damping, gravity); the read coordinates are the nodes whose
+    forces read the motion (not the unbalance's); no split where the equations are
+    not of that form."""
+    rotor = _rotor()
+    comps = (Unbalance(3, 2e-3, 0.4), CubicBearing(6, 5e11, k=1e5), ClearanceBearing(2, 2e-4, 1e7, c=50.0),
+             JournalBearing(0, 0.02, 0.02, 0.05, 1e-3),
+             LimitersAt(4, Limiters(np.arange(3) * 2.1, 3e-4, stiffness=1e7, damping=2e3, friction=0.1), 0.1),
+             InternalDamping(2e-4), Gravity(9.81))
+    sc = RotorScene(rotor, 90.0, comps)
+    local = sc.local_forces()
+    ns = sc.n_dof
+    assert local.S.shape == (8, ns) and local.E.shape == (2 * ns, 10) and local.A.shape == (2 * ns, 2 * ns)
+    rng = np.random.default_rng(1)
+    for _ in range(4):
+        t = rng.uniform(0, 1)
+        y = rng.normal(size=sc.state_size) * 3e-4
+        want = np.asarray(sc.vector_field(t, jnp.asarray(y)))
+        q, qd = y[:ns], y[ns:]
+        got = np.asarray(local.A @ y + local.a0 + local.E @ local.force(t, local.S @ q, local.S @ qd))
+        assert np.allclose(got, want, rtol=1e-11, atol=1e-11 * np.abs(want).max())
+    assert RotorScene(rotor, RunUp(80.0, 3.0), comps).local_forces() is None
+    assert RotorScene(rotor, 90.0, comps, track_work=True).local_forces() is None
+    balancer = BalancerAt(2, AutoBalancer(jnp.full(2, 0.05), Race.circular(0.05), drag=0.3))
+    assert RotorScene(rotor, 90.0, (balancer,)).local_forces() is None
 
 
 def test_linear_part_and_unbalance_load_match_the_flexible_rotor_analyses():
