@@ -18,16 +18,12 @@ from jax.test_util import check_grads
 from rotorjax import presets
 from rotorjax.analysis import balance_residual, harmonic_balance
 from rotorjax.analysis import _harmonic_balance, _condensed
-from tests.validation.test_periodic_auto_harmonics import SHIPPED, variant
+from tests.validation.test_periodic_auto_harmonics import SHIPPED, variant_scene
 
 
 @pytest.fixture(scope="module")
 def scene(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rotor") / "anisotropic_cubic.toml"
-    with open(SHIPPED) as f:
-        path.write_text(variant(f.read()))
-    preset = presets.get(str(path))
-    return eqx.tree_at(lambda s: s.speed.constant, preset.build(preset.params()).scene, 101.0)
+    return eqx.tree_at(lambda s: s.speed.constant, variant_scene(tmp_path_factory.mktemp("rotor")), 101.0)
 
 
 def test_the_condensed_balance_equals_the_whole_one(scene, monkeypatch):

@@ -40,13 +40,18 @@ def variant(text):
     return text
 
 
-@pytest.fixture(scope="module")
-def branch(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rotor") / "anisotropic_cubic.toml"
+def variant_scene(folder):
+    """The variant's scene (its rotor file written in `folder`)."""
+    path = folder / "anisotropic_cubic.toml"
     with open(SHIPPED) as f:
         path.write_text(variant(f.read()))
     preset = presets.get(str(path))
-    scene = preset.build(preset.params()).scene
+    return preset.build(preset.params()).scene
+
+
+@pytest.fixture(scope="module")
+def branch(tmp_path_factory):
+    scene = variant_scene(tmp_path_factory.mktemp("rotor"))
 
     def scene_at(w):
         return eqx.tree_at(lambda s: s.speed.constant, scene, w)
