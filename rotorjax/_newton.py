@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 
 
-def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None):
+def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, jacobian=None):
     """The root of `residual` from `x0`: iterate until the relative step is <= `tol`
     or `max_iter` steps, or a step is not finite. The step is relative to the largest
     `|x|`, or to `unit` where that is larger (given: a root at or near 0 converges
@@ -19,14 +19,19 @@ def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None):
     the step to take (a damped one: keeps the iterate where `residual` is defined).
     `floor`, if given: also stop at a step <= `floor` that no longer halves (the
     rounding floor of an ill-conditioned system: more iterations only stir the
-    noise). Returns `(x, (step, iterations))`, `step` the last relative step
-    (check the residual too)."""
+    noise). `jacobian(x)`, if given, is the residual's Jacobian, computed by the
+    caller's cheaper rule (a fold's defining system: its second derivatives by
+    directional derivatives, not a Jacobian of a Jacobian). Returns `(x, (step,
+    iterations))`, `step` the last relative step (check the residual too)."""
 
     def solve(f, x):
         def body(state):
             x, _, prev, it = state
-            r, jvp = jax.linearize(f, x)
-            J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
+            if jacobian is None:
+                r, jvp = jax.linearize(f, x)
+                J = jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
+            else:
+                r, J = f(x), jacobian(x)
             dx = jnp.linalg.solve(J, r)
             if limit is not None:
                 dx = limit(x, dx)

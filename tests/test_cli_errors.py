@@ -287,6 +287,10 @@ CASES = [
     (["continue", *A, "--param", "n", "--param2", "mu_w", "--to", "1", "2"], 2, r"--to is for one-parameter"),
     (["continue", *A, "--param", "n", "--from", "nan"], 2, r"argument --from: must be finite"),
     (["continue", *A, "--param", "n", "--from", "-2"], 2, r"--from: n=-2"),
+    (["continue", *A, "--param", "n", "--param2", "mu_w", "--switch"], 2,
+     r"--switch: branch points are switched at on a one-parameter branch; a boundary \(--param2 mu_w\)"),
+    (["continue", *A, "--param", "n", "--switch"], 2,
+     r"--switch: anisotropic-abb is continued by the Floquet multipliers .* leave out --switch"),
     # --- balance ---
     (["balance", "--runs", "{d}/empty.csv"], 2, r"empty\.csv"),
     (["balance", "--runs", "{d}/missing.csv"], 2, r"missing\.csv"),

@@ -330,3 +330,14 @@ def test_the_jump_boundary_files(jump):
         assert f.readline().strip() == f"speed,{K3},fold_curve"
     for i, c in enumerate(d["fold_curves"]):
         np.testing.assert_allclose(rows[rows[:, 2] == i][:, :2], np.column_stack([c["speed"], c[K3]]))
+
+
+def test_an_exit_3_names_every_reason():
+    """A branch that ran out of points and missed its harmonics target says both (the
+    first, the others after it), then the files written."""
+    from rotorjax.cli._periodic import _failure
+
+    assert _failure(["max_points reached", "harmonics insufficient"], "/out/periodic_rig_speed") == \
+        "max_points reached; also: harmonics insufficient (files written: periodic_rig_speed.*)"
+    assert _failure(["max_points reached"], "/out/periodic_rig_speed") == \
+        "max_points reached (files written: periodic_rig_speed.*)"

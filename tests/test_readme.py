@@ -517,6 +517,8 @@ def test_readme_has_examples():
 #: documented commands run as written by another test file, on that file's shared computations (no double work):
 #: command -> (file, the constant there that holds the command)
 RUN_ELSEWHERE = {
+    "rotorjax continue elliptic-abb --param eps --set rho2=1.28 --set eps=0.02 --to 0.005 0.1 --switch":
+        ("tests/analysis/test_balancer_pitchfork.py", "DOCS_COMMAND"),
     "rotorjax optimize elliptic-abb --set rho1=1.2 --vary delta_n=0.05:1 --vary delta_b=5:400 --range 0.5 6 "
     "--starts 3": ("tests/design/test_stable_range.py", "README_OPTIMIZE"),
     "rotorjax periodic cubic_rig.toml --param speed --range 100 106": ("tests/test_cli_periodic.py", "DOCS_COMMAND"),

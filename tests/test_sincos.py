@@ -38,12 +38,14 @@ def test_exact_values_near_the_multiples_of_a_quarter_turn():
 
 def test_derivatives_are_the_pair_itself():
     """`custom_jvp`: d sin = cos, d cos = -sin, exactly the computed pair (forward
-    and reverse mode, and a second derivative)."""
+    and reverse mode); a second derivative, through the polynomials (the rule does
+    not call `sincos` itself, so that programs holding it are shared: `solve._lift`),
+    within 1e-15 of it (measured: 7.8e-16)."""
     x = jnp.linspace(-50.0, 50.0, 101)
     s, c = sincos(x)
     np.testing.assert_array_equal(jax.vmap(jax.grad(sin))(x), c)
     np.testing.assert_array_equal(jax.vmap(jax.grad(cos))(x), -s)
-    np.testing.assert_array_equal(jax.vmap(jax.grad(jax.grad(sin)))(x), -s)
+    np.testing.assert_allclose(jax.vmap(jax.grad(jax.grad(sin)))(x), -s, rtol=0, atol=1e-15)
     _, (ds, dc) = jax.jvp(sincos, (x,), (jnp.ones_like(x),))
     np.testing.assert_array_equal(ds, c)
 

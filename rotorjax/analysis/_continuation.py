@@ -823,19 +823,6 @@ def _fold_function(J0):
     return lambda J: bordered_fold(J, b, c)
 
 
-def _newton(fun, x0, tol=1e-12, max_iter=30, args=(), compiled=None):
-    """Newton on `fun(x, *args) = 0`; `compiled`: `(jit(fun), jit(jacfwd(fun)))`
-    made once by a caller that solves many such systems (one compilation)."""
-    x = jnp.asarray(x0, dtype=jnp.float64)
-    f, J = compiled or (jax.jit(fun), jax.jit(jax.jacfwd(fun)))
-    for _ in range(max_iter):
-        dx = jnp.linalg.solve(J(x, *args), -f(x, *args))
-        x = x + dx
-        if float(jnp.max(jnp.abs(dx))) <= tol * max(1.0, float(jnp.max(jnp.abs(x)))):
-            break
-    return np.asarray(x), float(jnp.max(jnp.abs(f(x, *args))))
-
-
 def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds_max=0.2, max_points=300,
                     tol=1e-11, direction=None, start_tol=1e-8, ds_min=1e-9, max_turn=0.2, name="p",
                     progress=False, dense_tol=None, gtol=1e-8, exponents=None, watch=None) -> Branch:
@@ -891,20 +878,23 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     eig, bordered, jacs = _point_checks(Gl, xs, tangents, exponents)
     margin = np.array([e.real.max() for e in eig])
     n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
-    fold_system = (lambda z, bb, cc: _fold_residual(Gl, z, bb, cc),   # F = 0 and F_u singular
-                   lambda z, bb, cc: _fold_jacobian(Gl, z, bb, cc))
     events = []
     for i in range(len(xs) - 1):
         a, b = xs[i], xs[i + 1]
         fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
-        if fold:
-            borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
-            z, r = _newton(None, 0.5 * (a + b), args=borders, compiled=fold_system)
-            events.append(_refined_event(z, r, a, b, n, (i, i + 1), gtol,
-                                      max(curve.residuals[i], curve.residuals[i + 1])))
-        elif np.sign(bordered[i]) != np.sign(bordered[i + 1]):
+        # the bordered determinant keeps its sign through a fold (the curve is regular there) and changes it at a
+        # branch point, also where the curve turns back in p there (a symmetric rotor's pitchfork met along its
+        # bifurcating branch: a fold of the tangent, not of the curve)
+        crossed = np.sign(bordered[i]) != np.sign(bordered[i + 1])
+        if crossed:
             events.append(_branch_point_event(Gl, a, b, n, (i, i + 1), gtol,
                                               max(curve.residuals[i], curve.residuals[i + 1])))
+        elif fold:
+            borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
+            z, r = _refined_fold(Gl, jnp.asarray(0.5 * (a + b)), *borders)
+            z, r = np.asarray(z), float(r)
+            events.append(_refined_event(z, r, a, b, n, (i, i + 1), gtol,
+                                      max(curve.residuals[i], curve.residuals[i + 1])))
         if n_unstable[i] != n_unstable[i + 1] and not fold:   # at a fold a real eigenvalue crosses
             # the eigenvalue that crossed: the least unstable one on the more unstable
             # side (not the one nearest the axis, which may be a lightly damped
@@ -1034,8 +1024,14 @@ def _fold_system_jacobian(G, z, b, c):
     return jnp.concatenate([Jz, -jax.jacfwd(bilinear)(z)[None]])
 
 
-_fold_residual = compiled(_fold_system)
-_fold_jacobian = compiled(_fold_system_jacobian)
+@compiled
+def _refined_fold(G, z0, b, c):
+    """The fold near `z0` (rows `(u, p)`) by the one Newton (`rotorjax._newton`) on
+    `_fold_system` with `_fold_system_jacobian`, in one compiled loop per structure
+    of `G`: `(z, max |residual|)`."""
+    z, _ = newton(lambda y: _fold_system(G, y, b, c), z0, 1e-12, 30, floor=1e-10, unit=1.0,
+                  jacobian=lambda y: _fold_system_jacobian(G, y, b, c))
+    return z, jnp.max(jnp.abs(_fold_system(G, z, b, c)))
 
 
 #: a refined Hopf point's largest residual (the pair's real part, F), relative to its frequency

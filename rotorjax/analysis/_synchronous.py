@@ -16,10 +16,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._errors import InputError, NumericalError
+from .._newton import newton
 from ..models._contract import require
 from ..models._speed import ConstantSpeed
 from ..models._validate import check_span
-from ._continuation import Branch, _newton, continue_branch, physical_stops
+from ._continuation import Branch, continue_branch, physical_stops
 from ._response import scene_unbalance_response
 from ._rotating import rotating_field
 
@@ -68,7 +69,8 @@ def synchronous_branch(scene, speed_range, speed0=None, ds=0.05, ds_max=0.5, max
         return rotating_field(make_scene(sp * p), 0.0, u * scale) / (scale * sp)
 
     z0 = np.asarray(scene0.to_rotating(0.0, y_lin)) / np.asarray(scale)
-    z0, r = _newton(lambda z: F(z, 1.0), jnp.asarray(z0))
+    z0, _ = newton(lambda z: F(z, 1.0), jnp.asarray(z0), 1e-12, 30, floor=1e-10, unit=1.0)
+    r = float(jnp.max(jnp.abs(F(z0, 1.0))))
     if not r < 1e-8:
         raise NumericalError(f"synchronous_branch: Newton from the linear response at speed {sp} did not "
                              f"converge (residual {r:.2e})")

@@ -5,8 +5,8 @@ import os
 
 import numpy as np
 
-from ._common import (InputError, get_preset, out_stem, param_span, prepare_out, preset_params, stability_study,
-                      write_json)
+from ._common import (InputError, NumericalError, get_preset, out_stem, param_span, prepare_out, preset_params,
+                      stability_study, write_json)
 
 #: the accuracy of a boundary's dense curve between its points (along --param, at fixed --param2)
 DENSE_TOL = 1e-6
@@ -79,6 +79,9 @@ def cmd_continue(args) -> int:
         raise InputError("--to is for one-parameter continuation; a boundary takes --box")
     if not key2 and args.box is not None:
         raise InputError("--box is for a boundary (--param2); one-parameter continuation takes --to")
+    if key2 and args.switch:
+        raise InputError(f"--switch: branch points are switched at on a one-parameter branch; a boundary "
+                         f"(--param2 {key2}) has none to switch at: leave out --switch or --param2")
     direction = _direction(args.direction)
     prepare_out(args.out)
     stem = out_stem(args.out, preset, "continue_", f"_{key}" + (f"_{key2}" if key2 else ""))
@@ -141,6 +144,9 @@ def cmd_continue(args) -> int:
         save_figure(plot_boundaries(branches, crossings, key=key, key2=key2, box=box,
                                     title=f"{preset.name}: stability boundary of {study.regime}"), stem + ".png")
     elif study is not None and study.floquet_family is not None:
+        if args.switch:
+            raise InputError(f"--switch: {preset.name} is continued by the Floquet multipliers of its main motion "
+                             f"along {key}, a scan with no branch points to switch at; leave out --switch")
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
         found = floquet_crossings(study.floquet_family(params, key), lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
                                   progress=not args.json)
@@ -162,12 +168,18 @@ def cmd_continue(args) -> int:
         br = continue_branch(F, u0, start[0], p_bounds=(lo, hi), ds=args.ds, ds_max=args.ds_max,
                              max_points=args.max_points, direction=direction, name=key,
                              progress=not args.json)
-        out.update({"kind": "branch of the balanced regime (rotating frame)", **br.as_dict(),
-                    "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()})
-        np.savetxt(stem + ".csv", np.column_stack([br.p, br.margin, br.curve.residuals]), delimiter=",",
-                   header=f"{key},margin,residual", comments="")
-        save_figure(plot_curves(br.p, {"largest real part": br.margin}, x_label=key, y_label="margin",
-                                title=f"{preset.name}: branch in {key}"), stem + ".png")
+        out.update({"kind": "branch of the balanced regime (rotating frame)", **_branch_dict(br)})
+        switched = _switched(F, br, (lo, hi), args, key) if args.switch else []
+        if args.switch:
+            out["switched"] = [dict(_branch_dict(b), at=e.p) for e, b in switched]
+        rows = [np.column_stack([b.p, b.margin, b.curve.residuals, np.full(b.p.size, i)])
+                for i, b in enumerate([br] + [b for _, b in switched])]
+        np.savetxt(stem + ".csv", np.concatenate(rows), delimiter=",",
+                   header=f"{key},margin,residual" + (",branch" if args.switch else ""), comments="",
+                   fmt="%.17g")
+        save_figure(plot_curves(br.p, {"largest real part": br.margin, **{
+            f"switched at {key} = {e.p:.6g}": (b.p, b.margin) for e, b in switched}}, x_label=key,
+            y_label="margin", title=f"{preset.name}: branch in {key}"), stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json"}
     if os.path.exists(stem + ".png"):
         out["files"]["plot"] = stem + ".png"
@@ -202,4 +214,44 @@ def cmd_continue(args) -> int:
         print(f"  {c.get('kind')} at {key} = {c['p']:.8g} (residual {c['residual']:.1e}{how})")
     if "stopped" in out:
         print(f"  stopped: {out['stopped']}")
+    if args.switch and not out["switched"]:
+        print("  --switch: no refined branch point on the branch")
+    for b in out.get("switched", []):
+        print(f"  switched at the branch point {key} = {b['at']:.8g}: {key} in [{min(b['p']):.6g}, "
+              f"{max(b['p']):.6g}], {b['n_points']} points, {sum(not s for s in b['stable'])} unstable; "
+              + "; ".join(f"{e['kind']} at {key} = {e['p']:.8g}" for e in b["events"])
+              + f"; stopped: {b['stopped']}")
     return 0
+
+
+def _branch_dict(br):
+    """A branch's JSON: `Branch.as_dict` and the whirl amplitude at each point."""
+    return {**br.as_dict(), "whirl_amplitude": np.linalg.norm(br.u[:, :2], axis=1).tolist()}
+
+
+def _switched(F, br, bounds, args, key):
+    """`--switch`: `[(event, branch)]`, the branch crossing `br` at each of its refined
+    branch points, traced over the same range. A branch point located to the step
+    only is reported and not switched at; a crossing branch that does not start is
+    a numerical failure (exit 3)."""
+    import warnings
+
+    from rotorjax.analysis import switch_branch
+    from .._errors import PlausibilityWarning
+
+    out = []
+    for e in br.events:
+        if e.kind != "branch_point":
+            continue
+        if e.tangent is None:
+            warnings.warn(f"--switch: the branch point at {key} = {e.p:.8g} was not switched at: {e.note}",
+                          PlausibilityWarning)
+            continue
+        try:
+            other = switch_branch(F, e, p_bounds=bounds, ds=args.ds, ds_max=args.ds_max,
+                                  max_points=args.max_points, name=key, progress=not args.json)
+        except ValueError as err:
+            raise NumericalError(f"--switch: the branch crossing at {key} = {e.p:.8g} did not start: {err}; "
+                                 "give a smaller --ds") from None
+        out.append((e, other))
+    return out

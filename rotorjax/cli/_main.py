@@ -328,6 +328,9 @@ def build_parser():
                                               "or decreasing (down) --param2 (--param for a branch)")),
                  (("--gradient",), dict(default="auto", choices=("auto", "autodiff", "fd"),
                                         help="tangents by autodiff or central differences (Floquet margins)")),
+                 (("--switch",), dict(action="store_true",
+                                      help="one-parameter branch: also trace the branch that crosses it at each "
+                                           "refined branch point (over the same range)")),
              ], kinds="all presets with a reference regime")
     _command(sub, "periodic", "periodic forced motions continued in one parameter (harmonic balance or "
              "shooting): amplitude, stability, folds and bifurcations", cmd_periodic, [

@@ -115,6 +115,13 @@ def _start(preset, params, key, lo, hi, given):
     return start, f"the end of --range nearest to the preset's value {own:g}"
 
 
+def _failure(failed, stem):
+    """The exit-3 message: the first reason, the others after it (a branch that ran
+    out of points may also have missed its harmonics target), and the files written."""
+    also = f"; also: {'; '.join(failed[1:])}" if len(failed) > 1 else ""
+    return f"{failed[0]}{also} (files written: {os.path.basename(stem)}.*)"
+
+
 def _incomplete(curve, p, key, lo, hi, max_points):
     """The reasons (with what to change) why a branch (its `Curve`) ended inside the
     range, one per end whose outcome is not `successful` (the range's edge, a closed
@@ -260,7 +267,7 @@ def cmd_periodic(args) -> int:
         if second is not None:
             _print_second(out, key, args.param2)
     if failed:
-        raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
+        raise NumericalError(_failure(failed, stem))
     return 0
 
 
@@ -493,5 +500,5 @@ def _from_hopf(args, preset, params, key, lo, hi):
         _print_bifurcations(bifurcations, key)
         print(f"  stops: {'; '.join(br.stops)}")
     if failed:
-        raise NumericalError(f"{failed[0]} (files written: {os.path.basename(stem)}.*)")
+        raise NumericalError(_failure(failed, stem))
     return 0

@@ -194,16 +194,17 @@ def plot_simulation(result, path=None, title="", speed=None, x_label="time", tim
 
 
 def plot_curves(x, curves: dict, path=None, x_label="", y_label="", title="", log=False, shade=None, *, ax=None):
-    """Several named curves on one axis (`ax`, or a new figure's); `shade` is an
-    optional boolean mask over `x` drawn as a background band (e.g. where a
-    criterion predicts balancing). Returns the `Figure`."""
+    """Several named curves on one axis (`ax`, or a new figure's), each `y` over
+    `x` or a pair `(x_i, y_i)` of its own; `shade` is an optional boolean mask over
+    `x` drawn as a background band (e.g. where a criterion predicts balancing).
+    Returns the `Figure`."""
     fig, ax, layout = _on_axes(ax, (8, 4), path, "plot_curves")
     if shade is not None:
         shade = np.asarray(shade)
         ax.fill_between(x, 0, 1, where=shade, color="tab:green", alpha=0.12,
                         transform=ax.get_xaxis_transform(), label="criterion: balancing")
     for label, y in curves.items():
-        ax.plot(x, y, lw=1.0, label=label)
+        ax.plot(*(y if isinstance(y, tuple) else (x, y)), lw=1.0, label=label)
     if log:
         ax.set_yscale("log")
     ax.set_xlabel(x_label)

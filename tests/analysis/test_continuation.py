@@ -48,8 +48,8 @@ def duffing_fold_forcing(om):
 def test_duffing_branch_folds_and_fold_curve_match_the_closed_form():
     f0 = 0.05
     u0 = np.array([0.06653383, 0.00221583])
-    from rotorjax.analysis._continuation import _newton
-    u0, r = _newton(lambda u: duffing(u, 0.5, f0), u0)
+    from rotorjax._newton import newton
+    u0, _ = newton(lambda u: duffing(u, 0.5, f0), jnp.asarray(u0), 1e-12, 30, unit=1.0)
     br = continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0), ds=0.02, ds_max=0.05,
                          max_points=400)
     folds = [e for e in br.events if e.kind == "fold"]

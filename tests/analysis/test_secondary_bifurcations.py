@@ -100,10 +100,11 @@ def test_switching_onto_the_doubled_branch(rest_branch):
     assert np.max(np.abs(yT - y0)) > 1e-2
     br2, c2 = periodic_branch(Mathieu, float(p), start, (1.5, 1.95), harmonics=12, subharmonic=2, ds=0.05,
                               ds_max=0.2, max_points=60)
-    # one end falls back onto the rest at the period-doubling point (the doubled
-    # problem's branch point, seen as a fold), the other grows
-    back = [e for e in br2.events if e.kind == "fold"]
-    assert len(back) == 1 and abs(back[0].p - pd.p) < 1e-8
+    # one end falls back onto the rest at the period-doubling point: the doubled problem's branch point
+    # (a pitchfork: the rest is a branch of the doubled problem too), where the tangent turns back in p
+    # but the bordered determinant changes sign -- a branch point, not a fold; the other end grows
+    back = [e for e in br2.events if e.kind in ("fold", "branch_point")]
+    assert [e.kind for e in back] == ["branch_point"] and abs(back[0].p - pd.p) < 1e-8
     far = int(np.argmax(np.asarray(br2.p)))
     s = harmonic_balance(Mathieu(float(br2.p[far])), 4 * np.pi / float(br2.p[far]), c2[far], harmonics=12)
     assert int(s.code) == 0 and float(s.floquet.closure) < 1e-8

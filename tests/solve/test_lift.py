@@ -28,6 +28,21 @@ def test_closures_over_other_arrays_share_one_compilation():
     np.testing.assert_allclose(jacobian(f2, X, 1.5), jax.jacfwd(_closure(A2))(X, 1.5), rtol=1e-13)
 
 
+def test_the_package_s_sine_and_cosine_share_their_programs():
+    # `_sincos`' derivative rule once called `sincos` itself: every trace held a new rule object, so no
+    # program of a rotating model's Jacobian was ever shared (a second branch of the same auto-balancer
+    # compiled for 25 s again; found by `tests/analysis/test_balancer_pitchfork.py`)
+    from rotorjax._sincos import cos, sin
+
+    def make(A):
+        return lambda x: jax.jacfwd(lambda y: sin(A @ y) * cos(y))(x) @ x
+
+    A1, A2 = jnp.eye(3), 2.0 * jnp.ones((3, 3))
+    f1, f2 = lift(make(A1), X), lift(make(A2), X)
+    assert f1.structure is f2.structure
+    np.testing.assert_allclose(call(f2, X), make(A2)(X), rtol=1e-14)
+
+
 def test_a_jacobian_inside_shares_one_compilation():
     # jacfwd inside the program (a fold's test function, a bordered system) stages a conversion whose
     # sharding parameter is a new object per trace: compared by value, not identity (found when every
