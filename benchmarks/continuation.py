@@ -70,8 +70,9 @@ def main():
                                             ds_max=0.1), repeats=0 if args.smoke else 3)
     hopf = [e for e in br.events if e.kind == "hopf"][0]
     f0 = 0.05
-    from rotorjax.analysis._continuation import _newton
-    u0, _ = _newton(lambda u: duffing(u, 0.5, f0), np.array([0.0665, 0.0022]))
+    from rotorjax._newton import newton
+    u0, _ = newton(lambda u: duffing(u, 0.5, f0), jnp.array([0.0665, 0.0022]), 1e-12, 30, unit=1.0)
+    u0 = np.asarray(u0)
     t_d, bd = timed(lambda: continue_branch(lambda u, om: duffing(u, om, f0), u0, 0.5, p_bounds=(0.5, 2.0),
                                             ds=0.02, ds_max=0.05, max_points=400), repeats=0 if args.smoke else 3)
     folds = [e.p for e in bd.events if e.kind == "fold"]

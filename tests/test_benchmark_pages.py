@@ -320,3 +320,19 @@ def test_the_speed_page_states_the_threshold_scan():
     assert rows["journal_rig"]["thresholds"] == pytest.approx([207.55], abs=0.01)
     assert rows["model_001_floquet"]["thresholds"] == pytest.approx([1.014348, 5.049930, 8.322286], abs=1e-5)
     assert rows["tapered_36"]["thresholds"] == [] and {r["n_scan"] for r in rows.values()} == {200}
+
+
+def test_continuation_times_are_the_json():
+    """docs/speed.md's row of benchmarks/continuation.py (against jaxcont) and docs/continuation.md's
+    time for model 001's boundaries are `continuation.json`'s."""
+    d = json.loads((BENCH / "results" / "continuation.json").read_text())
+    b, r, j = d["boundaries_001"], d["shared"]["rotorjax"], d["shared"]["jaxcont"]
+    speed = (BENCH.parent / "docs" / "speed.md").read_text()
+    assert (f"| {r['brusselator_s']:.3f} s (error {max(r['hopf_error'], r['hopf_frequency_error']):.0e}) / "
+            f"{r['duffing_s']:.3f} s (both folds, {r['fold_error_rel']:.0e}) | jaxcont {j['version']}: "
+            f"{j['brusselator_s']:.2f} s ({max(j['hopf_error'], j['hopf_frequency_error']):.0e}) / "
+            f"{j['duffing_s']:.2f} s (one fold of two, {j['fold_error_rel']:.0e}) | "
+            f"{j['brusselator_s'] / r['brusselator_s']:.0f}x / {j['duffing_s'] / r['duffing_s']:.0f}x |") in speed
+    docs = " ".join((BENCH.parent / "docs" / "continuation.md").read_text().split())
+    assert (f"in {b['trace_boundaries_first_call_s']:.0f} s on 2 cores (a second call "
+            f"{b['trace_boundaries_second_call_s']:.0f} s)") in docs
