@@ -10,9 +10,10 @@ step adapted to the corrector's effort, to the turning of the tangent and, when 
 
 - `continue_branch(F, u0, p0)`: `x = (u, p)`, `G = F(u, p)` (a stationary regime
   of a first-order field, e.g. the rotating-frame field); along the branch the
-  eigenvalues of `F_u` give stability; a sign change of the tangent's `p`
-  component is a fold (refined on `{F = 0, det F_u = 0}`), of the bordered
-  determinant `det [F_u F_p; t^T]` a branch point, and a change in the number of
+  eigenvalues of `F_u` give stability; a sign change of the bordered determinant
+  `det [F_u F_p; t^T]` is a branch point (also where the tangent turns back in `p`
+  there: a pitchfork met along its bifurcating branch), else one of the tangent's
+  `p` component a fold (refined on `{F = 0, det F_u = 0}`), and a change in the number of
   unstable eigenvalues through a complex pair a Hopf point (refined by bisection
   along the branch on the pair's real part).
 - `trace_boundary(sigma, p0)`: `x = (p1, p2)`, `G = sigma(p1, p2)`: a stability
