@@ -665,6 +665,11 @@ CASES = [
      r"--from-hopf: --from does not apply"),
     (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf", "--method",
       "shooting"], 2, r"--from-hopf: --method does not apply"),
+    (["periodic", "cubic_rig.toml", "--param", "speed", "--range", "100", "106", "--method", "shooting",
+      "--switch"], 2, r"--switch: branch points are switched at on a harmonic-balance branch of forced motions, "
+                      r"not with --method shooting; leave out --switch"),
+    (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf", "--switch"], 2,
+     r"--switch: .* not with --from-hopf; leave out --switch"),
     (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--hopf-amplitude", "1e-3"], 2,
      r"--hopf-amplitude 0\.001: it sizes the first cycle of --from-hopf; give --from-hopf too"),
     (["periodic", "journal_rig.toml", "--param", "speed", "--range", "200", "210", "--from-hopf",

@@ -34,7 +34,7 @@ def run(tmp_path_factory):
 
     stdout, stderr = io.StringIO(), io.StringIO()
     with redirect_stdout(stdout), redirect_stderr(stderr):
-        rc = main(ARGV + ["--node", str(NODE), "--json", "--out", str(out)])
+        rc = main(ARGV + ["--node", str(NODE), "--json", "--out", str(out), "--switch"])
     assert rc == 0, stderr.getvalue()
     return json.loads(stdout.getvalue()), out
 
@@ -65,6 +65,9 @@ def test_json_has_the_branch_and_its_bifurcations(run):
     for e in d["bifurcations"]:
         assert set(e) >= {"kind", "speed", "amplitude", "residual"}
         assert e["kind"] in ("fold", "branch-point", "period-doubling", "neimark-sacker", "hopf")
+    # --switch: the synchronous branch of this rotor has no branch point (its folds only)
+    assert d["switched"] == [] and "branch-point" not in {e["kind"] for e in d["bifurcations"]}
+    assert "the CSV's `branch` column (0 the branch, 1, 2, ... the switched ones)" in cli
 
 
 def test_folds_are_the_synchronous_branchs(run, scene):
@@ -127,8 +130,9 @@ def test_files_are_written(run):
         assert json.load(f) == d
     rows = np.loadtxt(stem + ".csv", delimiter=",", skiprows=1)
     with open(stem + ".csv") as f:
-        assert f.readline().strip() == "speed,amplitude,stable,margin"
+        assert f.readline().strip() == "speed,amplitude,stable,margin,branch"    # --switch: the branch column
     (b,) = d["branches"]
+    np.testing.assert_array_equal(rows[:, -1], 0.0)
     np.testing.assert_allclose(rows[:, 0], b["speed"])
     np.testing.assert_array_equal(rows[:, 2].astype(bool), b["stable"])
 

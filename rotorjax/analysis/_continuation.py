@@ -723,6 +723,9 @@ class BranchEvent:
       change in the number of unstable ones): 2 for a complex pair; on a branch of
       periodic motions 1 for a real multiplier through -1 (a period doubling), 2
       for a pair (Neimark-Sacker). None for the other kinds.
+    - `switched`: at a refined branch point of a periodic branch traced with
+      `periodic_branch(switch=True)`, the crossing branch, `(PeriodicBranch,
+      coefficients)` as `periodic_branch` returns them; else None.
 
     `as_dict()` gives the JSON row; `event["p"]` style access still reads the same
     keys, deprecated (for code written against the former dict rows)."""
@@ -736,6 +739,7 @@ class BranchEvent:
     note: str = None
     crossing: int = None
     tangent: np.ndarray = None
+    switched: tuple = None
 
     def __post_init__(self):
         object.__setattr__(self, "between", tuple(int(i) for i in self.between))
@@ -932,11 +936,16 @@ def _point_checks(Gl, xs, tangents, exponents):
     return eig, np.array(bordered), jacs
 
 
+#: `switch_branch`: how many times the first step off a branch point is halved before it gives up
+SWITCH_HALVINGS = 6
+
+
 def switch_branch(F: Callable, event: BranchEvent, p_bounds=(-np.inf, np.inf), h=None, ds=0.01,
                   start_tol=1e-8, **options) -> Branch:
     """The branch of `F(u, p) = 0` that crosses another at its branch point `event`
     (a refined `"branch_point"` of `continue_branch` on the same `F`, holding the
-    crossing branch's `tangent`): its first point `h` (default `ds`) from the
+    crossing branch's `tangent`): its first point `h` (default `ds`; halved up to
+    `SWITCH_HALVINGS` times until it converges) from the
     branch point along that tangent, corrected by Newton on the hyperplane normal
     to it, then `continue_branch` from there (`p_bounds`, `ds`, `start_tol` and
     `options` as there; traced both ways by default, so through the branch point to
@@ -955,11 +964,14 @@ def switch_branch(F: Callable, event: BranchEvent, p_bounds=(-np.inf, np.inf), h
     Gl = lift(G, jnp.asarray(x0))
     h = ds if h is None else h
     t = np.asarray(event.tangent, dtype=float)
-    y = np.asarray(_on_branch(Gl, jnp.asarray(x0 + h * t), jnp.asarray(t)))
-    r = float(np.max(np.abs(np.asarray(call(Gl, jnp.asarray(y))))))
-    if not (np.all(np.isfinite(y)) and r <= start_tol):
-        raise ValueError(f"switch_branch: the first point on the crossing branch, {h:g} from the branch point, "
-                         f"did not converge (residual {r:.1e} > {start_tol:g}); give a smaller h")
+    for k in range(SWITCH_HALVINGS + 1):
+        y = np.asarray(_on_branch(Gl, jnp.asarray(x0 + h / 2 ** k * t), jnp.asarray(t)))
+        r = float(np.max(np.abs(np.asarray(call(Gl, jnp.asarray(y))))))
+        if np.all(np.isfinite(y)) and r <= start_tol:
+            break
+    else:
+        raise ValueError(f"switch_branch: the first point on the crossing branch, {h:g} to {h / 2 ** k:g} from the "
+                         f"branch point, did not converge (residual {r:.1e} > {start_tol:g}); give a smaller h")
     return continue_branch(F, y[:n], y[n], p_bounds=p_bounds, ds=ds, start_tol=start_tol, **options)
 
 

@@ -50,7 +50,7 @@ def shoot_events(scene, y_guess, period, t0=0.0, max_iter=20, tol=1e-11, rtol=1e
     normal = np.asarray(scene.vector_field(t0, jnp.asarray(y), scene.contact_indicator(t0, jnp.asarray(y)) > 0))
 
     def G(z):
-        g = flow(z[:n], z[n]) - z[:n]
+        g = flow(z[:n], z[n] if autonomous else T) - z[:n]
         return np.concatenate([g, [normal @ (z[:n] - y_guess)]]) if autonomous else g
 
     z = np.concatenate([y, [T]]) if autonomous else y

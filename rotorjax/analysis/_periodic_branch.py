@@ -19,7 +19,7 @@ from ..solve._results import RESULTS, code_of
 from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _rows,
                                 _series_harmonics, _series_tail, _truncated, _truncations, _watch)
 from ._condensed import condensable, condensed_residual, expanded, read
-from ._continuation import continue_branch, fold_curve, fold_gradient, physical_stops
+from ._continuation import continue_branch, fold_curve, switch_branch, fold_gradient, physical_stops
 from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
                                 _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
@@ -29,7 +29,8 @@ from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, 
 
 def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_at=None, subharmonic=1, scale=None,
                     name="p", ds=None, ds_max=None, max_points=300, tol=1e-11, gtol=1e-6, direction=None,
-                    progress=False, method="harmonic-balance", steps=256, truncation_tol=1e-6, max_harmonics=32):
+                    progress=False, method="harmonic-balance", steps=256, truncation_tol=1e-6, max_harmonics=32,
+                    switch=False):
     """A branch of periodic forced motions `Y(p)` by harmonic balance and
     pseudo-arclength continuation (`continue_branch`) in a parameter `p`, through
     folds.
@@ -105,6 +106,9 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     options = dict(ds=L / 100 if ds is None else ds, ds_max=L / 10 if ds_max is None else ds_max,
                    max_points=max_points, tol=tol, direction=direction, name=name, progress=progress,
                    start_tol=gtol * L, gtol=gtol * L)
+    if switch and method == "shooting":
+        raise InputError("switch: branch points are switched at on harmonic-balance branches; give "
+                         "method='harmonic-balance'")
     if method == "shooting":
         br, coefficients = _shooting_branch(scene_at, p0, guess, (lo, hi), top, period_at, scale,
                                             as_count("steps", steps, minimum=1), L, options)
@@ -130,7 +134,8 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     # scales it reads), the block spanning about one length as the states' do
     zscale = None if reads is None else (np.max(np.abs(reads) * np.asarray(scale).T, axis=0)
                                          * np.sqrt(reads.shape[1] / Y0.shape[1]))[None, :]
-    piece = functools.partial(_piece, scene_at, period_at, (lo, hi), (scale, zscale), float(2 * np.pi / period_at(p0)))
+    piece = functools.partial(_piece, scene_at, period_at, (lo, hi), (scale, zscale), float(2 * np.pi / period_at(p0)),
+                              switch=bool(switch))
     if not auto:
         br, coefficients = piece(Y0, p0, options)
         return (PeriodicBranch(**_fields(br), harmonics=np.full(br.p.size, top),
@@ -145,11 +150,12 @@ def _reads(scene, n):
     return np.concatenate([S.T, np.zeros((n - S.shape[1], S.shape[0]))])
 
 
-def _piece(scene_at, period_at, bounds, scales, w0, Y0, p0, options, watch=None):
+def _piece(scene_at, period_at, bounds, scales, w0, Y0, p0, options, watch=None, switch=False):
     """The branch by harmonic balance with `Y0`'s harmonics from `(Y0, p0)` (see
     `periodic_branch`; `w0` the start's forcing frequency, the unit of the scaled
     equations' exponents; `scales`: the states' and, for a condensed balance, the
-    read coordinates'; `watch`: `(target, higher, lower)` of `_watch`):
+    read coordinates'; `watch`: `(target, higher, lower)` of `_watch`; `switch`:
+    each refined branch point's crossing branch too, in its event's `switched`):
     `(branch, coefficients)`."""
     shape = Y0.shape
     scale, zscale = scales
@@ -198,9 +204,33 @@ def _piece(scene_at, period_at, bounds, scales, w0, Y0, p0, options, watch=None)
         physical = functools.partial(_scaled, scale)
     else:
         physical = functools.partial(_expand_rows, lift(lambda p, u: coefficients(u, p), at[1], at[0]))
-    events = tuple(_physical(e, physical, w0, period_at) for e in br.events)
-    br = dataclasses.replace(br, margin=br.margin * w0, events=events)
+    events = []
+    for e in br.events:
+        crossing = _crossing(F, e, bounds, options, exponents, physical, w0, (scene_at, period_at), shape) if switch else {}
+        events.append(dataclasses.replace(_physical(e, physical, w0, period_at), **crossing))
+    br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
     return br, physical(np.asarray(br.p), np.asarray(br.u)).reshape((-1,) + shape)
+
+
+def _crossing(F, event, bounds, options, exponents, physical, w0, at, shape):
+    """`periodic_branch(switch=True)`: the fields of a refined branch point's event
+    (`F`'s scaled unknowns) that hold the branch crossing there, `{"switched":
+    (PeriodicBranch, coefficients)}` with `shape`'s harmonics, or `{"note": why}`
+    where it does not start; `{}` for the other events (`at`: `(scene_at,
+    period_at)`)."""
+    if event.kind != "branch_point" or event.tangent is None:
+        return {}
+    opts = {k: v for k, v in options.items() if k not in ("direction", "start_tol")}
+    try:
+        other = switch_branch(F, event, p_bounds=bounds, start_tol=options["start_tol"], exponents=exponents, **opts)
+    except ValueError as err:
+        return {"note": f"not switched at: {err}"}
+    H, period_at = (shape[0] - 1) // 2, at[1]
+    coefficients = physical(np.asarray(other.p), np.asarray(other.u)).reshape((-1,) + shape)
+    other = dataclasses.replace(other, margin=other.margin * w0,
+                                events=tuple(_physical(e, physical, w0, period_at) for e in other.events))
+    return {"switched": (PeriodicBranch(**_fields(other), harmonics=np.full(other.p.size, H),
+                                        truncation=_truncations(*at, other.p, coefficients)), coefficients)}
 
 
 def _scaled(scale, p, u):

@@ -378,6 +378,10 @@ def build_parser():
                  (("--ds-max",), dict(type=positive, default=None,
                                       help="largest arclength step (default: the range / 10)")),
                  (("--max-points",), dict(type=at_least(2), default=300, help="points per direction at most")),
+                 (("--switch",), dict(action="store_true",
+                                      help="also trace the branch that crosses at each refined branch point (a "
+                                           "symmetric motion's symmetry-breaking pitchfork), over the same "
+                                           "range, with the harmonics of the point it crosses at")),
                  (("--param2",), dict(default=None, metavar="KEY",
                                       help="a second --set key (--param the speed): each fold of the branch "
                                            "continued in (speed, KEY), the jump boundary, and the amplitude's "

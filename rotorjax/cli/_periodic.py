@@ -139,6 +139,38 @@ def _incomplete(curve, p, key, lo, hi, max_points):
     return out
 
 
+def _branch_row(br, amp, truncation, key):
+    """A `PeriodicBranch`'s JSON row (`amp`, `truncation`: `branch_amplitude`'s)."""
+    return {key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
+            "margin": br.margin.tolist(), "time_residual": truncation.tolist(),
+            "harmonics": [int(h) for h in br.harmonics], "truncation": br.truncation.tolist(),
+            "n_points": int(br.p.size), "stop": br.curve.stop, "stops": list(br.stops)}
+
+
+def _not_switched(events, switched, key, lo, hi, max_points):
+    """`--switch`'s exit-3 reasons: a branch point whose crossing branch did not
+    start, a switched branch that ended inside the range; a branch point located
+    to the step only is warned of, not switched at."""
+    import warnings
+
+    from .._errors import PlausibilityWarning
+
+    out = []
+    for e in events:
+        if e.kind != "branch_point" or e.switched is not None:
+            continue
+        if e.note is not None and e.note.startswith("not switched at"):
+            out.append(f"--switch: the branch crossing at {key} = {e.p:.8g} did not start ({e.note}); give a "
+                       "smaller --ds")
+        else:
+            warnings.warn(f"--switch: the branch point at {key} = {e.p:.8g} was not switched at: {e.note}",
+                          PlausibilityWarning)
+    for e, b, *_ in switched:
+        out += [f"--switch: the branch switched onto at {key} = {e.p:.8g}: {why}"
+                for why in _incomplete(b.curve, b.p, key, lo, hi, max_points)]
+    return out
+
+
 def _harmonics_used(harmonics):
     """`"1 harmonic"`, `"8 harmonics"` or `"1 to 4 harmonics"`: the counts along a branch."""
     lo, hi = int(np.min(harmonics)), int(np.max(harmonics))
@@ -159,6 +191,9 @@ def cmd_periodic(args) -> int:
     if key == preset.speed_key and not lo > 0:
         raise InputError(f"--range {lo:g} {hi:g}: the speed must stay > 0 (the forcing's period is 2 pi / speed)")
     range2 = _second_parameter(args, preset, params, key)
+    if args.switch and (args.from_hopf or args.method == "shooting"):
+        raise InputError(f"--switch: branch points are switched at on a harmonic-balance branch of forced motions, "
+                         f"not with {'--from-hopf' if args.from_hopf else '--method shooting'}; leave out --switch")
     if args.from_hopf:
         return _from_hopf(args, preset, params, key, lo, hi)
     if args.hopf_amplitude is not None:
@@ -188,13 +223,20 @@ def cmd_periodic(args) -> int:
                                        subharmonic=args.subharmonic, name=key, ds=ds, ds_max=ds_max,
                                        max_points=args.max_points, progress=not args.json,
                                        method=METHODS[args.method], steps=args.steps,
-                                       truncation_tol=args.truncation_tol, max_harmonics=args.max_harmonics)
+                                       truncation_tol=args.truncation_tol, max_harmonics=args.max_harmonics,
+                                       switch=args.switch)
     auto = args.harmonics == "auto"
     used = _harmonics_used(br.harmonics)
     amp, truncation = branch_amplitude(scene_at, br.p, coefficients, node=args.node,
                                        subharmonic=args.subharmonic, truncation=True)
-    bifurcations = _bifurcations(br.events, key, lambda events: branch_amplitude(
-        scene_at, *_event_motions(events, coefficients), node=args.node, subharmonic=args.subharmonic))
+    def bifurcations_of(branch, coefs):
+        return _bifurcations(branch.events, key, lambda events: branch_amplitude(
+            scene_at, *_event_motions(events, coefs), node=args.node, subharmonic=args.subharmonic))
+
+    bifurcations = bifurcations_of(br, coefficients)
+    switched = [(e, b, c, *branch_amplitude(scene_at, b.p, c, node=args.node, subharmonic=args.subharmonic,
+                                            truncation=True))
+                for e in sorted(br.events, key=lambda e: e.p) if e.switched is not None for b, c in [e.switched]]
     second = None
     if range2 is not None:
         second = _jump_boundary(scene_at2, br, coefficients, key, args.param2, float(params[args.param2]),
@@ -204,12 +246,11 @@ def cmd_periodic(args) -> int:
            **({"truncation_tol": args.truncation_tol, "max_harmonics": args.max_harmonics} if auto else {}),
            "subharmonic": args.subharmonic, "range": [lo, hi], "start": start,
            "start_source": start_source,
-           "branches": [{key: br.p.tolist(), "amplitude": amp.tolist(), "stable": br.stable.tolist(),
-                         "margin": br.margin.tolist(), "time_residual": truncation.tolist(),
-                         "harmonics": [int(h) for h in br.harmonics], "truncation": br.truncation.tolist(),
-                         "n_points": int(br.p.size),
-                         "stop": br.curve.stop, "stops": list(br.stops)}],
+           "branches": [_branch_row(br, amp, truncation, key)],
            "bifurcations": bifurcations}
+    if args.switch:
+        out["switched"] = [dict(_branch_row(b, a, t, key), at=e.p, bifurcations=bifurcations_of(b, c))
+                           for e, b, c, a, t in switched]
     columns, header = [br.p, amp, br.stable.astype(int), br.margin], f"{key},amplitude,stable,margin"
     if second is not None:
         sensitivity, curves = second
@@ -222,14 +263,23 @@ def cmd_periodic(args) -> int:
             [np.column_stack([c.x[:, -2:], np.full(len(c.x), i)]) for i, (_, c) in enumerate(curves)]
             or [np.zeros((0, 3))]), delimiter=",", header=f"{key},{args.param2},fold_curve", comments="",
             fmt="%.17g")
-    np.savetxt(stem + ".csv", np.column_stack(columns), delimiter=",", header=header, comments="", fmt="%.17g")
+    rows = np.column_stack(columns)
+    if args.switch:      # the switched branches' rows below the branch's, numbered in the last column
+        header += ",branch"
+        rows = np.concatenate([np.column_stack([rows, np.zeros(len(rows))])] + [
+            np.column_stack([b.p, a, b.stable.astype(int), b.margin] + [np.full(b.p.size, np.nan)] * (
+                len(columns) - 4) + [np.full(b.p.size, i + 1.0)]) for i, (_, b, _, a, _) in enumerate(switched)])
+    np.savetxt(stem + ".csv", rows, delimiter=",", header=header, comments="", fmt="%.17g")
     unit = f" ({preset.length_unit})" if preset.length_unit else ""
     key_unit = preset.units.get(key, "")
-    save_figure(plot_periodic_branch(br.p, amp, br.stable, [dict(b, p=b[key]) for b in bifurcations],
-                                     x_label=key + (f" ({key_unit})" if key_unit not in ("", "dimensionless") else ""),
-                                     y_label=f"amplitude{unit}",
-                                     title=f"{os.path.basename(preset.name)}: periodic motions in {key} "
-                                           f"({used}); amplitude: {amplitude_of}"), stem + ".png")
+    labels = dict(x_label=key + (f" ({key_unit})" if key_unit not in ("", "dimensionless") else ""),
+                  y_label=f"amplitude{unit}", title=f"{os.path.basename(preset.name)}: periodic motions in {key} "
+                                                    f"({used}); amplitude: {amplitude_of}")
+    figure = plot_periodic_branch(br.p, amp, br.stable, [dict(b, p=b[key]) for b in bifurcations], **labels)
+    for (_, b, _, a, _), row in zip(switched, out.get("switched", [])):
+        plot_periodic_branch(b.p, a, b.stable, [dict(v, p=v[key]) for v in row["bifurcations"]], ax=figure.axes[0],
+                             **labels)
+    save_figure(figure, stem + ".png")
     out["files"] = {"data": stem + ".csv", "summary": stem + ".json", "plot": stem + ".png"}
     if second is not None:
         # the curves drawn through their points in (key, key2) (their tangents are in the unknowns too)
@@ -245,6 +295,7 @@ def cmd_periodic(args) -> int:
         failed += [f"the fold curve from {key} = {e.p:.8g} stopped inside --range and --range2: {stop}; lower "
                    "--ds-max" for e, c in second[1] for stop, r in zip(c.stops, c.results)
                    if not r == RESULTS.successful]
+    failed += _not_switched(br.events, switched, key, lo, hi, args.max_points)
     if auto:     # the target, held at every point unless --max-harmonics ran out
         worst = int(np.argmax(br.truncation))
         if not br.truncation[worst] <= args.truncation_tol:
@@ -264,6 +315,13 @@ def cmd_periodic(args) -> int:
               f"{int(np.sum(~br.stable))} unstable; amplitude: {amplitude_of}, {preset.length_unit}")
         _print_bifurcations(bifurcations, key)
         print(f"  stops: {'; '.join(br.stops)}")
+        if args.switch and not switched:
+            print("  --switch: no branch point switched at")
+        for row in out.get("switched", []):
+            print(f"  switched at the branch point {key} = {row['at']:.8g}: {key} in [{min(row[key]):.6g}, "
+                  f"{max(row[key]):.6g}], {row['n_points']} points, {sum(not v for v in row['stable'])} unstable; "
+                  f"stops: {'; '.join(row['stops'])}")
+            _print_bifurcations(row["bifurcations"], key)
         if second is not None:
             _print_second(out, key, args.param2)
     if failed:

@@ -99,17 +99,32 @@ def test_switching_onto_the_doubled_branch(rest_branch):
     y0, yT = np.asarray(start.state(0.0)), np.asarray(start.state(T))
     assert np.max(np.abs(yT - y0)) > 1e-2
     br2, c2 = periodic_branch(Mathieu, float(p), start, (1.5, 1.95), harmonics=12, subharmonic=2, ds=0.05,
-                              ds_max=0.2, max_points=60)
+                              ds_max=0.2, max_points=60, switch=True)
     # one end falls back onto the rest at the period-doubling point: the doubled problem's branch point
     # (a pitchfork: the rest is a branch of the doubled problem too), where the tangent turns back in p
     # but the bordered determinant changes sign -- a branch point, not a fold; the other end grows
     back = [e for e in br2.events if e.kind in ("fold", "branch_point")]
     assert [e.kind for e in back] == ["branch_point"] and abs(back[0].p - pd.p) < 1e-8
+    # switched there (switch=True): the branch crossing it is the rest, a motion of every period, traced over the
+    # whole range, stable outside the tongue only (its multipliers over 2T the squares of those over T)
+    rest, c_rest = back[0].switched
+    assert rest.stops == ("box edge (p = 1.5)", "box edge (p = 1.95)")
+    assert np.max(np.abs(c_rest)) < 1e-10 and c_rest.shape[1:] == c2.shape[1:]
+    q = np.asarray(rest.p)
+    np.testing.assert_array_equal(np.asarray(rest.stable)[np.abs(q - pd.p) > 1e-3], q[np.abs(q - pd.p) > 1e-3] < pd.p)
     far = int(np.argmax(np.asarray(br2.p)))
     s = harmonic_balance(Mathieu(float(br2.p[far])), 4 * np.pi / float(br2.p[far]), c2[far], harmonics=12)
     assert int(s.code) == 0 and float(s.floquet.closure) < 1e-8
     assert abs(float(br2.margin[far]) - float(s.floquet.margin)) < 1e-6
     assert bool(br2.stable[far]) == bool(s.stable)
+
+
+def test_the_docs_state_the_switched_rest():
+    from tests.helpers import documentation
+
+    text = " ".join(documentation("docs/periodic.md").split())
+    assert ("the branch switched onto there is the rest, zero to 1e-10 over the whole range, stable outside the "
+            "Mathieu tongue only" in text)
 
 
 @pytest.fixture(scope="module")
