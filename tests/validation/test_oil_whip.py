@@ -72,9 +72,9 @@ N_SAVE = 12001
 RUN = dict(solver="dopri8", rtol=1e-9, atol=1e-14, max_steps=500_000)
 
 
-def _scene(speed, track_work=True):
+def _scene(speed, track_work=True, components=COMPONENTS):
     """The rotor at constant `speed` (an array: one compiled program for all speeds)."""
-    return RotorScene(ROTOR, jnp.asarray(speed, dtype=jnp.float64), COMPONENTS, track_work=track_work)
+    return RotorScene(ROTOR, jnp.asarray(speed, dtype=jnp.float64), components, track_work=track_work)
 
 
 def _equilibrium_state(scene, speed):
@@ -83,10 +83,10 @@ def _equilibrium_state(scene, speed):
     return jnp.zeros(scene.state_size).at[:scene.n_dof].set(eq.q)
 
 
-def _run(speed, t_end, kick=0.01 * CLEARANCE, y0=None):
+def _run(speed, t_end, kick=0.01 * CLEARANCE, y0=None, components=COMPONENTS):
     """A constant-speed run from the equilibrium with the disk displaced by `kick`
     along x (or from `y0`)."""
-    sc = _scene(speed)
+    sc = _scene(speed, components=components)
     if y0 is None:
         y0 = _equilibrium_state(sc, speed).at[4 * DISK].add(kick)
     ts = jnp.linspace(0.0, t_end, N_SAVE)
