@@ -360,13 +360,32 @@ def _solve(scene, Y0, period, t0, n_samples, tol, max_iter, args, condense=False
         local = scene.local_forces()
         N = _samples((shape[0] - 1) // 2, n_samples)
         Z0 = read(local, Y0)
-        z, (step, it) = _newton(lambda x: condensed_residual(local, x.reshape(Z0.shape), period, t0, N).ravel(),
-                                Z0.ravel(), tol, max_iter)
+        def reduced(x):
+            return condensed_residual(local, x.reshape(Z0.shape), period, t0, N).ravel()
+
+        z, (step, it) = _newton(reduced, Z0.ravel(), tol, max_iter, limit=_finite_step(reduced))
         x = expanded(local, z.reshape(Z0.shape), period, t0, N).ravel()
     else:
-        x, (step, it) = _newton(residual, Y0.ravel(), tol, max_iter)
+        x, (step, it) = _newton(residual, Y0.ravel(), tol, max_iter, limit=_finite_step(residual))
     step, it = jax.lax.stop_gradient(step), jax.lax.stop_gradient(it).astype(jnp.int32)
     return _outcome(scene, x.reshape(shape), period, t0, jnp.max(jnp.abs(residual(x))), step, it, tol, args)
+
+
+#: `_finite_step`: the most halvings of a Newton step whose end the forces are not defined at
+MAX_HALVINGS = 40
+
+
+def _finite_step(residual):
+    """Newton's `limit`: the step halved until the residual at its end is finite (a
+    film's journal kept inside its clearance, where the full step from a guess far
+    off, such as the rest, would leave it), at most `MAX_HALVINGS` times."""
+    def limit(x, dx):
+        def short(c):
+            return (c[1] < MAX_HALVINGS) & ~jnp.all(jnp.isfinite(residual(x - c[0])))
+
+        return jax.lax.while_loop(short, lambda c: (0.5 * c[0], c[1] + 1), (dx, 0))[0]
+
+    return limit
 
 
 #: an autonomous "cycle" whose harmonics fell below this fraction of its guess's is an equilibrium
