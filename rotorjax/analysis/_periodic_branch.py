@@ -19,7 +19,7 @@ from ..solve._results import RESULTS, code_of
 from ._branch_harmonics import (BRANCH_HARMONICS, PeriodicBranch, _adaptive, _fields, _measure, _rows,
                                 _series_harmonics, _series_tail, _truncated, _truncations, _watch)
 from ._condensed import condensable, condensed_residual, expanded, read
-from ._continuation import continue_branch, fold_curve, switch_branch, fold_gradient, physical_stops
+from ._continuation import continue_branch, fold_curve, fold_gradient, physical_stops, switch_branch
 from ._floquet import flow_samples
 from ._harmonic_balance import (METHODS, PeriodicSolution, _adapted, _basis_at, _guess_coefficients, _newton, _outcome,
                                 _physical_exponents, _samples, _solve, _time_residual, _with_floquet, balance_residual,
@@ -206,7 +206,8 @@ def _piece(scene_at, period_at, bounds, scales, w0, Y0, p0, options, watch=None,
         physical = functools.partial(_expand_rows, lift(lambda p, u: coefficients(u, p), at[1], at[0]))
     events = []
     for e in br.events:
-        crossing = _crossing(F, e, bounds, options, exponents, physical, w0, (scene_at, period_at), shape) if switch else {}
+        crossing = _crossing(F, e, bounds, options, exponents, physical, w0, (scene_at, period_at), shape) \
+            if switch else {}
         events.append(dataclasses.replace(_physical(e, physical, w0, period_at), **crossing))
     br = dataclasses.replace(br, margin=br.margin * w0, events=tuple(events))
     return br, physical(np.asarray(br.p), np.asarray(br.u)).reshape((-1,) + shape)

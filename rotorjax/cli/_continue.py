@@ -148,8 +148,8 @@ def cmd_continue(args) -> int:
             raise InputError(f"--switch: {preset.name} is continued by the Floquet multipliers of its main motion "
                              f"along {key}, a scan with no branch points to switch at; leave out --switch")
         (lo, hi), out["range_source"] = _param_range(preset, key, args.to, start[0])
-        found = floquet_crossings(study.floquet_family(params, key), lo, hi, n_scan=args.max_points if args.max_points < 400 else 60,
-                                  progress=not args.json)
+        found = floquet_crossings(study.floquet_family(params, key), lo, hi,
+                                  n_scan=args.max_points if args.max_points < 400 else 60, progress=not args.json)
         out.update({"kind": "Floquet multipliers of the main motion", "range": [lo, hi],
                     "crossings": [c.as_dict() for c in found]})
         with open(stem + ".csv", "w") as f:

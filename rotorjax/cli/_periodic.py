@@ -229,6 +229,7 @@ def cmd_periodic(args) -> int:
     used = _harmonics_used(br.harmonics)
     amp, truncation = branch_amplitude(scene_at, br.p, coefficients, node=args.node,
                                        subharmonic=args.subharmonic, truncation=True)
+
     def bifurcations_of(branch, coefs):
         return _bifurcations(branch.events, key, lambda events: branch_amplitude(
             scene_at, *_event_motions(events, coefs), node=args.node, subharmonic=args.subharmonic))
@@ -295,7 +296,8 @@ def cmd_periodic(args) -> int:
         failed += [f"the fold curve from {key} = {e.p:.8g} stopped inside --range and --range2: {stop}; lower "
                    "--ds-max" for e, c in second[1] for stop, r in zip(c.stops, c.results)
                    if not r == RESULTS.successful]
-    failed += _not_switched(br.events, switched, key, lo, hi, args.max_points)
+    if args.switch:
+        failed += _not_switched(br.events, switched, key, lo, hi, args.max_points)
     if auto:     # the target, held at every point unless --max-harmonics ran out
         worst = int(np.argmax(br.truncation))
         if not br.truncation[worst] <= args.truncation_tol:

@@ -195,6 +195,37 @@ def test_non_convergence_is_reported_not_returned_as_a_solution():
     assert int(s.code) == code_of(RESULTS.root_not_converged) and not bool(s.success)
 
 
+class Walled(Duffing):
+    """A spring that stiffens without bound towards a wall at `|x| = 1` (as a film's
+    journal near its bearing's), its force not defined beyond: `x / (1 - x^2)`,
+    forced at resonance, where the linear response (Newton's first step from rest)
+    is far beyond the wall."""
+
+    def vector_field(self, t, y, args=None):
+        x, v = y
+        spring = jnp.where(jnp.abs(x) < 1, x / (1 - x * x), jnp.nan)
+        return jnp.stack([v, F * jnp.cos(self.om * t) - C * v - spring])
+
+
+def test_newton_steps_through_a_wall_are_halved():
+    """From rest at resonance the full first step puts the motion through the wall
+    (the linear amplitude F / (C om) = 2); halved until the forces are defined
+    there, Newton converges to the motion inside, which equals shooting's."""
+    scene, period = Walled(1.0), 2 * np.pi
+    assert F / C > 1
+    s = harmonic_balance(scene, period, jnp.zeros(2), harmonics=8, stability=False)
+    assert int(s.code) == 0 and float(s.residual) < 1e-9
+    ts = np.linspace(0.0, period, 64, endpoint=False)
+
+    def amplitude(sol):
+        return max(abs(float(sol.state(t)[0])) for t in ts)
+
+    amp = amplitude(s)
+    assert 0.1 < amp < 1
+    shot = periodic_orbit(scene, s.initial_state(), period, method="shooting", harmonics=8)
+    assert int(shot.code) == 0 and amplitude(shot) == pytest.approx(amp, rel=1e-3)
+
+
 @pytest.mark.parametrize("kwargs, match", [
     ({"harmonics": 0}, "harmonics must be an integer >= 1"),
     ({"harmonics": 2.5}, "harmonics must be an integer >= 1"),
