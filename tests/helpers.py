@@ -110,3 +110,45 @@ def documentation(page=None):
         with open(os.path.join(root, p), encoding="utf-8") as f:
             texts.append(f.read())
     return "\n\n".join(texts)
+
+
+def cubic_rig_variant(folder, name, edit):
+    """The scene of the shipped `cubic_rig.toml` edited by `edit(text)`, written to
+    `folder / name` and read as a user's rotor file."""
+    import os
+
+    import rotorjax
+    from rotorjax import presets
+
+    with open(os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")) as f:
+        text = edit(f.read())
+    path = folder / name
+    path.write_text(text)
+    preset = presets.get(str(path))
+    return preset.build(preset.params()).scene
+
+
+def speed_branch(scene, bounds, phases):
+    """`periodic_branch` of `scene` in its speed over `bounds` from rest at the low
+    end, with the defaults: `(scene_at, branch, coefficients, orbits)`, `orbits` each point's
+    states at `phases` of its period, `(points, phases, states)`."""
+    import equinox as eqx
+
+    from rotorjax.analysis import periodic_branch
+
+    def scene_at(w):
+        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+
+    br, coefficients = periodic_branch(scene_at, bounds[0], np.zeros(scene.state_size), bounds, name="speed")
+    return scene_at, br, coefficients, orbits_of(coefficients, phases)
+
+
+def orbits_of(coefficients, phases):
+    """States `(..., phases, states)` of Fourier coefficients `(..., 2H + 1, states)`
+    at `phases` of the period."""
+    import jax.numpy as jnp
+
+    from rotorjax.analysis._fourier import _basis_at
+
+    H = (np.shape(coefficients)[-2] - 1) // 2
+    return np.einsum("pk,...kd->...pd", np.asarray(_basis_at(jnp.asarray(phases), H)), np.asarray(coefficients))

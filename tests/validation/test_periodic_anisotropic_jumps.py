@@ -13,23 +13,18 @@ through `rotorjax.simulate`, nothing of harmonic balance):
   below the lowest on the way down (a sweep lags the quasi-static jump, never leads
   it)."""
 
-import os
 import re
 
 import equinox as eqx
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import rotorjax
-from rotorjax import presets
-from rotorjax.analysis import periodic_branch
-from rotorjax.analysis._fourier import _basis_at
 from rotorjax.models import RunUp
+from tests.helpers import cubic_rig_variant, speed_branch
 
 pytestmark = pytest.mark.slow
 
-SHIPPED = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
 RANGE = (101.0, 106.0)    # rad/s, through the jump
 NODE = 1                  # the first disk
 RATE = 0.1                # rad/s^2, the sweeps
@@ -47,18 +42,8 @@ def anisotropic(text):
 
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rotor") / "anisotropic_jump.toml"
-    with open(SHIPPED) as f:
-        path.write_text(anisotropic(f.read()))
-    preset = presets.get(str(path))
-    scene = preset.build(preset.params()).scene
-
-    def scene_at(w):
-        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
-
-    br, coefficients = periodic_branch(scene_at, RANGE[0], np.zeros(scene.state_size), RANGE, name="speed")
-    H = (coefficients.shape[1] - 1) // 2
-    orbits = np.einsum("pk,nkd->npd", np.asarray(_basis_at(jnp.asarray(PHASES), H)), np.asarray(coefficients))
+    scene = cubic_rig_variant(tmp_path_factory.mktemp("rotor"), "anisotropic_jump.toml", anisotropic)
+    _, br, _, orbits = speed_branch(scene, RANGE, PHASES)
     radius = np.hypot(orbits[..., 2 * 2 * NODE], orbits[..., 2 * 2 * NODE + 1])     # 4 dofs a node: x, y first
     folds = sorted(e.p for e in br.events if e.kind == "fold")
     return scene, br, orbits, radius.max(axis=1), folds

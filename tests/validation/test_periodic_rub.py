@@ -21,7 +21,6 @@ Independent references (nothing of harmonic balance):
   of the integrated variational equations on either side of it, and the motion
   settled in time past it: no longer periodic (a quasi-periodic rub)."""
 
-import os
 import re
 
 import equinox as eqx
@@ -31,13 +30,11 @@ import pytest
 from scipy.optimize import brentq
 
 import rotorjax
-from rotorjax import presets
-from rotorjax.analysis import floquet, harmonic_balance, periodic_branch, periodic_orbit, scene_unbalance_response
-from rotorjax.analysis._fourier import _basis_at
+from rotorjax.analysis import floquet, harmonic_balance, periodic_orbit, scene_unbalance_response
+from tests.helpers import cubic_rig_variant, orbits_of, speed_branch
 
 pytestmark = pytest.mark.slow
 
-SHIPPED = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
 RANGE = (86.0, 89.5)      # rad/s: out of contact, into it, past the loss of stability
 NODE, CLEARANCE = 1, 6e-4
 PHASES = np.linspace(0.0, 2 * np.pi, 256, endpoint=False)
@@ -54,11 +51,7 @@ def rubbing(text, clearance=True):
 
 
 def _scene(tmp_path_factory, name, clearance):
-    path = tmp_path_factory.mktemp("rotor") / name
-    with open(SHIPPED) as f:
-        path.write_text(rubbing(f.read(), clearance))
-    preset = presets.get(str(path))
-    return preset.build(preset.params()).scene
+    return cubic_rig_variant(tmp_path_factory.mktemp("rotor"), name, lambda text: rubbing(text, clearance))
 
 
 def _at(scene, w):
@@ -66,8 +59,7 @@ def _at(scene, w):
 
 
 def _orbits(coefficients):
-    H = (coefficients.shape[-2] - 1) // 2
-    return np.einsum("pk,...kd->...pd", np.asarray(_basis_at(jnp.asarray(PHASES), H)), np.asarray(coefficients))
+    return orbits_of(coefficients, PHASES)
 
 
 def _radius(orbits):
@@ -77,9 +69,8 @@ def _radius(orbits):
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
     scene = _scene(tmp_path_factory, "rub.toml", True)
-    br, coefficients = periodic_branch(lambda w: _at(scene, w), RANGE[0], np.zeros(scene.state_size), RANGE,
-                                       name="speed")
-    return scene, br, coefficients, _radius(_orbits(coefficients))
+    _, br, coefficients, orbits = speed_branch(scene, RANGE, PHASES)
+    return scene, br, coefficients, _radius(orbits)
 
 
 def _nearest(br, w):

@@ -18,22 +18,16 @@ force is sharply peaked and cavitated, so the motion holds many harmonics.
   insufficient", the estimate 1.7e-3 > 1e-6) reports a real error, and a point
   within a target is within it."""
 
-import os
 import re
 
-import equinox as eqx
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import rotorjax
-from rotorjax import presets
-from rotorjax.analysis import periodic_branch
-from rotorjax.analysis._fourier import _basis_at
+from tests.helpers import cubic_rig_variant, speed_branch
 
 pytestmark = pytest.mark.slow
 
-SHIPPED = os.path.join(os.path.dirname(rotorjax.__file__), "rotors", "cubic_rig.toml")
 RANGE = (96.0, 101.0)     # rad/s
 CLEARANCE = 2e-4
 PHASES = np.linspace(0.0, 2 * np.pi, 256, endpoint=False)
@@ -52,18 +46,8 @@ def damped(text):
 
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
-    path = tmp_path_factory.mktemp("rotor") / "sfd.toml"
-    with open(SHIPPED) as f:
-        path.write_text(damped(f.read()))
-    preset = presets.get(str(path))
-    scene = preset.build(preset.params()).scene
-
-    def scene_at(w):
-        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
-
-    br, coefficients = periodic_branch(scene_at, RANGE[0], np.zeros(scene.state_size), RANGE, name="speed")
-    H = (coefficients.shape[1] - 1) // 2
-    orbits = np.einsum("pk,nkd->npd", np.asarray(_basis_at(jnp.asarray(PHASES), H)), np.asarray(coefficients))
+    scene = cubic_rig_variant(tmp_path_factory.mktemp("rotor"), "sfd.toml", damped)
+    scene_at, br, _, orbits = speed_branch(scene, RANGE, PHASES)
     return scene_at, br, orbits, np.hypot(orbits[..., 0], orbits[..., 1]).max(axis=1)
 
 
