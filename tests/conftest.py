@@ -86,17 +86,25 @@ def _free_compiled_programs():
 
 #: the longest test files, longest first (seconds: the sums of their tests' durations in a full run on the 2-core
 #: CI machine, 2 workers, 2026-12-02, compiled with XLA's classic emitters at -O0, which the suite no longer uses:
-#: the order, not the seconds, is what counts), started first, so that no long file
+#: the order, not the seconds, is what counts; (*): measured 2026-12-07 in a run of those files on this machine's
+#: 2 workers, with XLA's defaults), started first, so that no long file
 #: starts last and keeps one worker busy alone at the end. A new file of more than about 40 s joins the list. The
 #: other files follow, those with more tests first (pytest-xdist's own order).
 LONGEST_FIRST = (
+    "validation/test_periodic_anisotropic_jumps.py",  # 289 (*)
     "test_readme.py",                               # 269
+    "validation/test_periodic_rub.py",              # 262 (*)
+    "validation/test_periodic_sfd.py",              # 246 (*)
     "test_notebooks.py",                            # 228 (seven kernels)
+    "test_cli_periodic.py",                         # 204 (*)
     "test_benchmark_smoke_3.py",                    # 196 (a third of the benchmarks' --smoke runs)
     "solve/test_batch.py",                          # 167
+    "validation/test_oil_whip_finite.py",           # 166 (*)
+    "test_cli_from_hopf.py",                        # 164 (*)
     "test_cli.py",                                  # 163
     "validation/test_oil_whip.py",                  # 160
     "test_benchmark_smoke.py",                      # 156
+    "validation/test_periodic_auto_harmonics.py",   # 148 (*)
     "design/test_stable_range.py",                  # 127
     "test_benchmark_smoke_2.py",                    # 121
     "test_right_or_refused.py",                     # 96

@@ -882,36 +882,11 @@ def continue_branch(F: Callable, u0, p0, p_bounds=(-np.inf, np.inf), ds=0.01, ds
     tangents = curve.tangents     # oriented along the curve
     eig, bordered, jacs = _point_checks(Gl, xs, tangents, exponents)
     margin = np.array([e.real.max() for e in eig])
-    n_unstable = np.array([int(np.sum(e.real > 0)) for e in eig])
+    checks = _Checks(Gl, Fu, n, gtol, exponents)
     events = []
     for i in range(len(xs) - 1):
-        a, b = xs[i], xs[i + 1]
-        fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
-        # the bordered determinant keeps its sign through a fold (the curve is regular there) and changes it at a
-        # branch point, also where the curve turns back in p there (a symmetric rotor's pitchfork met along its
-        # bifurcating branch: a fold of the tangent, not of the curve)
-        crossed = np.sign(bordered[i]) != np.sign(bordered[i + 1])
-        if crossed:
-            events.append(_branch_point_event(Gl, a, b, n, (i, i + 1), gtol,
-                                              max(curve.residuals[i], curve.residuals[i + 1])))
-        elif fold:
-            borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
-            z, r = _refined_fold(Gl, jnp.asarray(0.5 * (a + b)), *borders)
-            z, r = np.asarray(z), float(r)
-            events.append(_refined_event(z, r, a, b, n, (i, i + 1), gtol,
-                                      max(curve.residuals[i], curve.residuals[i + 1])))
-        if n_unstable[i] != n_unstable[i + 1] and not fold:   # at a fold a real eigenvalue crosses
-            # the eigenvalue that crossed: the least unstable one on the more unstable
-            # side (not the one nearest the axis, which may be a lightly damped
-            # high mode that never crosses)
-            e = eig[i + 1] if n_unstable[i + 1] > n_unstable[i] else eig[i]
-            crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
-            if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
-                hopf = _refine_hopf(Gl, Fu, a, b, n, between=(i, i + 1), exponents=exponents)
-                # a pair whose real part did not change sign across the step (two real
-                # eigenvalues on one side meeting as a pair): no crossing to report
-                if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
-                    events.append(dataclasses.replace(hopf, crossing=abs(int(n_unstable[i + 1] - n_unstable[i]))))
+        events += checks.between(xs, tangents, eig, bordered, jacs, curve.residuals, i, (i, i + 1),
+                                 SUBDIVISION_DEPTH)
     return Branch(u=xs[:, :n], p=xs[:, n], margin=margin, stable=margin < 0, events=tuple(events), curve=curve)
 
 
@@ -934,6 +909,95 @@ def _point_checks(Gl, xs, tangents, exponents):
             if i in keep:
                 jacs[i] = Jx
     return eig, np.array(bordered), jacs
+
+
+#: an interval of a branch in which an event is found or the exponents' signs change is cut into this many
+#: parts, their ends corrected onto the branch, and each part checked again; a part is cut again, down to this
+#: depth, where its events do not account for the exponents that crossed in it (more crossed than its fold,
+#: branch point and Hopf point explain) or its fold or branch point did not refine from its midpoint (two
+#: events in one step: a complex pair leaving, then a real exponent returning)
+SUBDIVISIONS, SUBDIVISION_DEPTH = 4, 2
+
+
+class _Checks:
+    """The events between two successive points of a branch of `G(x) = F(x[:n], x[n])
+    = 0` (`Gl` lifted, `Fu(u, p)` its Jacobian in `u`): folds, branch points and Hopf
+    points, each refined; an interval with an event or a change of stability is cut
+    into parts (`SUBDIVISIONS`), and a part whose events are not all refined, or do
+    not account for the exponents that crossed, again (`SUBDIVISION_DEPTH`); the
+    events found in the parts keep the interval's `between`."""
+
+    def __init__(self, Gl, Fu, n, gtol, exponents):
+        self.Gl, self.Fu, self.n, self.gtol, self.exponents = Gl, Fu, n, gtol, exponents
+
+    def between(self, xs, tangents, eig, bordered, jacs, residuals, i, between, depth):
+        n, Gl = self.n, self.Gl
+        a, b = xs[i], xs[i + 1]
+        step_residual = max(residuals[i], residuals[i + 1])
+        unstable = [int(np.sum(eig[j].real > 0)) for j in (i, i + 1)]
+        events = []
+        fold = np.sign(tangents[i][n]) != np.sign(tangents[i + 1][n])
+        # the bordered determinant keeps its sign through a fold (the curve is regular there) and changes it at a
+        # branch point, also where the curve turns back in p there (a symmetric rotor's pitchfork met along its
+        # bifurcating branch: a fold of the tangent, not of the curve)
+        crossed = np.sign(bordered[i]) != np.sign(bordered[i + 1])
+        # cut once wherever something happens (a complex pair that leaves and returns as a real exponent, or meets
+        # another, leaves the counts at the ends as one crossing would), before refining anything
+        if depth == SUBDIVISION_DEPTH and (crossed or fold or unstable[0] != unstable[1]):
+            finer = self._subdivided(a, b, tangents[i], tangents[i + 1], between, depth)
+            if finer is not None:
+                return finer
+        if crossed:
+            events.append(_branch_point_event(Gl, a, b, n, between, self.gtol, step_residual))
+        elif fold:
+            borders = _borders(jacs[i][:, :n] if abs(tangents[i][n]) < abs(tangents[i + 1][n]) else jacs[i + 1][:, :n])
+            z, r = _refined_fold(Gl, jnp.asarray(0.5 * (a + b)), *borders)
+            events.append(_refined_event(np.asarray(z), float(r), a, b, n, between, self.gtol, step_residual))
+        explained = int(crossed or fold)
+        if unstable[0] != unstable[1] and not fold:   # at a fold a real eigenvalue crosses
+            # the eigenvalue that crossed: the least unstable one on the more unstable
+            # side (not the one nearest the axis, which may be a lightly damped
+            # high mode that never crosses)
+            e = eig[i + 1] if unstable[1] > unstable[0] else eig[i]
+            crossing = e[e.real > 0][np.argmin(e[e.real > 0].real)]
+            if abs(crossing.imag) > 1e-8 * max(1.0, abs(crossing)):
+                hopf = _refine_hopf(Gl, self.Fu, a, b, n, between=between, exponents=self.exponents)
+                # a pair whose real part did not change sign across the step (two real
+                # eigenvalues on one side meeting as a pair): no crossing to report
+                if hopf.residual <= HOPF_TOL * max(1.0, hopf.frequency):
+                    events.append(dataclasses.replace(hopf, crossing=abs(unstable[1] - unstable[0])))
+                    explained += 2
+        unrefined = any(e.note is not None and e.note.startswith("located to the step") for e in events)
+        # a part cut again while its events are not all refined or do not account for the exponents that crossed
+        if 0 < depth < SUBDIVISION_DEPTH and (unrefined or abs(unstable[1] - unstable[0]) > explained):
+            finer = self._subdivided(a, b, tangents[i], tangents[i + 1], between, depth)
+            if finer is not None:
+                return finer
+        return events
+
+    def _subdivided(self, a, b, ta, tb, between, depth):
+        """The events of `a -> b`'s `SUBDIVISIONS` parts (None where a point between
+        does not correct onto the branch)."""
+        n, Gl = self.n, self.Gl
+        chord = (b - a) / np.linalg.norm(b - a)
+        guesses = _hermite(a, ta * np.sign(ta @ chord), b, tb * np.sign(tb @ chord),
+                           np.linspace(0.0, 1.0, SUBDIVISIONS + 1)[1:-1])
+        xs = [a]
+        for guess in guesses:
+            y = np.asarray(_on_branch(Gl, jnp.asarray(guess), jnp.asarray(chord)))
+            r = np.max(np.abs(np.asarray(call(Gl, jnp.asarray(y))))) if np.all(np.isfinite(y)) else np.inf
+            if not r <= self.gtol:
+                return None
+            xs.append(y)
+        xs = np.array(xs + [b])
+        J = np.concatenate([np.asarray(J) for _, (J,) in chunks(_jacobians, Gl, (xs,), row_bytes=8 * n * (n + 1))])
+        tangents = np.array([t * np.sign(t @ chord) for t in (_tangent(Jx) for Jx in J)])
+        eig, bordered, jacs = _point_checks(Gl, xs, tangents, self.exponents)
+        residuals = [float(np.max(np.abs(np.asarray(call(Gl, jnp.asarray(x)))))) for x in xs]
+        events = []
+        for j in range(len(xs) - 1):
+            events += self.between(xs, tangents, eig, bordered, jacs, residuals, j, between, depth - 1)
+        return events
 
 
 #: `switch_branch`: how many times the first step off a branch point is halved before it gives up

@@ -139,3 +139,36 @@ def test_the_docs_state_these_checks():
                   f"`4 sin^2(k pi / {2 * (N + 1)})` to 1e-10, the tangents along the sine modes to 1e-8",
                   "`cos th = g / (R p^2)` (to 1e-12)"):
         assert claim in text
+
+
+HOPF_AT = -0.01
+
+
+def pitchfork_beside_a_hopf(u, p):
+    """The rest state of `x' = p x - x^3` (a pitchfork at p = 0) beside the oscillator
+    `y' = [[p - HOPF_AT, -1], [1, p - HOPF_AT]] y` (a Hopf point at p = HOPF_AT,
+    frequency 1)."""
+    a = p - HOPF_AT
+    return jnp.stack([p * u[0] - u[0] ** 3, a * u[1] - u[2], u[1] + a * u[2]])
+
+
+def test_two_events_in_one_step_are_each_found_and_refined():
+    """A step of 0.3 from p = -0.25 passes the Hopf point (-0.01) and the branch point
+    (0) at once; at its far end the least unstable exponent is the real one. Without
+    the step cut into parts, the branch point alone was reported: three exponents crossed
+    and the branch point explains one. Cut, each event is found in its own part and
+    refined to its closed form."""
+    br = continue_branch(pitchfork_beside_a_hopf, np.zeros(3), -0.55, p_bounds=(-0.55, 0.55), ds=0.3, ds_max=0.3,
+                         direction=1)
+    step = [i for i in range(br.p.size - 1) if br.p[i] < HOPF_AT and br.p[i + 1] > 0.0]
+    assert step, br.p       # both in one step
+    (hopf,) = [e for e in br.events if e.kind == "hopf"]
+    (bp,) = [e for e in br.events if e.kind == "branch_point"]
+    assert abs(hopf.p - HOPF_AT) < 1e-10 and abs(hopf.frequency - 1.0) < 1e-10 and hopf.crossing == 2
+    assert abs(bp.p) < 1e-10 and bp.note is None and np.max(np.abs(bp.u)) < 1e-10
+    assert hopf.between == bp.between == (step[0], step[0] + 1)
+    from tests.helpers import documentation
+
+    text = " ".join(documentation("docs/continuation.md").split())
+    assert (f"an oscillator with a Hopf point at `p = {HOPF_AT:g}`: one step of 0.3 passes both" in text
+            and f"the Hopf point at {HOPF_AT:g} and the branch point at 0 to 1e-10" in text)

@@ -148,7 +148,7 @@ def test_stability_is_lost_as_the_integrated_multipliers_say(rig):
     """The branch's stability (Hill's exponents) against the Floquet multipliers of
     the integrated variational equations (`floquet`) at its last stable point in
     contact and its first unstable one: all inside the unit circle, then some
-    outside; the branch reports an event between them; the motion settled in time
+    outside; the branch reports an event between them (a branch point, refined); the motion settled in time
     0.3 rad/s past it is no periodic orbit (revolution to revolution it differs by
     more than 1 % of the clearance: a quasi-periodic rub), 0.3 rad/s before it one."""
     scene, br, coefficients, radius = rig
@@ -156,6 +156,10 @@ def test_stability_is_lost_as_the_integrated_multipliers_say(rig):
     first = int(np.argmax(~stable & (radius > CLEARANCE)))
     assert not stable[first] and stable[first - 1], "no loss of stability in contact"
     assert any(e.between == (first - 1, first) for e in br.events), [(e.kind, e.between) for e in br.events]
+    # a symmetry-breaking pitchfork in that step, refined (from the midpoint of the step's part it lies in: from the
+    # whole step's, its extended system did not converge, residual 3e17)
+    refined = [e for e in br.events if e.between == (first - 1, first) and e.kind == "branch_point"]
+    assert refined and all(e.note is None and e.residual < 1e-8 for e in refined), [(e.p, e.note) for e in refined]
     for i in (first - 1, first):
         mu = np.abs(np.asarray(floquet(_at(scene, float(p[i])), _orbits(coefficients[i])[0], 2 * np.pi / p[i],
                                        rtol=1e-11, atol=1e-14).multipliers))
@@ -182,3 +186,5 @@ def test_the_docs_state_these_checks():
     assert "motions settled in time in contact equal the branch's orbits to 1e-3 of their amplitude" in text
     assert "equals the smoothed branch's orbit to 1e-3" in text
     assert "loses stability as the integrated multipliers say, and the settled motion is a quasi-periodic rub" in text
+    assert "branch point (a symmetry-breaking pitchfork" in text
+    assert "refined to a residual below 1e-8 since steps" in text
