@@ -133,11 +133,12 @@ def speed_branch(scene, bounds, phases):
     end, with the defaults: `(scene_at, branch, coefficients, orbits)`, `orbits` each point's
     states at `phases` of its period, `(points, phases, states)`."""
     import equinox as eqx
+    import jax.numpy as jnp
 
     from rotorjax.analysis import periodic_branch
 
-    def scene_at(w):
-        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+    def scene_at(w):   # an array, as the scene's own speed is: a program compiled at one speed serves them all
+        return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
 
     br, coefficients = periodic_branch(scene_at, bounds[0], np.zeros(scene.state_size), bounds, name="speed")
     return scene_at, br, coefficients, orbits_of(coefficients, phases)

@@ -38,7 +38,6 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
-from .._autodiff import value_and_jacfwd
 from .._newton import newton
 from ..solve._lift import compiled
 
@@ -137,8 +136,10 @@ def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, other_r, bu
         def R(y):
             return jnp.concatenate([G(y), (row @ y - c)[None]])
 
-        y, (step, it) = newton(R, xp, tol, max_newton, floor=1e3 * tol)
-        return y, step, it
+        # G and its Jacobian at the corrected point come from the corrector's last evaluation (each place G is
+        # called is a copy of it in the program)
+        y, (step, it, r, J) = newton(R, xp, tol, max_newton, floor=1e3 * tol, final=True)
+        return y, step, it, r[:-1], J[:-1]
 
     def closes(x, y, t):
         """The chord `x -> y` (tangent `t` at `y`) runs into `other`, coming the other way."""
@@ -179,10 +180,8 @@ def march(G, watch, x, t, J, ds, nonfinite, other, other_t, other_J, other_r, bu
         xp = jnp.where(cross, s["xc"], jnp.where(edge_first, x + s_edge * t, x + ds * t))
         reach = jnp.where(cross, s["reach"], s_edge)
         row = jnp.where(landing, jnp.zeros(m).at[k_fix].set(1.0), t)
-        y, step, it = correct(xp, row, jnp.where(landing, b_fix, t @ xp))
+        y, step, it, Gy, Jy = correct(xp, row, jnp.where(landing, b_fix, t @ xp))
         y = jnp.where(landing, y.at[k_fix].set(b_fix), y)
-        # G and its Jacobian at y from one forward-mode pass (each place G is called is a copy of it in the program)
-        Gy, Jy = value_and_jacfwd(G)(y)
         r = jnp.max(jnp.abs(Gy))
         finite = jnp.isfinite(r) & jnp.all(jnp.isfinite(y))
         Jy = jnp.where(finite, Jy, s["J"])

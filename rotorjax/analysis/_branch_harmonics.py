@@ -14,7 +14,7 @@ import numpy as np
 from ..solve._lift import batched, call, compiled, lift
 from ..solve._results import RESULTS, code_of
 from ._continuation import Branch, Curve
-from ._harmonic_balance import _adapted, harmonic_balance, truncation_error
+from ._harmonic_balance import _adapted, harmonic_balance, truncation_error, truncation_profile
 
 
 #: `periodic_branch(harmonics="auto")`: the harmonics a point may take (a synchronous orbit of an
@@ -46,25 +46,26 @@ class PeriodicBranch(Branch):
 
 
 def _measure(scene_at, period_at, p):
-    """`measure(solution)` at `p` for `_adapted`: `truncation_error`, compiled once
+    """`measure(solution)` at `p` for `_adapted`: `truncation_profile`, compiled once
     per structure and harmonics."""
     def measure(sol):
-        return float(call(lift(_truncation_of(scene_at, period_at), jnp.asarray(p), sol.coefficients),
-                          jnp.asarray(p), sol.coefficients))
+        return np.asarray(call(lift(_truncation_of(scene_at, period_at), jnp.asarray(p), sol.coefficients),
+                               jnp.asarray(p), sol.coefficients))
 
     return measure
 
 
 def _truncation_of(scene_at, period_at):
     def one(p, Y):
-        return truncation_error(scene_at(p), Y, period_at(p))
+        return truncation_profile(scene_at(p), Y, period_at(p))
 
     return one
 
 
 def _truncations(scene_at, period_at, p, coefficients):
-    """`truncation_error` at every point of a piece of branch (in batches of
-    `solve._lift.ROWS` points: one program per structure)."""
+    """`truncation_profile` at every point of a piece of branch, `(points, entries)`
+    (in batches of `solve._lift.ROWS` points: one program per structure); its first
+    column is each point's `truncation_error`."""
     p, Y = np.asarray(p, dtype=float), np.asarray(coefficients, dtype=float)
     one = lift(_truncation_of(scene_at, period_at), jnp.asarray(p[0]), jnp.asarray(Y[0]))
     return batched(_rows, one, (p, Y))[0]
@@ -117,17 +118,17 @@ def _adaptive(piece, Y0, p0, options, target, ladder):
     for side in (0, 1):                      # the low end, then the high end (or the far end, traced one way)
         pieces, last, stop, lower_ok = [], first, first[0].stops[side], True
         while stop.startswith(REHARMONIZE) and budget > 0:
-            br, co, H, _ = last
+            br, co, H, tr = last
             i = 0 if pieces == [] and side == 0 else -1
             Y, p = co[i], float(br.p[i])
             t = br.curve.tangents[i] * (-1.0 if i == 0 else 1.0)     # outward
             if stop.endswith("raised"):
                 sol = _adapted(scene_at(p), period_at(p), Y, truncation_tol=target, max_harmonics=ladder[-1],
                                stability=False, ladder=ladder, above=H, measure=_measure(scene_at, period_at, p),
-                               t0=0.0, tol=1e-10, max_iter=30, args=None)
+                               profile=tr[i], t0=0.0, tol=1e-10, max_iter=30, args=None)
             else:
                 sol = harmonic_balance(scene_at(p), period_at(p), Y, ladder[ladder.index(H) - 1], stability=False)
-                if not (int(sol.code) == 0 and _measure(scene_at, period_at, p)(sol) <= target):
+                if not (int(sol.code) == 0 and _measure(scene_at, period_at, p)(sol)[0] <= target):
                     sol, lower_ok = None, False      # the motion needs H after all: go on with it, never lower
             if sol is not None and int(sol.code) not in (0, code_of(RESULTS.harmonics_insufficient)):
                 stop = (f"no periodic motion with more harmonics than {H} at {options['name']} = {p:.8g} "
@@ -159,7 +160,7 @@ def _joined(first, sides):
     to the most harmonics."""
     br0, co0, H0, tr0 = first
     if all(not pieces for pieces, _ in sides) and tuple(stop for _, stop in sides) == tuple(br0.stops):
-        return PeriodicBranch(**_fields(br0), harmonics=np.full(br0.p.size, H0), truncation=tr0), co0
+        return PeriodicBranch(**_fields(br0), harmonics=np.full(br0.p.size, H0), truncation=tr0[:, 0]), co0
     n = co0.shape[-1]
     rows = 2 * max([H0] + [pc[2] for pieces, _ in sides for pc in pieces]) + 1
 
@@ -170,7 +171,7 @@ def _joined(first, sides):
         c = br.curve
         return dict(p=float(br.p[i]), Y=_resized(co[i], rows), u=padded(np.append(br.u[i], 0.0), H)[:-1],
                     margin=float(br.margin[i]), stable=bool(br.stable[i]),
-                    H=H, truncation=float(tr[i]), residual=float(c.residuals[i]),
+                    H=H, truncation=float(tr[i, 0]), residual=float(c.residuals[i]),
                     tangent=sign * padded(c.tangents[i], H), into=into)
 
     s0 = int(br0.curve.start)

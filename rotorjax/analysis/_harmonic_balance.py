@@ -216,6 +216,24 @@ def truncation_error(scene, Y, period, t0=0.0, args=None):
     size `s` (its largest coefficient, at least 1e-3 of the largest of all), so a
     stiff rotor's large accelerations of tiny motions do not count as error, as
     they do in the time-domain residual."""
+    e2, size2 = _truncation_terms(scene, Y, period, t0, args)
+    return jnp.sqrt(jnp.sum(e2) / size2)
+
+
+def truncation_profile(scene, Y, period, t0=0.0, args=None):
+    """`truncation_error`'s estimate had the series kept more harmonics, predicted
+    from these coefficients: entry `j` leaves out only the corrections above
+    harmonic `H + j` (entry 0 is `truncation_error`; the last, `2 N - 2 - H`, the
+    highest harmonic the `4 N` instants resolve). Where the series is short of
+    harmonics, the count that meets a target is read off it
+    (`next_harmonics`) instead of climbing the ladder one count at a time."""
+    e2, size2 = _truncation_terms(scene, Y, period, t0, args)
+    return jnp.sqrt(jnp.cumsum(e2[::-1])[::-1] / size2)
+
+
+def _truncation_terms(scene, Y, period, t0, args):
+    """`truncation_error`'s squared corrections per left-out harmonic `H + 1 ..
+    2 N - 1` (summed over the states, weighed) and the weighed series' squared size."""
     H = (Y.shape[0] - 1) // 2
     M = 4 * _samples(H, None)
     B, _ = _collocation(H, M)
@@ -239,8 +257,21 @@ def truncation_error(scene, Y, period, t0=0.0, args=None):
     dY = jax.vmap(lambda k, Rk: jax.scipy.linalg.lu_solve(jax.scipy.linalg.lu_factor(1j * k * w * eye - A), Rk))(ks, R)
     s = jnp.max(jnp.abs(Y), axis=0, keepdims=True)
     s = jnp.maximum(s, 1e-3 * jnp.max(s) + jnp.finfo(jnp.float64).tiny)
-    return jnp.sqrt(jnp.sum(jnp.abs(dY / s) ** 2) / jnp.maximum(jnp.sum((Y / s) ** 2),
-                                                                      jnp.finfo(jnp.float64).tiny))
+    return (jnp.sum(jnp.abs(dY / s) ** 2, axis=1),
+            jnp.maximum(jnp.sum((Y / s) ** 2), jnp.finfo(jnp.float64).tiny))
+
+
+def next_harmonics(profile, H, counts, target):
+    """The count of `counts` (ascending, all above `H`) to solve with next, from the
+    `truncation_profile` `profile` of a solution with `H` harmonics that missed
+    `target`: the fewest whose predicted estimate meets it; where none that the
+    profile sees does, the first it does not see (beyond what these coefficients
+    tell); the last count where every count is seen and none meets it."""
+    profile = np.asarray(profile)
+    for h in counts:
+        if h - H >= profile.size or profile[h - H] <= target:
+            return h
+    return counts[-1]
 
 
 def _guess_coefficients(guess, H, n):
@@ -319,21 +350,31 @@ def harmonic_balance(scene, period, guess, harmonics=8, *, t0=0.0, n_samples=Non
 
 
 def _adapted(scene, period, guess, *, truncation_tol, max_harmonics, stability, ladder=AUTO_HARMONICS, above=0,
-             measure=None, **kw):
+             measure=None, profile=None, **kw):
     """`harmonic_balance(harmonics="auto")`: see there (`ladder`, `above`: as in
-    `harmonic_ladder`; `measure(solution)`: the truncation error held below
-    `truncation_tol`, default the time-domain residual)."""
+    `harmonic_ladder`). `measure(solution)`, where given, is a `truncation_profile`:
+    its first entry is held below `truncation_tol`, and where it is not, the next
+    count is read off it (`next_harmonics`) rather than the ladder's next; `profile`
+    the one of the solution with `above` harmonics that `guess` is, to choose the
+    first count by. Without `measure`, the time-domain residual is held below it,
+    count by count."""
     max_harmonics = as_count("max_harmonics", max_harmonics, minimum=1)
     as_param("truncation_tol", truncation_tol, sign="positive", shape=())
+    counts = harmonic_ladder(max_harmonics, ladder, above)
+    H = counts[0] if profile is None else next_harmonics(profile, above, counts, truncation_tol)
     sol = None
-    for H in harmonic_ladder(max_harmonics, ladder, above):
+    while True:
         sol = harmonic_balance(scene, period, guess if sol is None else sol, H, stability=False, **kw)
         if int(sol.code) != 0:
             return sol
-        if float(sol.time_residual if measure is None else measure(sol)) <= truncation_tol:
+        seen = None if measure is None else np.asarray(measure(sol))
+        if float(sol.time_residual if seen is None else seen[0]) <= truncation_tol:
             break
-    else:
-        sol = eqx.tree_at(lambda s: s.code, sol, jnp.asarray(code_of(RESULTS.harmonics_insufficient), jnp.int32))
+        later = tuple(h for h in counts if h > H)
+        if not later:
+            sol = eqx.tree_at(lambda s: s.code, sol, jnp.asarray(code_of(RESULTS.harmonics_insufficient), jnp.int32))
+            break
+        H = later[0] if seen is None else next_harmonics(seen, H, later, truncation_tol)
     return _with_floquet(scene, sol, kw["rtol"], kw["atol"]) if stability else sol
 
 

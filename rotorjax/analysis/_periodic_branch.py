@@ -40,9 +40,9 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     - `p0`, `guess`: the start (`guess` as in `harmonic_balance`: solved there first).
     - `p_bounds`: `(lo, hi)`; `harmonics`: `H`, or `"auto"` (the default): each
       point's harmonics adapted to the motion (`BRANCH_HARMONICS`: 1, 2, 4, ... up
-      to `max_harmonics`), so that the time-domain residual of the reconstructed
-      orbit (the truncation error estimate, `PeriodicSolution.time_residual`) stays
-      below `truncation_tol`: the start takes the fewest that reach it; a point past
+      to `max_harmonics`), so that the truncation error estimate
+      (`truncation_error`) stays below `truncation_tol`: the start takes the fewest that reach it (the counts that
+      the estimate's `truncation_profile` shows short skipped); a point past
       it ends the piece of branch there, and the next piece goes on from that point
       solved again with more harmonics (in the direction the branch went); where the
       series cut to the next lower count keeps the residual below `LOWER_MARGIN`
@@ -90,6 +90,7 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     through -1) or `"neimark-sacker"` (a pair of multipliers `exp(+-i 2 pi f / w)`
     through the unit circle; `frequency` the exponent's `f` in (0, w/2), rad per
     time unit)."""
+    scene_at = _array_parameter(scene_at)
     if period_at is None:
         def period_at(p):
             return forcing_period(scene_at(p), subharmonic)
@@ -139,7 +140,7 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     if not auto:
         br, coefficients = piece(Y0, p0, options)
         return (PeriodicBranch(**_fields(br), harmonics=np.full(br.p.size, top),
-                               truncation=_truncations(scene_at, period_at, br.p, coefficients)), coefficients)
+                               truncation=_truncations(scene_at, period_at, br.p, coefficients)[:, 0]), coefficients)
     return _adaptive(piece, Y0, p0, options, target, harmonic_ladder(top, BRANCH_HARMONICS))
 
 
@@ -231,7 +232,7 @@ def _crossing(F, event, bounds, options, exponents, physical, w0, at, shape):
     other = dataclasses.replace(other, margin=other.margin * w0,
                                 events=tuple(_physical(e, physical, w0, period_at) for e in other.events))
     return {"switched": (PeriodicBranch(**_fields(other), harmonics=np.full(other.p.size, H),
-                                        truncation=_truncations(*at, other.p, coefficients)), coefficients)}
+                                        truncation=_truncations(*at, other.p, coefficients)[:, 0]), coefficients)}
 
 
 def _scaled(scale, p, u):
@@ -594,6 +595,17 @@ _hill = jax.jit(_physical_exponents, static_argnums=1)
 
 #: parameter values at which `periodic_branch` surveys the motion's size before continuing
 SURVEY = 9
+
+
+def _array_parameter(scene_at):
+    """`scene_at` given its parameter as a float64 array: a Python number set into a
+    scene is a static leaf of it (`eqx.filter_jit`), and each value that a branch
+    solves at alone (its start, each change of harmonics) would compile `_solve`
+    again."""
+    def at(p):
+        return scene_at(jnp.asarray(p, dtype=jnp.float64))
+
+    return at
 
 
 def _span(lo, hi, p0):

@@ -452,6 +452,48 @@ def test_truncation_estimate_is_the_error_of_the_left_out_harmonics(three):
             assert true > 1e-12 and 0.5 < est / true < 2.0, (H, est, true)
 
 
+def test_truncation_profile_predicts_the_estimate_with_more_harmonics(three):
+    """`truncation_profile` of a series of H harmonics against `truncation_error` of
+    the motion solved with h > H harmonics (up to 12), for each of the three motions
+    and H = 1, 2, 4: its first entry is `truncation_error` itself; it is never above
+    the estimate then solved (it holds the harmonics the series' own terms make, not
+    those that the harmonics yet to be solved would make in turn), so a count it
+    shows short would not have met the target; below three times the highest
+    harmonic the series holds (a cubic's reach: the Duffing motions hold no even
+    ones) it is within a factor 20 of it. `next_harmonics` reads the counts off it: from 1
+    harmonic 4 and from 4, 8 for the largest motion at 1e-6, where the ladder
+    climbs 1, 2, 4, 8."""
+    from rotorjax.analysis import truncation_error
+    from rotorjax.analysis._harmonic_balance import next_harmonics, truncation_profile
+    from tests.helpers import documentation
+
+    scene, T, _, one, _ = three
+    for s1 in one:
+        for H in (1, 2, 4):
+            s = harmonic_balance(scene, T, s1, H, stability=False)
+            profile = np.asarray(truncation_profile(scene, s.coefficients, T))
+            Y = np.abs(np.asarray(s.coefficients))
+            held = max(k for k in range(1, H + 1) if Y[2 * k - 1:2 * k + 1].max() > 1e-12 * Y.max())
+            assert profile[0] == pytest.approx(float(truncation_error(scene, s.coefficients, T)), rel=1e-12)
+            for h in range(H + 1, min(12, H + profile.size - 1) + 1):
+                actual = float(truncation_error(scene, harmonic_balance(scene, T, s, h, stability=False).coefficients,
+                                                T))
+                assert profile[h - H] <= 1.01 * actual + 1e-15, (H, h, profile[h - H], actual)
+                if h < 3 * held:
+                    assert profile[h - H] >= actual / 20, (H, h, profile[h - H], actual)
+    ladder = (2, 4, 8, 16)
+    big = harmonic_balance(scene, T, one[-1], 1, stability=False)
+    assert next_harmonics(truncation_profile(scene, big.coefficients, T), 1, ladder, 1e-6) == 4
+    big = harmonic_balance(scene, T, one[-1], 4, stability=False)
+    assert next_harmonics(truncation_profile(scene, big.coefficients, T), 4, ladder[2:], 1e-6) == 8
+    profile = np.array([1e-2, 1e-4, 1e-5, 1e-7, 1e-9])
+    assert next_harmonics(profile, 1, (2, 8, 16), 1e-6) == 8           # beyond what the profile sees
+    assert next_harmonics(profile, 1, (2, 4), 1e-12) == 4              # nothing seen meets it: the last
+    text = " ".join(documentation("docs/periodic.md").split())
+    assert ("never above the estimate then solved, so a count it shows short would not have met the target, and "
+            "below three times the highest harmonic the series holds (a cubic's reach) within a factor 20 of it" in text)
+
+
 def test_branch_harmonics_adapted_along_the_branch():
     """`periodic_branch`'s default, `harmonics="auto"`: from the small motion at 2.0
     down through both folds, the harmonics go up where the motion grows and down

@@ -16,6 +16,7 @@ through `rotorjax.simulate`, nothing of harmonic balance):
 import re
 
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -85,7 +86,8 @@ def test_settled_motions_are_the_branch_s_orbits(rig):
         w = float(br.p[i])
         period = 2 * np.pi / w
         y0 = np.zeros(scene.state_size) if start is None else start * orbits[i, 0]
-        res = rotorjax.simulate(eqx.tree_at(lambda s: s.speed.constant, scene, w), y0, (0.0, 400 * period),
+        at = eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w))   # an array: one program for all
+        res = rotorjax.simulate(at, y0, (0.0, 400 * period),
                                 saveat=399 * period + PHASES / w, solver="dopri8", rtol=1e-10, atol=1e-14,
                                 max_steps=2_000_000).raise_if_failed()
         node = np.asarray(res.ys)[:, 2 * 2 * NODE:2 * 2 * NODE + 2]

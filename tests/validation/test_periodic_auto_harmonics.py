@@ -53,8 +53,8 @@ def variant_scene(folder):
 def branch(tmp_path_factory):
     scene = variant_scene(tmp_path_factory.mktemp("rotor"))
 
-    def scene_at(w):
-        return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+    def scene_at(w):   # an array: a program compiled at one speed serves them all
+        return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
 
     br, coefficients = periodic_branch(scene_at, RANGE[0], np.zeros(scene.state_size), RANGE, name="speed")
     return scene_at, br, coefficients

@@ -54,8 +54,8 @@ def _scene(tmp_path_factory, name, clearance):
     return cubic_rig_variant(tmp_path_factory.mktemp("rotor"), name, lambda text: rubbing(text, clearance))
 
 
-def _at(scene, w):
-    return eqx.tree_at(lambda s: s.speed.constant, scene, w)
+def _at(scene, w):   # an array: one compiled time simulation for every speed
+    return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
 
 
 def _orbits(coefficients):
