@@ -2,8 +2,9 @@
 the former default, eight harmonics everywhere, on two rotors:
 
 - the shipped `cubic_rig.toml` (ROSS's example rotor on isotropic cubic bearings),
-  through both folds over 100..106 rad/s, by the CLI: cold (a fresh interpreter:
-  import, compile, run; `rotorjax periodic ... --json` as a subprocess) and warm
+  through both folds over 100..106 rad/s, by the CLI: cold (a fresh interpreter with
+  an empty compilation cache: import, compile, run; `rotorjax periodic ... --json` as a
+  subprocess) and warm
   (`rotorjax.cli.main` a second time in one process, the median of repeats). Its
   orbits are circles: auto takes one harmonic everywhere; the folds of both runs
   are compared.
@@ -70,10 +71,14 @@ def cli_in_process(argv):
 
 
 def cli_cold(argv):
-    t0 = time.perf_counter()
+    """A fresh interpreter with an empty compilation cache of its own (the CLI's, in the user's cache folder,
+    would otherwise hold an earlier run's programs)."""
     cli = "import sys; from rotorjax.cli import main; sys.exit(main(sys.argv[1:]))"
-    run = subprocess.run([sys.executable, "-c", cli] + argv, capture_output=True, text=True)
-    seconds = time.perf_counter() - t0
+    with tempfile.TemporaryDirectory() as cache:
+        t0 = time.perf_counter()
+        run = subprocess.run([sys.executable, "-c", cli] + argv, capture_output=True, text=True,
+                             env=dict(os.environ, ROTORJAX_CACHE_DIR=cache))
+        seconds = time.perf_counter() - t0
     assert run.returncode == 0, run.stderr[-2000:]
     return seconds, json.loads(run.stdout)
 
