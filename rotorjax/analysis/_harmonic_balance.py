@@ -223,9 +223,9 @@ def truncation_error(scene, Y, period, t0=0.0, args=None):
 def truncation_profile(scene, Y, period, t0=0.0, args=None):
     """`truncation_error`'s estimate had the series kept more harmonics, predicted
     from these coefficients: entry `j` leaves out only the corrections above
-    harmonic `H + j` (entry 0 is `truncation_error`; the last, `2 N - 2 - H`, the
-    highest harmonic the `4 N` instants resolve). Where the series is short of
-    harmonics, the count that meets a target is read off it
+    harmonic `H + j` (entry 0 is `truncation_error`; the last, `j = 2 N - 2 - H`,
+    only that of harmonic `2 N - 1`, the highest the `4 N` instants resolve). Where
+    the series is short of harmonics, the count that meets a target is read off it
     (`next_harmonics`) instead of climbing the ladder one count at a time."""
     e2, size2 = _truncation_terms(scene, Y, period, t0, args)
     return jnp.sqrt(jnp.cumsum(e2[::-1])[::-1] / size2)

@@ -41,10 +41,11 @@ def periodic_branch(scene_at, p0, guess, p_bounds, harmonics="auto", *, period_a
     - `p_bounds`: `(lo, hi)`; `harmonics`: `H`, or `"auto"` (the default): each
       point's harmonics adapted to the motion (`BRANCH_HARMONICS`: 1, 2, 4, ... up
       to `max_harmonics`), so that the truncation error estimate
-      (`truncation_error`) stays below `truncation_tol`: the start takes the fewest that reach it (the counts that
-      the estimate's `truncation_profile` shows short skipped); a point past
-      it ends the piece of branch there, and the next piece goes on from that point
-      solved again with more harmonics (in the direction the branch went); where the
+      (`truncation_error`) stays below `truncation_tol`: the start takes the fewest
+      that reach it (the counts that the estimate's `truncation_profile` shows short
+      skipped); a point past it ends the piece of branch there, and the next piece
+      goes on from that point solved again with more harmonics (in the direction
+      the branch went; the count read off that point's profile likewise); where the
       series cut to the next lower count keeps the residual below `LOWER_MARGIN`
       times `truncation_tol`, with fewer (kept only where the motion solved with
       them meets the target). With shooting, each point's series keeps the fewest

@@ -491,7 +491,8 @@ def test_truncation_profile_predicts_the_estimate_with_more_harmonics(three):
     assert next_harmonics(profile, 1, (2, 4), 1e-12) == 4              # nothing seen meets it: the last
     text = " ".join(documentation("docs/periodic.md").split())
     assert ("never above the estimate then solved, so a count it shows short would not have met the target, and "
-            "below three times the highest harmonic the series holds (a cubic's reach) within a factor 20 of it" in text)
+            "below three times the highest harmonic the series holds (a cubic's reach) within a factor 20 of it"
+            in text)
 
 
 def test_branch_harmonics_adapted_along_the_branch():
