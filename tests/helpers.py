@@ -128,18 +128,25 @@ def cubic_rig_variant(folder, name, edit):
     return preset.build(preset.params()).scene
 
 
+def at_speed(scene, w):
+    """`scene` at the constant speed `w`, set as a float64 array, as the scene's own speed
+    is: a program compiled at one speed serves them all (a Python number set into a
+    scene is a static leaf of `eqx.filter_jit`, compiled again at each value)."""
+    import equinox as eqx
+    import jax.numpy as jnp
+
+    return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
+
+
 def speed_branch(scene, bounds, phases):
     """`periodic_branch` of `scene` in its speed over `bounds` from rest at the low
     end, with the defaults: `(scene_at, branch, coefficients, orbits)`, `orbits` each point's
     states at `phases` of its period, `(points, phases, states)`."""
-    import equinox as eqx
-    import jax.numpy as jnp
+    from functools import partial
 
     from rotorjax.analysis import periodic_branch
 
-    def scene_at(w):   # an array, as the scene's own speed is: a program compiled at one speed serves them all
-        return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
-
+    scene_at = partial(at_speed, scene)
     br, coefficients = periodic_branch(scene_at, bounds[0], np.zeros(scene.state_size), bounds, name="speed")
     return scene_at, br, coefficients, orbits_of(coefficients, phases)
 
@@ -153,3 +160,39 @@ def orbits_of(coefficients, phases):
 
     H = (np.shape(coefficients)[-2] - 1) // 2
     return np.einsum("pk,...kd->...pd", np.asarray(_basis_at(jnp.asarray(phases), H)), np.asarray(coefficients))
+
+
+#: where the validation files' stored reference runs live (`stored_reference`)
+REFERENCE_DATA = "validation/data"
+
+
+def stored_reference(name):
+    """A reference run stored by `store_reference` (`tests/validation/data/NAME.json`):
+    its values, lists as float64 arrays. A reference that takes minutes to compute
+    (a long time simulation, independent of the code a test checks) is computed once
+    by its test file's `reference()` (`python -m tests.validation.FILE` writes it again)
+    and read here, so the suite does not pay for it at every run."""
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent / REFERENCE_DATA / f"{name}.json"
+    data = json.loads(path.read_text())
+    return {k: np.asarray(v, dtype=float) if isinstance(v, list) else v for k, v in data["values"].items()}
+
+
+def store_reference(name, values, command):
+    """Write `values` (numbers and arrays) as `tests/validation/data/NAME.json`, with
+    how they were made: `command`, the commit, the date, the versions of jax and diffrax."""
+    import datetime
+    import json
+    import subprocess
+    from pathlib import Path
+
+    import diffrax
+
+    here = Path(__file__).resolve().parent
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=here, capture_output=True, text=True)
+    made = {"command": command, "commit": commit.stdout.strip(), "date": datetime.date.today().isoformat(),
+            "jax": jax.__version__, "diffrax": diffrax.__version__}
+    values = {k: np.asarray(v).tolist() if np.ndim(v) else float(v) for k, v in values.items()}
+    (here / REFERENCE_DATA / f"{name}.json").write_text(json.dumps({"made": made, "values": values}, indent=1) + "\n")

@@ -7,10 +7,10 @@ on which no periodic analysis was built.
   speed, as with the short films, a little higher: measured 1.787 W_C against the
   short films' 1.759 W_C (the short model's pressure, exact only as L/D -> 0,
   differs at L/D = 0.3).
-- At 2.5 W_C the run (5 s from the equilibrium, the disk kicked by one clearance)
-  settles on the whip cycle; `limit_cycle` (8 harmonics) from one period of its tail
-  gives its period and the disk's amplitude to 1e-5 and 1e-4 (measured 6.9e-7 and
-  6.1e-6), stable."""
+- At 2.5 W_C the run (5 s from the equilibrium, the disk kicked by one clearance;
+  stored in `tests/validation/data/`, made by `reference()`) settles on the whip
+  cycle; `limit_cycle` (8 harmonics) from one period of its tail gives its period
+  and the disk's amplitude to 1e-5 and 1e-4 (measured 6.9e-7 and 6.1e-6), stable."""
 
 import numpy as np
 import pytest
@@ -18,6 +18,8 @@ from scipy.interpolate import CubicSpline
 
 from rotorjax.analysis import coefficients_from_samples, hopf_points, limit_cycle, orbit_amplitude
 from rotorjax.models import DiskDamping, Gravity, JournalBearing
+
+from tests.helpers import store_reference, stored_reference
 
 from .test_oil_whip import (CLEARANCE, DIAMETER, DISK, DISK_DAMPING, G_ACC, LENGTH, VISCOSITY, W_C,
                             _run, _run_period_and_amplitude, _scene, _tail)
@@ -29,6 +31,7 @@ FINITE = (Gravity(G_ACC), JournalBearing(0, VISCOSITY, LENGTH, DIAMETER, CLEARAN
 SHORT_ONSET = 1.759        # W_C: test_oil_whip.py's measured onset in the short films
 ONSET = 1.787              # W_C: measured here
 HARMONICS = 8
+REFERENCE = "oil_whip_finite_run"     # tests/validation/data/, made by `reference()`
 
 
 def test_the_onset_is_later_than_the_short_films():
@@ -40,27 +43,38 @@ def test_the_onset_is_later_than_the_short_films():
     assert 0.45 < p.frequency / p.speed < 0.5
 
 
-def test_the_whip_cycle_by_harmonic_balance_is_the_run_s_orbit():
-    """The cycle's period and disk amplitude (~21 clearances) equal the run's settled
-    orbit (the last 10 whirl periods) to 1e-5 and 1e-4; it is stable, the trivial
-    multiplier 1 to 1e-8; the journals whip at eps 0.91..0.94 (inside the finite
-    film's interpolated range)."""
-    speed = 2.5 * W_C
-    sc, ts, res = _run(speed, 5.0, kick=CLEARANCE, components=FINITE)
+def reference():
+    """The time run (independent of harmonic balance): 5 s at 2.5 W_C from the
+    equilibrium, the disk kicked by one clearance; its settled whirl's period and
+    disk amplitude (the last 10 whirl periods), the journals' eccentricities over
+    its last quarter, and one period of its tail as `HARMONICS` harmonics (the
+    start of `limit_cycle`). Stored (`python -m tests.validation.test_oil_whip_finite`):
+    the run takes about a minute."""
+    sc, ts, res = _run(2.5 * W_C, 5.0, kick=CLEARANCE, components=FINITE)
     eps = np.asarray(res.outputs["journal0_eccentricity"])[_tail(ts)]
     tail = _tail(ts, 0.5)
     ts, ys = ts[tail], np.asarray(res.ys)[tail, :-1]            # the work state left out
     period, amp, tc = _run_period_and_amplitude(ts, ys)
     m = 4 * HARMONICS + 4
     guess = coefficients_from_samples(CubicSpline(ts, ys)(tc[-2] + period * np.arange(m) / m), HARMONICS)
-    sol = limit_cycle(sc.without_work(), period, guess, HARMONICS)
+    return dict(period=period, amplitude=amp, guess=np.asarray(guess), eps_min=eps.min(), eps_max=eps.max())
+
+
+def test_the_whip_cycle_by_harmonic_balance_is_the_run_s_orbit():
+    """The cycle's period and disk amplitude (~21 clearances) equal the run's settled
+    orbit (`reference`: the last 10 whirl periods) to 1e-5 and 1e-4; it is stable, the trivial
+    multiplier 1 to 1e-8; the journals whip at eps 0.91..0.94 (inside the finite
+    film's interpolated range)."""
+    speed = 2.5 * W_C
+    run = stored_reference(REFERENCE)
+    sc = _scene(speed, track_work=False, components=FINITE)
+    sol = limit_cycle(sc, run["period"], run["guess"], HARMONICS)
     assert int(sol.code) == 0
-    a = float(orbit_amplitude(_scene(speed, track_work=False, components=FINITE), sol.coefficients, sol.period,
-                              sol.t0, node=DISK))
-    assert float(sol.period) == pytest.approx(period, rel=1e-5)
-    assert a == pytest.approx(amp, rel=1e-4) and a > 10 * CLEARANCE
+    a = float(orbit_amplitude(sc, sol.coefficients, sol.period, sol.t0, node=DISK))
+    assert float(sol.period) == pytest.approx(run["period"], rel=1e-5)
+    assert a == pytest.approx(run["amplitude"], rel=1e-4) and a > 10 * CLEARANCE
     assert bool(sol.stable) and abs(complex(sol.trivial_multiplier) - 1) < 1e-8
-    assert 0.9 < eps.min() and eps.max() < 0.95
+    assert 0.9 < run["eps_min"] and run["eps_max"] < 0.95
 
 
 def test_the_docs_state_these_checks():
@@ -71,3 +85,10 @@ def test_the_docs_state_these_checks():
     assert f"whirls from {ONSET} `W_C` (the short films' {SHORT_ONSET})" in text
     assert ("equals the 5 s run's settled orbit: period within 1e-5, disk amplitude within 1e-4 (measured 6.9e-7 and "
             "6.1e-6), stable, the journals at eps 0.91 to 0.94" in text)
+
+
+if __name__ == "__main__":
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    store_reference(REFERENCE, reference(), "python -m tests.validation.test_oil_whip_finite")

@@ -12,7 +12,6 @@ the integrated orbit to the truncation target's order."""
 import os
 import re
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -21,8 +20,8 @@ from scipy.integrate import solve_ivp
 
 import rotorjax
 from rotorjax import presets
-from rotorjax.analysis import periodic_branch
 from rotorjax.analysis._harmonic_balance import _basis_at
+from tests.helpers import speed_branch
 
 pytestmark = pytest.mark.slow
 
@@ -51,12 +50,7 @@ def variant_scene(folder):
 
 @pytest.fixture(scope="module")
 def branch(tmp_path_factory):
-    scene = variant_scene(tmp_path_factory.mktemp("rotor"))
-
-    def scene_at(w):   # an array: a program compiled at one speed serves them all
-        return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
-
-    br, coefficients = periodic_branch(scene_at, RANGE[0], np.zeros(scene.state_size), RANGE, name="speed")
+    scene_at, br, coefficients, _ = speed_branch(variant_scene(tmp_path_factory.mktemp("rotor")), RANGE, [0.0])
     return scene_at, br, coefficients
 
 

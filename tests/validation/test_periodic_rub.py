@@ -12,8 +12,9 @@ Independent references (nothing of harmonic balance):
 - the contact onset: the speed at which the linear rotor's (no clearance bearing)
   unbalance response at the disk reaches the clearance (`scene_unbalance_response`,
   the complex amplitudes of the linear equations), within 1 %;
-- settled motions integrated in time (Dopri8, the same smoothed contact) on the
-  branch's stable part in contact, to 1e-3 of the amplitude;
+- settled motions integrated in time (Dopri8, the same smoothed contact; stored in
+  `tests/validation/data/`, made by `reference()`) on the branch's stable part in
+  contact, to 1e-3 of the amplitude;
 - the exact (unsmoothed) contact by event-located shooting
   (`periodic_orbit(events=True)`: contact switched at its events, nothing smoothed),
   to 1e-3 of the amplitude: the smoothing's effect;
@@ -22,8 +23,9 @@ Independent references (nothing of harmonic balance):
   settled in time past it: no longer periodic (a quasi-periodic rub)."""
 
 import re
+import tempfile
+from pathlib import Path
 
-import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -31,7 +33,7 @@ from scipy.optimize import brentq
 
 import rotorjax
 from rotorjax.analysis import floquet, harmonic_balance, periodic_orbit, scene_unbalance_response
-from tests.helpers import cubic_rig_variant, orbits_of, speed_branch
+from tests.helpers import at_speed, cubic_rig_variant, orbits_of, speed_branch, store_reference, stored_reference
 
 pytestmark = pytest.mark.slow
 
@@ -39,6 +41,8 @@ RANGE = (86.0, 89.5)      # rad/s: out of contact, into it, past the loss of sta
 NODE, CLEARANCE = 1, 6e-4
 PHASES = np.linspace(0.0, 2 * np.pi, 256, endpoint=False)
 X = 2 * 2 * NODE          # the node's x (4 dofs a node: x, y first)
+SETTLED = (87.9, 88.4)    # rad/s: the motions settled in time, in contact
+REFERENCE = "periodic_rub_settled"    # tests/validation/data/, made by `reference()`
 
 
 def rubbing(text, clearance=True):
@@ -51,11 +55,8 @@ def rubbing(text, clearance=True):
 
 
 def _scene(tmp_path_factory, name, clearance):
-    return cubic_rig_variant(tmp_path_factory.mktemp("rotor"), name, lambda text: rubbing(text, clearance))
-
-
-def _at(scene, w):   # an array: one compiled time simulation for every speed
-    return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
+    folder = Path(tempfile.mkdtemp()) if tmp_path_factory is None else tmp_path_factory.mktemp("rotor")
+    return cubic_rig_variant(folder, name, lambda text: rubbing(text, clearance))
 
 
 def _orbits(coefficients):
@@ -111,19 +112,36 @@ def test_contact_starts_where_the_linear_response_reaches_the_clearance(rig, tmp
     assert abs(onset - exact) < 0.01 * exact, (onset, exact)
 
 
-def test_settled_motions_in_contact_are_the_branch_s_orbits(rig):
-    """At two speeds in contact, on the stable part: the motion settled from rest
-    over 300 revolutions equals the branch's orbit at the disk to 1e-3 of its
-    amplitude (measured: 7e-5 and 1.3e-4)."""
-    scene, br, coefficients, radius = rig
-    for w in (87.9, 88.4):
-        i, w = _nearest(br, w)
-        assert br.stable[i] and radius[i] > CLEARANCE
+def reference():
+    """The motions settled in time (independent of harmonic balance) at `SETTLED`:
+    300 revolutions from rest, Dopri8 at rtol 1e-10; the disk's x and y over the last
+    one at `PHASES`. Stored (`python -m tests.validation.test_periodic_rub`)."""
+    scene = _scene(None, "rub.toml", True)
+    orbits = []
+    for w in SETTLED:
         period = 2 * np.pi / w
-        res = rotorjax.simulate(_at(scene, w), np.zeros(scene.state_size), (0.0, 300 * period),
+        res = rotorjax.simulate(at_speed(scene, w), np.zeros(scene.state_size), (0.0, 300 * period),
                                 saveat=299 * period + PHASES / w, solver="dopri8", rtol=1e-10, atol=1e-14,
                                 max_steps=4_000_000).raise_if_failed()
-        err = np.abs(np.asarray(res.ys)[:, X:X + 2] - _orbits(coefficients[i])[:, X:X + 2]).max() / radius[i]
+        orbits.append(np.asarray(res.ys)[:, X:X + 2])
+    return dict(speeds=np.asarray(SETTLED), orbits=np.asarray(orbits))
+
+
+def test_settled_motions_in_contact_are_the_branch_s_orbits(rig):
+    """At two speeds in contact, on the stable part: the motion settled from rest
+    over 300 revolutions (`reference`) equals the branch's orbit at the disk (its
+    nearest point solved again at that speed) to 1e-3 of its amplitude (measured:
+    7e-5 and 1.3e-4)."""
+    scene, br, coefficients, radius = rig
+    settled = stored_reference(REFERENCE)
+    np.testing.assert_array_equal(settled["speeds"], SETTLED)
+    for w, orbit in zip(SETTLED, settled["orbits"]):
+        i, _ = _nearest(br, w)
+        assert br.stable[i] and radius[i] > CLEARANCE
+        H = int(br.harmonics[i])
+        sol = harmonic_balance(at_speed(scene, w), 2 * np.pi / w, coefficients[i, :2 * H + 1], H, stability=False)
+        assert int(sol.code) == 0
+        err = np.abs(orbit - _orbits(sol.coefficients)[:, X:X + 2]).max() / radius[i]
         assert err < 1e-3, (w, err)
 
 
@@ -134,7 +152,7 @@ def test_the_exact_contact_by_event_located_shooting(rig):
     map)."""
     scene, br, coefficients, radius = rig
     i, w = _nearest(br, 88.4)
-    sc = _at(scene, w)
+    sc = at_speed(scene, w)
     sol = harmonic_balance(sc, 2 * np.pi / w, coefficients[i], 32, stability=False)
     exact = periodic_orbit(sc, sol.initial_state(), 2 * np.pi / w, method="shooting", events=True, harmonics=64,
                            tol=1e-9)
@@ -161,13 +179,13 @@ def test_stability_is_lost_as_the_integrated_multipliers_say(rig):
     refined = [e for e in br.events if e.between == (first - 1, first) and e.kind == "branch_point"]
     assert refined and all(e.note is None and e.residual < 1e-8 for e in refined), [(e.p, e.note) for e in refined]
     for i in (first - 1, first):
-        mu = np.abs(np.asarray(floquet(_at(scene, float(p[i])), _orbits(coefficients[i])[0], 2 * np.pi / p[i],
+        mu = np.abs(np.asarray(floquet(at_speed(scene, float(p[i])), _orbits(coefficients[i])[0], 2 * np.pi / p[i],
                                        rtol=1e-11, atol=1e-14).multipliers))
         assert (np.max(mu) < 1.0) == bool(stable[i]), (p[i], np.sort(mu)[-4:])
     for w, periodic in ((p[first - 1] - 0.3, True), (p[first] + 0.3, False)):
         T = 2 * np.pi / w
         ts = 250 * T + np.arange(0.0, 20 * T, T / 64)
-        res = rotorjax.simulate(_at(scene, w), np.zeros(scene.state_size), (0.0, ts[-1]), saveat=ts,
+        res = rotorjax.simulate(at_speed(scene, w), np.zeros(scene.state_size), (0.0, ts[-1]), saveat=ts,
                                 solver="dopri8", rtol=1e-10, atol=1e-14, max_steps=4_000_000).raise_if_failed()
         xy = np.asarray(res.ys)[:, X:X + 2]
         gap = np.abs(xy[64:] - xy[:-64]).max() / CLEARANCE
@@ -188,3 +206,10 @@ def test_the_docs_state_these_checks():
     assert "loses stability as the integrated multipliers say, and the settled motion is a quasi-periodic rub" in text
     assert "branch point (a symmetry-breaking pitchfork" in text
     assert "refined to a residual below 1e-8 since steps" in text
+
+
+if __name__ == "__main__":
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    store_reference(REFERENCE, reference(), "python -m tests.validation.test_periodic_rub")

@@ -10,27 +10,33 @@ force is sharply peaked and cavitated, so the motion holds many harmonics.
   through the damper's wall (the film force is not defined there); the step is
   halved until it stays inside (`_finite_step`), and the start converges.
 - Independent reference: the motions settled in time (Dopri8 at rtol 1e-10, 300
-  revolutions from rest, nothing of harmonic balance). With 32 harmonics (the
-  default's most) they differ from the branch's orbits at node 0 by 1.7e-4 and
-  1.7e-3 of the amplitude, and the branch's truncation error estimate there is the
+  revolutions from rest, nothing of harmonic balance; stored in
+  `tests/validation/data/`, made by `reference()`). With 32 harmonics (the
+  default's most) they differ from the branch's orbits at node 0 by 1.6e-4 and
+  1.5e-3 of the amplitude, and the branch's truncation error estimate there is the
   same size (1.9e-4 and 1.5e-3): the estimate is within a factor of 3 of the
   error both ways, so `periodic`'s exit 3 at the default target ("harmonics
   insufficient", the estimate 1.7e-3 > 1e-6) reports a real error, and a point
   within a target is within it."""
 
 import re
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import rotorjax
-from tests.helpers import cubic_rig_variant, speed_branch
+from rotorjax.analysis import harmonic_balance
+from tests.helpers import at_speed, cubic_rig_variant, orbits_of, speed_branch, store_reference, stored_reference
 
 pytestmark = pytest.mark.slow
 
 RANGE = (96.0, 101.0)     # rad/s
 CLEARANCE = 2e-4
 PHASES = np.linspace(0.0, 2 * np.pi, 256, endpoint=False)
+SETTLED = (96.5, 100.0)   # rad/s: the motions settled in time
+REFERENCE = "periodic_sfd_settled"    # tests/validation/data/, made by `reference()`
 SFD = ('[[bearing]]\nnode = 0\ntype = "sfd"\nfilm = "pi"\nviscosity = 0.02\nlength = 0.02\ndiameter = 0.1\n'
        f'clearance = {CLEARANCE}\nkxx = 1e6')
 
@@ -47,8 +53,8 @@ def damped(text):
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
     scene = cubic_rig_variant(tmp_path_factory.mktemp("rotor"), "sfd.toml", damped)
-    scene_at, br, _, orbits = speed_branch(scene, RANGE, PHASES)
-    return scene_at, br, orbits, np.hypot(orbits[..., 0], orbits[..., 1]).max(axis=1)
+    scene_at, br, coefficients, orbits = speed_branch(scene, RANGE, PHASES)
+    return scene_at, br, coefficients, np.hypot(orbits[..., 0], orbits[..., 1]).max(axis=1)
 
 
 def test_the_branch_starts_from_rest_and_reaches_the_range_s_end(rig):
@@ -60,19 +66,36 @@ def test_the_branch_starts_from_rest_and_reaches_the_range_s_end(rig):
     assert np.all(br.harmonics == 32)
 
 
-def test_settled_motions_differ_by_what_the_truncation_estimate_says(rig):
-    """At 96.5 and 100 rad/s: the settled motion against the branch's orbit at node 0,
-    relative to its amplitude, within a factor of 3 of the branch's truncation error
-    estimate either way (measured 1.7e-4 against 1.9e-4, 1.7e-3 against 1.5e-3)."""
-    scene_at, br, orbits, radius = rig
-    for w in (96.5, 100.0):
-        i = int(np.argmin(np.abs(np.asarray(br.p) - w)))
-        w = float(br.p[i])
+def reference():
+    """The motions settled in time (independent of harmonic balance) at `SETTLED`:
+    300 revolutions from rest, Dopri8 at rtol 1e-10; node 0's x and y over the last
+    one at `PHASES`. Stored (`python -m tests.validation.test_periodic_sfd`): the
+    runs take most of a minute."""
+    scene = cubic_rig_variant(Path(tempfile.mkdtemp()), "sfd.toml", damped)
+    orbits = []
+    for w in SETTLED:
         period = 2 * np.pi / w
-        res = rotorjax.simulate(scene_at(w), np.zeros(orbits.shape[-1]), (0.0, 300 * period),
+        res = rotorjax.simulate(at_speed(scene, w), np.zeros(scene.state_size), (0.0, 300 * period),
                                 saveat=299 * period + PHASES / w, solver="dopri8", rtol=1e-10, atol=1e-14,
                                 max_steps=4_000_000).raise_if_failed()
-        err = np.abs(np.asarray(res.ys)[:, :2] - orbits[i, :, :2]).max() / radius[i]
+        orbits.append(np.asarray(res.ys)[:, :2])
+    return dict(speeds=np.asarray(SETTLED), orbits=np.asarray(orbits))
+
+
+def test_settled_motions_differ_by_what_the_truncation_estimate_says(rig):
+    """At 96.5 and 100 rad/s: the settled motion (`reference`) against the branch's
+    orbit at node 0 (its nearest point solved again at that speed), relative to its
+    amplitude, within a factor of 3 of the branch's truncation error estimate either
+    way (measured 1.6e-4 against 1.9e-4, 1.5e-3 against 1.5e-3)."""
+    scene_at, br, coefficients, radius = rig
+    settled = stored_reference(REFERENCE)
+    np.testing.assert_array_equal(settled["speeds"], SETTLED)
+    for w, orbit in zip(SETTLED, settled["orbits"]):
+        i = int(np.argmin(np.abs(np.asarray(br.p) - w)))
+        sol = harmonic_balance(scene_at(w), 2 * np.pi / w, coefficients[i, :2 * int(br.harmonics[i]) + 1],
+                               int(br.harmonics[i]), stability=False)
+        assert int(sol.code) == 0
+        err = np.abs(orbit - orbits_of(sol.coefficients, PHASES)[:, :2]).max() / radius[i]
         assert br.truncation[i] / 3 < err < 3 * br.truncation[i], (w, err, br.truncation[i])
 
 
@@ -83,4 +106,11 @@ def test_the_docs_state_these_checks():
     assert f"no cubic bearings, over {RANGE[0]:g}..{RANGE[1]:g} rad/s with the defaults" in text
     assert "the branch takes 32 harmonics. The start from rest at 96 rad/s converges because Newton halves" in text
     assert ("differ from the branch's orbits by what the truncation error estimate says, within a factor of 3 either "
-            "way (1.7e-4 against 1.9e-4, 1.7e-3 against 1.5e-3)" in text)
+            "way (1.6e-4 against 1.9e-4, 1.5e-3 against 1.5e-3)" in text)
+
+
+if __name__ == "__main__":
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    store_reference(REFERENCE, reference(), "python -m tests.validation.test_periodic_sfd")
