@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 
 
-def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, jacobian=None, final=False):
+def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, value_and_jacobian=None, final=False):
     """The root of `residual` from `x0`: iterate until the relative step is <= `tol`
     or `max_iter` steps, or a step is not finite. The step is relative to the largest
     `|x|`, or to `unit` where that is larger (given: a root at or near 0 converges
@@ -19,19 +19,24 @@ def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, jacob
     the step to take (a damped one: keeps the iterate where `residual` is defined).
     `floor`, if given: also stop at a step <= `floor` that no longer halves (the
     rounding floor of an ill-conditioned system: more iterations only stir the
-    noise). `jacobian(x)`, if given, is the residual's Jacobian, computed by the
-    caller's cheaper rule (a fold's defining system: its second derivatives by
-    directional derivatives, not a Jacobian of a Jacobian). Returns `(x, (step,
+    noise). `value_and_jacobian(x)`, if given, returns the residual and its Jacobian
+    by the caller's cheaper rule (a fold's defining system: its second derivatives by
+    directional derivatives, not a Jacobian of a Jacobian); `residual` is then
+    `value_and_jacobian`'s first output (None: made from it). Returns `(x, (step,
     iterations))`, `step` the last relative step (check the residual too); with
     `final`, `(x, (step, iterations, r, J))`, `r` and `J` the residual and its
     Jacobian at `x` (one more evaluation, made by the loop's own copy of the
     residual: a caller that needs them has no second copy in its program)."""
 
-    def value_and_jacobian(f, x):
-        if jacobian is None:
+    if value_and_jacobian is not None and residual is None:
+        def residual(x):
+            return value_and_jacobian(x)[0]
+
+    def evaluated(f, x):
+        if value_and_jacobian is None:
             r, jvp = jax.linearize(f, x)
             return r, jax.vmap(jvp, in_axes=1, out_axes=1)(jnp.eye(x.shape[0]))
-        return f(x), jacobian(x)
+        return value_and_jacobian(x)
 
     def update(x, r, J):
         dx = jnp.linalg.solve(J, r)
@@ -50,7 +55,7 @@ def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, jacob
     def solve(f, x):
         def body(state):
             x, _, prev, it = state
-            x, step = update(x, *value_and_jacobian(f, x))
+            x, step = update(x, *evaluated(f, x))
             return x, prev, step, it + 1
 
         inf = jnp.asarray(jnp.inf)
@@ -61,7 +66,7 @@ def newton(residual, x0, tol, max_iter, limit=None, floor=None, unit=None, jacob
         # each pass evaluates at its iterate first: the pass that finds the iteration over keeps that evaluation
         def body(state):
             x, _, _, last, step, it, _ = state
-            r, J = value_and_jacobian(f, x)
+            r, J = evaluated(f, x)
             on = going(last, step, it)
             xn, stepn = jax.lax.cond(on, lambda: update(x, r, J), lambda: (x, step))
             return xn, r, J, jnp.where(on, step, last), stepn, it + on, ~on

@@ -1074,41 +1074,36 @@ def _branch_point_event(G, a, b, n, between, gtol, step_residual) -> BranchEvent
 
 
 def _fold_system(G, z, b, c):
-    """`[G(z); bordered_fold(G_u(z), b, c)]`: on the curve of `G(u, p) = 0` (`z =
-    (u, p)`) where `G_u` is singular."""
-    n = z.size - 1
-    Gz, J = value_and_jacfwd(G)(z)
-    return jnp.concatenate([Gz, bordered_fold(J[:, :n], b, c)[None]])
-
-
-def _fold_system_jacobian(G, z, b, c):
-    """The Jacobian of `_fold_system` in `z`: `G`'s, and the bordered test
-    function's gradient `-w^T (G_u)_z v` (`v`, `w` from the bordered system and
-    its transpose; Govaerts 2000, sec. 3.3), the second derivatives by `n + 1`
-    directional derivatives of `w^T G_u v` rather than the `(n + 1)^2` of
+    """`[G(z); bordered_fold(G_u(z), b, c)]` (on the curve of `G(u, p) = 0`, `z =
+    (u, p)`, where `G_u` is singular) and its Jacobian in `z`: `G`'s, and the
+    bordered test function's gradient `-w^T (G_u)_z v` (`v`, `w` from the bordered
+    system and its transpose; Govaerts 2000, sec. 3.3), the second derivatives by
+    `n + 1` directional derivatives of `w^T G_u v` rather than the `(n + 1)^2` of
     differentiating the Jacobian itself (a balance of a few hundred unknowns:
-    seconds, not minutes)."""
+    seconds, not minutes). `G` and its Jacobian come from one forward-mode pass."""
     n = z.size - 1
-    Jz = jax.jacfwd(G)(z)
+    Gz, Jz = value_and_jacfwd(G)(z)
     A = jnp.block([[Jz[:, :n], b[:, None]], [c[None, :], jnp.zeros((1, 1))]])
     e = jnp.zeros(n + 1).at[n].set(1.0)
-    v = jnp.linalg.solve(A, e).at[n].set(0.0)
+    vg = jnp.linalg.solve(A, e)            # [v; g]: g the test function (`bordered_fold`)
+    v = vg.at[n].set(0.0)
     w = jnp.linalg.solve(A.T, e)[:n]
 
     def bilinear(y):
         return w @ jax.jvp(G, (y,), (v,))[1]
 
-    return jnp.concatenate([Jz, -jax.jacfwd(bilinear)(z)[None]])
+    return jnp.concatenate([Gz, vg[n:]]), jnp.concatenate([Jz, -jax.jacfwd(bilinear)(z)[None]])
 
 
 @compiled
 def _refined_fold(G, z0, b, c):
     """The fold near `z0` (rows `(u, p)`) by the one Newton (`rotorjax._newton`) on
-    `_fold_system` with `_fold_system_jacobian`, in one compiled loop per structure
-    of `G`: `(z, max |residual|)`."""
-    z, _ = newton(lambda y: _fold_system(G, y, b, c), z0, 1e-12, 30, floor=1e-10, unit=1.0,
-                  jacobian=lambda y: _fold_system_jacobian(G, y, b, c))
-    return z, jnp.max(jnp.abs(_fold_system(G, z, b, c)))
+    `_fold_system`, in one compiled loop per structure of `G`: `(z, max |residual|)`
+    (the residual from the loop's last evaluation: one copy of the system in the
+    program)."""
+    z, (_, _, r, _) = newton(None, z0, 1e-12, 30, floor=1e-10, unit=1.0, final=True,
+                             value_and_jacobian=lambda y: _fold_system(G, y, b, c))
+    return z, jnp.max(jnp.abs(r))
 
 
 #: a refined Hopf point's largest residual (the pair's real part, F), relative to its frequency

@@ -70,8 +70,10 @@ def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 2
     if progress:
         chunk_size = max(1, min(chunk_size, -(-n_scan // 8)))
 
+    one = eqx.filter_jit(margin)
+
     def point(c):
-        return _margin_at(margin, jnp.float64(c))
+        return one(jnp.float64(c))
 
     def scanned(speeds):
         if scan == "points":
@@ -92,13 +94,6 @@ def stability_thresholds(margin: Callable, lo: float, hi: float, n_scan: int = 2
     out = [StabilityThreshold(speed=r.x, stable_side="above" if r.values[1] < 0 else "below", slope=r.slope,
                          bracket=r.bracket) for r in roots]
     return (out, found_scan) if return_scan else out
-
-
-@eqx.filter_jit
-def _margin_at(margin, speed):
-    """`margin(speed)`, compiled once per structure of `margin`: an `eqx.Partial` of the
-    same function with other arrays (a scene's margin, each sample's) finds it compiled."""
-    return margin(speed)
 
 
 def _at_speed(margin, point):

@@ -94,8 +94,9 @@ def test_fold_system_jacobian_equals_differentiating_the_jacobian():
     """The fold refinement's Jacobian (`G`'s and the bordered test function's
     gradient `-w^T (G_u)_z v`, by n + 1 directional derivatives) equals forward
     differentiation of the whole fold system (the (n + 1)^2-evaluation way it
-    replaced), on a random nonlinear G at a random point (measured 1.4e-14)."""
-    from rotorjax.analysis._continuation import _fold_system, _fold_system_jacobian
+    replaced), on a random nonlinear G at a random point (measured 1.4e-14); its
+    value is `[G; bordered_fold(G_u)]`."""
+    from rotorjax.analysis._continuation import _fold_system, bordered_fold
 
     rng = np.random.default_rng(0)
     M = jnp.asarray(rng.normal(size=(5, 6)))
@@ -104,8 +105,11 @@ def test_fold_system_jacobian_equals_differentiating_the_jacobian():
         return jnp.tanh(M @ z) + 0.3 * z[:5] ** 3 * z[5]
 
     z, b, c = (jnp.asarray(rng.normal(size=k)) for k in (6, 5, 5))
-    want = jax.jacfwd(lambda x: _fold_system(G, x, b, c))(z)
-    np.testing.assert_allclose(_fold_system_jacobian(G, z, b, c), want, atol=1e-12 * float(jnp.max(jnp.abs(want))))
+    value, jacobian = _fold_system(G, z, b, c)
+    want = jax.jacfwd(lambda x: _fold_system(G, x, b, c)[0])(z)
+    np.testing.assert_allclose(jacobian, want, atol=1e-12 * float(jnp.max(jnp.abs(want))))
+    np.testing.assert_allclose(value, jnp.concatenate([G(z), bordered_fold(jax.jacfwd(G)(z)[:, :5], b, c)[None]]),
+                               rtol=1e-13, atol=1e-15)
 
 
 def test_corrector_accepts_at_the_rounding_floor_of_a_noisy_system():
