@@ -84,46 +84,49 @@ def _free_compiled_programs():
         jax.clear_caches()
 
 
-#: the longest test files, longest first (seconds: the sums of their tests' durations, fixtures included, in a
-#: fresh clone's `.ci/run` on this project's 2-core machine, 2 workers, 2026-12-08), started first, so that no long
-#: file starts last and keeps one worker busy alone at the end. A new file of more than about 40 s joins the list.
-#: The other files follow, those with more tests first (pytest-xdist's own order).
+#: the longest test files, longest first (seconds: the sums of their tests' durations in a full run on the 2-core
+#: CI machine, 2 workers, 2026-12-02, compiled with XLA's classic emitters at -O0, which the suite no longer uses:
+#: the order, not the seconds, is what counts; (*): measured 2026-12-07 in a run of those files on this machine's
+#: 2 workers, with XLA's defaults), started first, so that no long file
+#: starts last and keeps one worker busy alone at the end. A new file of more than about 40 s joins the list. The
+#: other files follow, those with more tests first (pytest-xdist's own order).
 LONGEST_FIRST = (
-    "test_readme.py",                               # 341
-    "test_benchmark_smoke_3.py",                    # 205  (a third of the benchmarks' --smoke runs)
-    "validation/test_oil_whip.py",                  # 195
-    "test_benchmark_smoke_2.py",                    # 193  (a third of the benchmarks' --smoke runs)
-    "analysis/test_harmonic_balance.py",            # 193
-    "test_notebooks.py",                            # 188  (seven kernels)
-    "validation/test_periodic_rub.py",              # 175
-    "test_benchmark_smoke.py",                      # 170  (a third of the benchmarks' --smoke runs)
-    "test_cli_periodic.py",                         # 161
-    "solve/test_batch.py",                          # 149
-    "design/test_stable_range.py",                  # 136
-    "validation/test_periodic_anisotropic_jumps.py",  # 111
-    "validation/test_periodic_sfd.py",              # 101
-    "test_cli_from_hopf.py",                        # 100
-    "analysis/test_floquet.py",                     # 91
-    "test_cli.py",                                  # 89
-    "test_right_or_refused.py",                     # 88
-    "validation/test_periodic_auto_harmonics.py",   # 80
-    "design/test_design.py",                        # 77
-    "identify/test_fe_identify.py",                 # 76
-    "models/test_composition_cubic.py",             # 70
-    "validation/test_model004_whirl_cycle.py",      # 66
-    "test_bench.py",                                # 66
-    "test_cli_errors.py",                           # 60
-    "design/test_onset.py",                         # 57
-    "analysis/test_limit_cycles.py",                # 56
-    "validation/test_ross_suite.py",                # 55
-    "test_simulate_defaults.py",                    # 55
-    "validation/test_model_004.py",                 # 53
-    "models/test_fe_building.py",                   # 49
-    "validation/test_oil_whip_finite.py",           # 48
-    "analysis/test_secondary_bifurcations.py",      # 45
-    "analysis/test_balancer_pitchfork.py",          # 44
-    "validation/test_model001_neimark_sacker.py",   # 43
-    "models/test_film_rotor.py",                    # 41
+    "validation/test_periodic_anisotropic_jumps.py",  # 289 (*)
+    "test_readme.py",                               # 269
+    "validation/test_periodic_rub.py",              # 262 (*)
+    "validation/test_periodic_sfd.py",              # 246 (*)
+    "test_notebooks.py",                            # 228 (seven kernels)
+    "test_cli_periodic.py",                         # 204 (*)
+    "test_benchmark_smoke_3.py",                    # 196 (a third of the benchmarks' --smoke runs)
+    "solve/test_batch.py",                          # 167
+    "validation/test_oil_whip_finite.py",           # 166 (*)
+    "test_cli_from_hopf.py",                        # 164 (*)
+    "test_cli.py",                                  # 163
+    "validation/test_oil_whip.py",                  # 160
+    "test_benchmark_smoke.py",                      # 156
+    "validation/test_periodic_auto_harmonics.py",   # 148 (*)
+    "design/test_stable_range.py",                  # 127
+    "test_benchmark_smoke_2.py",                    # 121
+    "test_right_or_refused.py",                     # 96
+    "design/test_onset.py",                         # 94
+    "test_bench.py",                                # 89
+    "analysis/test_floquet.py",                     # 78
+    "models/test_composition_cubic.py",             # 73
+    "uncertainty/test_quantities.py",               # 66
+    "identify/test_fe_identify.py",                 # 64
+    "validation/test_model_004.py",                 # 62
+    "design/test_design.py",                        # 62
+    "models/test_film_rotor.py",                    # 55
+    "validation/test_ross_suite.py",                # 54
+    "validation/test_model004_whirl_cycle.py",      # 53
+    "analysis/test_harmonic_balance.py",            # 53
+    "test_simulate_defaults.py",                    # 53
+    "test_cli_errors.py",                           # 51
+    "analysis/test_continuation.py",                # 47
+    "flexible/test_ross.py",                        # 46
+    "models/test_fe_building.py",                   # 45
+    "test_report.py",                               # 42
+    "models/test_rotor_files.py",                   # 41
 )
 
 

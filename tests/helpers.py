@@ -138,6 +138,19 @@ def at_speed(scene, w):
     return eqx.tree_at(lambda s: s.speed.constant, scene, jnp.asarray(w, dtype=jnp.float64))
 
 
+def settled_orbit(scene, w, y0, revolutions, phases):
+    """A motion settled in time: the states at `phases` of the last of `revolutions`
+    revolutions of `scene` at the constant speed `w` from `y0` (Dopri8 at rtol 1e-10),
+    `(phases, states)`; nothing of harmonic balance (the validation files' reference)."""
+    import rotorjax
+
+    period = 2 * np.pi / w
+    res = rotorjax.simulate(at_speed(scene, w), y0, (0.0, revolutions * period),
+                            saveat=(revolutions - 1) * period + np.asarray(phases) / w, solver="dopri8", rtol=1e-10,
+                            atol=1e-14, max_steps=4_000_000).raise_if_failed()
+    return np.asarray(res.ys)
+
+
 def speed_branch(scene, bounds, phases):
     """`periodic_branch` of `scene` in its speed over `bounds` from rest at the low
     end, with the defaults: `(scene_at, branch, coefficients, orbits)`, `orbits` each point's

@@ -25,7 +25,7 @@ import pytest
 import rotorjax
 from rotorjax.analysis import harmonic_balance
 from rotorjax.models import RunUp
-from tests.helpers import at_speed, cubic_rig_variant, orbits_of, speed_branch, store_reference, stored_reference
+from tests.helpers import cubic_rig_variant, orbits_of, settled_orbit, speed_branch, store_reference, stored_reference
 
 pytestmark = pytest.mark.slow
 
@@ -77,14 +77,6 @@ def test_the_branch_crosses_its_jump_with_the_defaults(rig):
     assert len(_sheets(br, amplitude, 0.5 * (folds[0] + folds[-1]))) == 2
 
 
-def _settled(scene, w, y0):
-    """Node 1's x and y at `PHASES` of the last of 400 revolutions at `w` from `y0`."""
-    period = 2 * np.pi / w
-    res = rotorjax.simulate(at_speed(scene, w), y0, (0.0, 400 * period), saveat=399 * period + PHASES / w,
-                            solver="dopri8", rtol=1e-10, atol=1e-14, max_steps=2_000_000).raise_if_failed()
-    return np.asarray(res.ys)[:, 2 * 2 * NODE:2 * 2 * NODE + 2]
-
-
 def _sweep(scene, w0, w1):
     """Node 1's orbit radius, its largest over each revolution, along a sweep from
     rest at `w0` to `w1` at `RATE`: `(speeds, envelope)`."""
@@ -115,13 +107,13 @@ def reference():
     (below, _), = _sheets(br, radius, folds[0] - 1.5)
     (above, _), = _sheets(br, radius, folds[-1] + 1.0)
     (lower, _), (upper, _) = _sheets(br, radius, mid)
-    speeds, settled = [], []
+    speeds, orbits_settled = [], []
     for i, start in ((below, None), (lower, 1.03), (upper, 0.97), (above, None)):
         y0 = np.zeros(scene.state_size) if start is None else start * orbits[i, 0]
         speeds.append(float(br.p[i]))
-        settled.append(_settled(scene, speeds[-1], y0))
+        orbits_settled.append(settled_orbit(scene, speeds[-1], y0, 400, PHASES)[:, 2 * 2 * NODE:2 * 2 * NODE + 2])
     up, down = _sweep(scene, *RANGE), _sweep(scene, *RANGE[::-1])
-    return dict(speeds=np.asarray(speeds), settled=np.asarray(settled), up_w=up[0], up_r=up[1], down_w=down[0],
+    return dict(speeds=np.asarray(speeds), settled=np.asarray(orbits_settled), up_w=up[0], up_r=up[1], down_w=down[0],
                 down_r=down[1])
 
 

@@ -33,7 +33,8 @@ from scipy.optimize import brentq
 
 import rotorjax
 from rotorjax.analysis import floquet, harmonic_balance, periodic_orbit, scene_unbalance_response
-from tests.helpers import at_speed, cubic_rig_variant, orbits_of, speed_branch, store_reference, stored_reference
+from tests.helpers import (at_speed, cubic_rig_variant, orbits_of, settled_orbit, speed_branch, store_reference,
+                           stored_reference)
 
 pytestmark = pytest.mark.slow
 
@@ -117,13 +118,7 @@ def reference():
     300 revolutions from rest, Dopri8 at rtol 1e-10; the disk's x and y over the last
     one at `PHASES`. Stored (`python -m tests.validation.test_periodic_rub`)."""
     scene = _scene(None, "rub.toml", True)
-    orbits = []
-    for w in SETTLED:
-        period = 2 * np.pi / w
-        res = rotorjax.simulate(at_speed(scene, w), np.zeros(scene.state_size), (0.0, 300 * period),
-                                saveat=299 * period + PHASES / w, solver="dopri8", rtol=1e-10, atol=1e-14,
-                                max_steps=4_000_000).raise_if_failed()
-        orbits.append(np.asarray(res.ys)[:, X:X + 2])
+    orbits = [settled_orbit(scene, w, np.zeros(scene.state_size), 300, PHASES)[:, X:X + 2] for w in SETTLED]
     return dict(speeds=np.asarray(SETTLED), orbits=np.asarray(orbits))
 
 

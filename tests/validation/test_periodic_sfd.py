@@ -26,9 +26,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import rotorjax
 from rotorjax.analysis import harmonic_balance
-from tests.helpers import at_speed, cubic_rig_variant, orbits_of, speed_branch, store_reference, stored_reference
+from tests.helpers import cubic_rig_variant, orbits_of, settled_orbit, speed_branch, store_reference, stored_reference
 
 pytestmark = pytest.mark.slow
 
@@ -72,13 +71,7 @@ def reference():
     one at `PHASES`. Stored (`python -m tests.validation.test_periodic_sfd`): the
     runs take most of a minute."""
     scene = cubic_rig_variant(Path(tempfile.mkdtemp()), "sfd.toml", damped)
-    orbits = []
-    for w in SETTLED:
-        period = 2 * np.pi / w
-        res = rotorjax.simulate(at_speed(scene, w), np.zeros(scene.state_size), (0.0, 300 * period),
-                                saveat=299 * period + PHASES / w, solver="dopri8", rtol=1e-10, atol=1e-14,
-                                max_steps=4_000_000).raise_if_failed()
-        orbits.append(np.asarray(res.ys)[:, :2])
+    orbits = [settled_orbit(scene, w, np.zeros(scene.state_size), 300, PHASES)[:, :2] for w in SETTLED]
     return dict(speeds=np.asarray(SETTLED), orbits=np.asarray(orbits))
 
 
